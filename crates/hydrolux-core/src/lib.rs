@@ -1,0 +1,13 @@
+//! Hydrolux without a GPU: the optics, wave physics, sky model and scene
+//! description that the renderer implements on the GPU, and a CPU reference
+//! ("twin") of every GPU algorithm, so each can be tested against the other.
+
+pub mod camera;
+pub mod npy;
+pub mod optics;
+pub mod scene;
+pub mod sky;
+pub mod tonemap;
+pub mod waves;
+
+pub use glam;

@@ -1,0 +1,13 @@
+//! Built-in scenes: TOML files under `scenes/` compiled into the binary.
+
+pub struct BuiltinScene {
+    pub name: &'static str,
+    pub toml: &'static str,
+}
+
+pub const BUILTIN_SCENES: &[BuiltinScene] = &[
+    BuiltinScene { name: "ocean", toml: include_str!("../../../../scenes/ocean.toml") },
+    BuiltinScene { name: "sunset", toml: include_str!("../../../../scenes/sunset.toml") },
+    BuiltinScene { name: "storm", toml: include_str!("../../../../scenes/storm.toml") },
+    BuiltinScene { name: "calm", toml: include_str!("../../../../scenes/calm.toml") },
+];

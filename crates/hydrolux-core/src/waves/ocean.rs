@@ -1,0 +1,491 @@
+//! The FFT ocean (Tessendorf, *Simulating Ocean Water*; seed 000 §2.3.1):
+//! initial spectrum, time evolution and the CPU reference of the GPU FFT.
+//!
+//! The initial amplitudes h0(k) are made here, on the CPU, once per sea
+//! state, and uploaded; the GPU then evolves and transforms them every frame
+//! (`passes/ocean` in the `hydrolux` crate). [`OceanFields::evaluate`] does
+//! the same evolution and inverse FFT with rustfft, so the two can be compared.
+//!
+//! Precision at large times: every ω is rounded to a multiple of 2π/T with
+//! T = [`REPEAT_PERIOD_S`] (about 18 h) and stored as a whole number of cycles
+//! per period. The phase is then `cycles · τ` in wrapping 32-bit integer
+//! arithmetic, with τ = frac(t/T)·2³², which is exact: the sea has no jitter
+//! after hours, and is exactly periodic with period T. The rounding changes no
+//! frequency by more than 2π/T ≈ 1e-4 rad/s.
+
+use super::dispersion::omega;
+use super::spectrum::{SeaState, Spreading};
+use super::SurfaceSample;
+use rustfft::{FftPlanner, num_complex::Complex};
+use std::f64::consts::PI;
+
+/// Period after which the simulated sea repeats exactly, in seconds.
+pub const REPEAT_PERIOD_S: f64 = 65536.0;
+/// Ratio between the patch sizes of consecutive cascades. Not a whole number,
+/// so the patches' tiling periods never line up.
+pub const CASCADE_RATIO: f64 = 5.23;
+/// Modes of cascade i+1 start at this many cycles across that cascade's patch;
+/// below it, cascade i carries the waves.
+const BAND_SPLIT_CYCLES: f64 = 4.0;
+
+/// Everything the FFT ocean needs (the `[ocean]` scene section, resolved).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OceanSettings {
+    pub sea: SeaState,
+    /// Side of the largest cascade's square patch, metres.
+    pub patch_size: f64,
+    /// FFT size N (power of two).
+    pub resolution: usize,
+    pub cascades: usize,
+    /// Horizontal displacement scale λ (0 = no choppiness).
+    pub choppiness: f64,
+    pub seed: u64,
+}
+
+/// One initial spectrum mode, laid out exactly like WGSL `SpectrumMode`
+/// (`shaders/ocean_spectrum.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SpectrumMode {
+    /// h0(k)
+    pub h0: [f32; 2],
+    /// conj(h0(−k))
+    pub h0_minus_conj: [f32; 2],
+    pub kx: f32,
+    pub kz: f32,
+    /// ω rounded to whole cycles per [`REPEAT_PERIOD_S`].
+    pub omega_cycles: u32,
+    pub _pad: u32,
+}
+
+/// The wave-number band and patch of one cascade.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cascade {
+    pub patch_size: f64,
+    pub k_min: f64,
+    pub k_max: f64,
+}
+
+/// Initial spectra of all cascades: `modes[c * N * N + z * N + x]`, in FFT
+/// order (index i ↔ frequency i for i < N/2, i − N above).
+#[derive(Clone, Debug)]
+pub struct OceanSpectrum {
+    pub settings: OceanSettings,
+    pub cascades: Vec<Cascade>,
+    pub modes: Vec<SpectrumMode>,
+}
+
+/// Signed frequency index of FFT bin `i`.
+pub fn bin_frequency(i: usize, n: usize) -> i64 {
+    if i < n / 2 { i as i64 } else { i as i64 - n as i64 }
+}
+
+fn splitmix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+/// Two independent standard normal numbers for one wave vector. Keyed on the
+/// signed frequency indices, so the big waves stay the same when N changes.
+fn gaussian_pair(seed: u64, cascade: usize, fx: i64, fz: i64) -> (f64, f64) {
+    let mut h = splitmix64(seed ^ 0x5EA5_0CEA_u64);
+    h = splitmix64(h ^ cascade as u64);
+    h = splitmix64(h ^ fx as u64);
+    h = splitmix64(h ^ (fz as u64).rotate_left(32));
+    let u1 = ((h >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    let h2 = splitmix64(h);
+    let u2 = ((h2 >> 11) as f64) / (1u64 << 53) as f64;
+    let r = (-2.0 * u1.ln()).sqrt();
+    (r * (2.0 * PI * u2).cos(), r * (2.0 * PI * u2).sin())
+}
+
+/// τ = frac(t / T) · 2³², the time argument of [`phase_of`].
+pub fn time_phase(t: f64) -> u32 {
+    let f = (t / REPEAT_PERIOD_S).rem_euclid(1.0);
+    ((f * 4_294_967_296.0) as u64 & 0xFFFF_FFFF) as u32
+}
+
+/// Phase ω·t in radians (mod 2π) of a mode with `omega_cycles`, as the GPU computes it.
+pub fn phase_of(omega_cycles: u32, tau: u32) -> f32 {
+    let turns = omega_cycles.wrapping_mul(tau);
+    turns as f32 * (std::f32::consts::TAU / 4_294_967_296.0)
+}
+
+/// ω (rad/s) that a mode with `omega_cycles` really moves at.
+pub fn quantized_omega(omega_cycles: u32) -> f64 {
+    omega_cycles as f64 * 2.0 * PI / REPEAT_PERIOD_S
+}
+
+impl OceanSettings {
+    pub fn cascades(&self) -> Vec<Cascade> {
+        let sizes: Vec<f64> = (0..self.cascades).map(|i| self.patch_size / CASCADE_RATIO.powi(i as i32)).collect();
+        (0..self.cascades)
+            .map(|i| Cascade {
+                patch_size: sizes[i],
+                k_min: if i == 0 { 0.0 } else { BAND_SPLIT_CYCLES * 2.0 * PI / sizes[i] },
+                k_max: sizes.get(i + 1).map_or(f64::INFINITY, |s| BAND_SPLIT_CYCLES * 2.0 * PI / s),
+            })
+            .collect()
+    }
+}
+
+impl OceanSpectrum {
+    pub fn new(settings: &OceanSettings) -> Self {
+        let n = settings.resolution;
+        let cascades = settings.cascades();
+        let spreading = Spreading::new(settings.sea.spreading);
+        let mut modes = vec![SpectrumMode::default(); cascades.len() * n * n];
+        for (c, cascade) in cascades.iter().enumerate() {
+            let dk = 2.0 * PI / cascade.patch_size;
+            // Amplitude of the mode at signed index (fx, fz), or 0 outside the band.
+            let amplitude = |fx: i64, fz: i64| -> (f64, f64) {
+                let (kx, kz) = (fx as f64 * dk, fz as f64 * dk);
+                let k = (kx * kx + kz * kz).sqrt();
+                let nyquist = fx.abs() as usize == n / 2 || fz.abs() as usize == n / 2;
+                if k == 0.0 || nyquist || k < cascade.k_min || k >= cascade.k_max {
+                    return (0.0, 0.0);
+                }
+                let psi = settings.sea.directional_density(kx, kz, &spreading);
+                let scale = (psi * dk * dk).sqrt() * 0.5;
+                let (g1, g2) = gaussian_pair(settings.seed, c, fx, fz);
+                (g1 * scale, g2 * scale)
+            };
+            for z in 0..n {
+                for x in 0..n {
+                    let (fx, fz) = (bin_frequency(x, n), bin_frequency(z, n));
+                    let (kx, kz) = (fx as f64 * dk, fz as f64 * dk);
+                    let k = (kx * kx + kz * kz).sqrt();
+                    let h0 = amplitude(fx, fz);
+                    let hm = amplitude(-fx, -fz);
+                    let w = omega(k, settings.sea.depth);
+                    modes[c * n * n + z * n + x] = SpectrumMode {
+                        h0: [h0.0 as f32, h0.1 as f32],
+                        h0_minus_conj: [hm.0 as f32, -hm.1 as f32],
+                        kx: kx as f32,
+                        kz: kz as f32,
+                        omega_cycles: (w * REPEAT_PERIOD_S / (2.0 * PI)).round() as u32,
+                        _pad: 0,
+                    };
+                }
+            }
+        }
+        OceanSpectrum { settings: settings.clone(), cascades, modes }
+    }
+
+    /// Expected height variance Σ Ψ(k)Δk² of the modes this spectrum holds
+    /// (what the random amplitudes average to), for calibration checks.
+    pub fn expected_variance(&self) -> f64 {
+        let n = self.settings.resolution;
+        let spreading = Spreading::new(self.settings.sea.spreading);
+        let mut total = 0.0;
+        for cascade in &self.cascades {
+            let dk = 2.0 * PI / cascade.patch_size;
+            for z in 0..n {
+                for x in 0..n {
+                    let (fx, fz) = (bin_frequency(x, n), bin_frequency(z, n));
+                    let (kx, kz) = (fx as f64 * dk, fz as f64 * dk);
+                    let k = (kx * kx + kz * kz).sqrt();
+                    let nyquist = fx.abs() as usize == n / 2 || fz.abs() as usize == n / 2;
+                    if k > 0.0 && !nyquist && k >= cascade.k_min && k < cascade.k_max {
+                        total += self.settings.sea.directional_density(kx, kz, &spreading) * dk * dk;
+                    }
+                }
+            }
+        }
+        total
+    }
+}
+
+/// The spectral fields of one mode at time phase τ, packed two real fields per
+/// complex number as the GPU packs them: [Dx + i·h, Dz + i·∂h/∂x,
+/// ∂h/∂z + i·∂Dx/∂x, ∂Dz/∂z + i·∂Dx/∂z] (D already scaled by λ).
+/// Twin of `evolve` in `shaders/ocean_spectrum.wgsl`.
+pub fn evolve_mode(mode: &SpectrumMode, tau: u32, choppiness: f32) -> [[f32; 2]; 4] {
+    let theta = phase_of(mode.omega_cycles, tau);
+    let (s, c) = theta.sin_cos();
+    let mul = |a: [f32; 2], b: [f32; 2]| [a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0]];
+    let e_neg = [c, -s];
+    let e_pos = [c, s];
+    let a = mul(mode.h0, e_neg);
+    let b = mul(mode.h0_minus_conj, e_pos);
+    let h = [a[0] + b[0], a[1] + b[1]];
+    let (kx, kz) = (mode.kx, mode.kz);
+    let k = (kx * kx + kz * kz).sqrt();
+    let inv_k = if k > 0.0 { 1.0 / k } else { 0.0 };
+    let lambda = choppiness;
+    let scale = |f: f32| [h[0] * f, h[1] * f];
+    let times_i = |v: [f32; 2]| [-v[1], v[0]];
+    let dx = times_i(scale(-lambda * kx * inv_k));
+    let dz = times_i(scale(-lambda * kz * inv_k));
+    let hx = times_i(scale(kx));
+    let hz = times_i(scale(kz));
+    let dxx = scale(lambda * kx * kx * inv_k);
+    let dzz = scale(lambda * kz * kz * inv_k);
+    let dxz = scale(lambda * kx * kz * inv_k);
+    // A + i·B for complex A, B.
+    let pack = |a: [f32; 2], b: [f32; 2]| [a[0] - b[1], a[1] + b[0]];
+    [pack(dx, h), pack(dz, hx), pack(hz, dxx), pack(dzz, dxz)]
+}
+
+/// The eight real fields of every cascade at one time, on each cascade's own
+/// N×N corner-sampled grid (x_j = j·L/N). Per texel:
+/// [Dx, h, Dz, ∂h/∂x, ∂h/∂z, ∂Dx/∂x, ∂Dz/∂z, ∂Dx/∂z].
+#[derive(Clone, Debug)]
+pub struct OceanFields {
+    pub resolution: usize,
+    pub patch_sizes: Vec<f64>,
+    pub texels: Vec<[f32; 8]>,
+}
+
+impl OceanFields {
+    /// Evolve `spectrum` to time `t` and inverse-transform it with rustfft.
+    pub fn evaluate(spectrum: &OceanSpectrum, t: f64) -> Self {
+        let n = spectrum.settings.resolution;
+        let tau = time_phase(t);
+        let lambda = spectrum.settings.choppiness as f32;
+        let mut planner = FftPlanner::<f32>::new();
+        let fft = planner.plan_fft_inverse(n);
+        let mut texels = vec![[0.0f32; 8]; spectrum.cascades.len() * n * n];
+        let mut fields = vec![vec![Complex::new(0.0f32, 0.0); n * n]; 4];
+        let mut column = vec![Complex::new(0.0f32, 0.0); n];
+        for c in 0..spectrum.cascades.len() {
+            for i in 0..n * n {
+                let packed = evolve_mode(&spectrum.modes[c * n * n + i], tau, lambda);
+                for f in 0..4 {
+                    fields[f][i] = Complex::new(packed[f][0], packed[f][1]);
+                }
+            }
+            for field in fields.iter_mut() {
+                for row in field.chunks_exact_mut(n) {
+                    fft.process(row);
+                }
+                for x in 0..n {
+                    for z in 0..n {
+                        column[z] = field[z * n + x];
+                    }
+                    fft.process(&mut column);
+                    for z in 0..n {
+                        field[z * n + x] = column[z];
+                    }
+                }
+            }
+            for i in 0..n * n {
+                let t = &mut texels[c * n * n + i];
+                for f in 0..4 {
+                    t[2 * f] = fields[f][i].re;
+                    t[2 * f + 1] = fields[f][i].im;
+                }
+            }
+        }
+        OceanFields { resolution: n, patch_sizes: spectrum.cascades.iter().map(|c| c.patch_size).collect(), texels }
+    }
+
+    /// Bilinear, periodic sample of one cascade at world (x, z), as a GPU
+    /// sampler with repeat addressing reads the texture.
+    pub fn sample_cascade(&self, cascade: usize, x: f64, z: f64) -> [f32; 8] {
+        let n = self.resolution;
+        let l = self.patch_sizes[cascade];
+        let (gx, gz) = (x / l * n as f64, z / l * n as f64);
+        let (x0, z0) = (gx.floor(), gz.floor());
+        let (fx, fz) = ((gx - x0) as f32, (gz - z0) as f32);
+        let wrap = |v: f64| (v.rem_euclid(n as f64)) as usize % n;
+        let (x0, z0) = (wrap(x0), wrap(z0));
+        let (x1, z1) = ((x0 + 1) % n, (z0 + 1) % n);
+        let base = cascade * n * n;
+        let at = |xi: usize, zi: usize| &self.texels[base + zi * n + xi];
+        let mut out = [0.0; 8];
+        for (i, o) in out.iter_mut().enumerate() {
+            let top = at(x0, z0)[i] * (1.0 - fx) + at(x1, z0)[i] * fx;
+            let bottom = at(x0, z1)[i] * (1.0 - fx) + at(x1, z1)[i] * fx;
+            *o = top * (1.0 - fz) + bottom * fz;
+        }
+        out
+    }
+
+    /// The surface at undisplaced position (x, z): all cascades summed.
+    pub fn sample(&self, x: f64, z: f64) -> SurfaceSample {
+        let mut sum = [0.0f32; 8];
+        for c in 0..self.patch_sizes.len() {
+            let s = self.sample_cascade(c, x, z);
+            for i in 0..8 {
+                sum[i] += s[i];
+            }
+        }
+        SurfaceSample::from_fields(sum)
+    }
+
+    /// Height of the rendered surface above world point (x, z): the choppy
+    /// displacement moves points sideways, so the undisplaced point p with
+    /// p + D(p) = (x, z) is found by fixed-point iteration first.
+    pub fn height_at(&self, x: f64, z: f64) -> f32 {
+        super::height_at_displaced(|px, pz| self.sample(px, pz), x, z)
+    }
+
+    /// Vertical displacement of all cascades summed on the largest cascade's
+    /// N×N grid (row = z, col = x), before horizontal displacement: the
+    /// `--dump height` buffer.
+    pub fn height_grid(&self) -> Vec<f32> {
+        let n = self.resolution;
+        let l = self.patch_sizes[0];
+        let mut out = Vec::with_capacity(n * n);
+        for z in 0..n {
+            for x in 0..n {
+                out.push(self.sample(x as f64 * l / n as f64, z as f64 * l / n as f64).displacement[1]);
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::spectrum::SpectrumKind;
+    use super::*;
+
+    pub(crate) fn settings(kind: SpectrumKind, u: f64, n: usize, cascades: usize) -> OceanSettings {
+        OceanSettings {
+            sea: SeaState {
+                kind,
+                wind_speed: u,
+                wind_direction: 0.3,
+                fetch: 100_000.0,
+                depth: 10_000.0,
+                peak_enhancement: 3.3,
+                spreading: 8.0,
+            },
+            patch_size: 1000.0,
+            resolution: n,
+            cascades,
+            choppiness: 0.8,
+            seed: 7,
+        }
+    }
+
+    #[test]
+    fn field_is_real_because_spectrum_is_hermitian() {
+        // If h0_minus_conj were wrong the inverse FFT would leave an imaginary
+        // part, which the packing would mix into the neighbouring field.
+        let s = OceanSpectrum::new(&settings(SpectrumKind::PiersonMoskowitz, 10.0, 32, 1));
+        let n = 32;
+        for z in 0..n {
+            for x in 0..n {
+                let m = s.modes[z * n + x];
+                let mirror = s.modes[((n - z) % n) * n + (n - x) % n];
+                assert_eq!(m.h0_minus_conj, [mirror.h0[0], -mirror.h0[1]]);
+            }
+        }
+    }
+
+    #[test]
+    fn pierson_moskowitz_ocean_has_the_calibrated_significant_height() {
+        let u = 10.0;
+        let st = settings(SpectrumKind::PiersonMoskowitz, u, 128, 3);
+        let target = 0.2202 * u * u / 9.81;
+        let spec = OceanSpectrum::new(&st);
+        let hs_expected = 4.0 * spec.expected_variance().sqrt();
+        assert!((hs_expected / target - 1.0).abs() < 0.03, "expected Hs {hs_expected} vs {target}");
+        // Realised sea, averaged over a few seeds: each cascade on its own grid
+        // (bands are disjoint, so variances add).
+        let mut var = 0.0;
+        let seeds = 6;
+        for seed in 0..seeds {
+            let mut s = st.clone();
+            s.seed = seed;
+            let fields = OceanFields::evaluate(&OceanSpectrum::new(&s), 1234.5);
+            let nn = 128 * 128;
+            for c in 0..3 {
+                let heights: Vec<f64> = fields.texels[c * nn..(c + 1) * nn].iter().map(|t| t[1] as f64).collect();
+                let mean = heights.iter().sum::<f64>() / nn as f64;
+                var += heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / nn as f64;
+            }
+        }
+        let hs = 4.0 * (var / seeds as f64).sqrt();
+        assert!((hs / target - 1.0).abs() < 0.08, "realised Hs {hs} vs {target}");
+    }
+
+    #[test]
+    fn every_mode_moves_at_its_dispersion_frequency() {
+        let mut st = settings(SpectrumKind::PiersonMoskowitz, 10.0, 64, 2);
+        st.sea.depth = 12.0; // finite depth, so tanh matters
+        let spec = OceanSpectrum::new(&st);
+        for m in spec.modes.iter().filter(|m| m.h0 != [0.0, 0.0]) {
+            let k = ((m.kx as f64).powi(2) + (m.kz as f64).powi(2)).sqrt();
+            let w = omega(k, 12.0);
+            assert!((quantized_omega(m.omega_cycles) - w).abs() < 1e-4 + 1e-6 * w, "k {k}");
+            // The phase after dt seconds is ω·dt.
+            let dt = 3.7;
+            let measured = phase_of(m.omega_cycles, time_phase(dt)) as f64;
+            let expected = (w * dt).rem_euclid(2.0 * PI);
+            let err = (measured - expected + PI).rem_euclid(2.0 * PI) - PI;
+            assert!(err.abs() < 2e-3, "k {k}: phase {measured} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn a_single_mode_travels_downwind_at_phase_speed() {
+        // Keep one mode only and watch its crest move.
+        let st = settings(SpectrumKind::PiersonMoskowitz, 10.0, 64, 1);
+        let mut spec = OceanSpectrum::new(&st);
+        let n = 64;
+        let (x, z) = (3usize, 0usize);
+        for (i, m) in spec.modes.iter_mut().enumerate() {
+            if i != z * n + x && i != z * n + (n - x) {
+                m.h0 = [0.0, 0.0];
+                m.h0_minus_conj = [0.0, 0.0];
+            }
+        }
+        let own = spec.modes[z * n + x];
+        spec.modes[z * n + x].h0 = [1.0, 0.0];
+        spec.modes[z * n + x].h0_minus_conj = [0.0, 0.0];
+        spec.modes[z * n + n - x].h0 = [0.0, 0.0];
+        spec.modes[z * n + n - x].h0_minus_conj = [1.0, 0.0];
+        let k = own.kx as f64;
+        let c = quantized_omega(own.omega_cycles) / k;
+        let dt = 2.0;
+        let f0 = OceanFields::evaluate(&spec, 100.0);
+        let f1 = OceanFields::evaluate(&spec, 100.0 + dt);
+        // h(x, t+dt) = h(x − c·dt, t): compare by sampling.
+        for i in 0..20 {
+            let xs = i as f64 * 37.0;
+            let a = f1.sample_cascade(0, xs, 5.0)[1];
+            let b = f0.sample_cascade(0, xs - c * dt, 5.0)[1];
+            assert!((a - b).abs() < 0.02, "x {xs}: {a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn no_jitter_after_hours_and_exact_repeat() {
+        let st = settings(SpectrumKind::Jonswap, 12.0, 32, 2);
+        let spec = OceanSpectrum::new(&st);
+        let t = 10.0 * 3600.0 + 0.25;
+        let a = OceanFields::evaluate(&spec, t);
+        let b = OceanFields::evaluate(&spec, t + REPEAT_PERIOD_S);
+        for (p, q) in a.texels.iter().zip(&b.texels) {
+            for i in 0..8 {
+                assert!((p[i] - q[i]).abs() < 1e-4);
+            }
+        }
+        // And the integer phase agrees with f64 evaluation of ω·t to 1e-5 turns.
+        for m in spec.modes.iter().take(200) {
+            let exact = (quantized_omega(m.omega_cycles) * t / (2.0 * PI)).rem_euclid(1.0);
+            let ours = phase_of(m.omega_cycles, time_phase(t)) as f64 / (2.0 * PI);
+            let d = (exact - ours + 0.5).rem_euclid(1.0) - 0.5;
+            assert!(d.abs() < 1e-5, "turn error {d}");
+        }
+    }
+
+    #[test]
+    fn height_at_inverts_the_choppy_displacement() {
+        let st = settings(SpectrumKind::PiersonMoskowitz, 14.0, 64, 2);
+        let fields = OceanFields::evaluate(&OceanSpectrum::new(&st), 50.0);
+        for i in 0..50 {
+            let (px, pz) = (i as f64 * 13.7, i as f64 * -7.3);
+            let s = fields.sample(px, pz);
+            let (wx, wz) = (px + s.displacement[0] as f64, pz + s.displacement[2] as f64);
+            let h = fields.height_at(wx, wz);
+            assert!((h - s.displacement[1]).abs() < 0.02, "at ({wx},{wz}): {h} vs {}", s.displacement[1]);
+        }
+    }
+}
