@@ -1,1 +1,99 @@
-fn main(){}
+//! `hydrolux`: render water headless, view it live, benchmark it.
+
+mod bench;
+mod dumps;
+mod output;
+mod render;
+mod view;
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use hydrolux::core::scene::{BUILTIN_SCENES, Scene};
+
+#[derive(Parser)]
+#[command(name = "hydrolux", version, about = "Real-time water rendering: headless images, an interactive viewer, benchmarks.")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Options shared by every command that loads a scene.
+#[derive(Args, Clone)]
+pub struct SceneArgs {
+    /// Built-in scene name (see `hydrolux scenes`) or a path to a .toml file.
+    #[arg(long, default_value = "ocean")]
+    pub scene: String,
+    /// Override a scene parameter: --set section.key=value (TOML value; a bare word is a string). Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+impl SceneArgs {
+    pub fn load(&self) -> Result<Scene> {
+        Ok(Scene::load(&self.scene, &self.set)?)
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render the scene to an image (or an image sequence) without a window.
+    Render(render::RenderArgs),
+    /// Open a window with a fly camera and a panel that edits the scene live.
+    View(view::ViewArgs),
+    /// Render frames and report frame-time statistics and per-pass GPU times.
+    Bench(bench::BenchArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// Print the GPU adapter Hydrolux would use and its limits.
+    Info,
+}
+
+fn info() -> Result<()> {
+    let ctx = hydrolux::GpuContext::headless()?;
+    let i = ctx.adapter.get_info();
+    let l = ctx.device.limits();
+    println!("adapter:      {} ({:?}, {:?})", i.name, i.device_type, i.backend);
+    println!("driver:       {} {}", i.driver, i.driver_info);
+    println!("timestamps:   {}", if ctx.has_timestamps() { "yes (per-pass GPU times in bench)" } else { "no (bench reports wall clock only)" });
+    println!("max texture:  {} px", l.max_texture_dimension_2d);
+    println!("max storage buffer binding: {} MiB", l.max_storage_buffer_binding_size >> 20);
+    println!("max workgroup storage:      {} KiB", l.max_compute_workgroup_storage_size >> 10);
+    let max_n = [1024u32, 512, 256, 128, 64]
+        .into_iter()
+        .find(|&n| hydrolux::passes::ocean::fields_bytes(n, 4) <= l.max_storage_buffer_binding_size as u64)
+        .unwrap_or(64);
+    println!("largest ocean.resolution with 4 cascades: {max_n}");
+    Ok(())
+}
+
+fn scenes() {
+    for b in BUILTIN_SCENES {
+        let desc = Scene::load(b.name, &[]).map(|s| s.description).unwrap_or_else(|e| format!("(broken: {e})"));
+        println!("{:<10} {desc}", b.name);
+    }
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(a) => render::run(a),
+        Command::View(a) => view::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::Scenes => {
+            scenes();
+            Ok(())
+        }
+        Command::Info => info(),
+    };
+    if let Err(e) = result {
+        // One line: the chain of causes joined.
+        let msg = e.chain().map(|c| c.to_string()).collect::<Vec<_>>().join(": ");
+        eprintln!("error: {msg}");
+        std::process::exit(1);
+    }
+}
+
+/// A headless GPU context, with the no-adapter error made actionable.
+pub fn headless_context() -> Result<hydrolux::GpuContext> {
+    hydrolux::GpuContext::headless().context("cannot start the GPU")
+}

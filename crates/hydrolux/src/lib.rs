@@ -1,1 +1,29 @@
+//! Hydrolux: a real-time water renderer on wgpu. Bring your own
+//! `wgpu::Device` and `Queue`, create a [`Renderer`] for your target's
+//! format, and call [`Renderer::render`] with a view of any texture.
+//!
+//! ```no_run
+//! # fn demo(device: &wgpu::Device, queue: &wgpu::Queue, view: &wgpu::TextureView) {
+//! use hydrolux::{FrameInput, Renderer, core::scene::Scene};
+//! let scene = Scene::load("ocean", &[]).unwrap();
+//! let mut renderer = Renderer::new(device, queue, wgpu::TextureFormat::Rgba8UnormSrgb, &scene).unwrap();
+//! let mut encoder = device.create_command_encoder(&Default::default());
+//! renderer.render(&mut encoder, &FrameInput { target: view, size: (1280, 720), camera: scene.camera(), time: 0.0 });
+//! queue.submit([encoder.finish()]);
+//! # }
+//! ```
+
+pub mod context;
+pub mod gpu_util;
+pub mod headless;
+pub mod passes;
+pub mod renderer;
+pub mod shaders;
+pub mod targets;
+pub mod timing;
+pub mod uniforms;
+
+pub use context::{ContextError, GpuContext};
+pub use hydrolux_core as core;
+pub use renderer::{FrameInput, RenderError, Renderer};
 pub use wgpu;

@@ -177,9 +177,20 @@ impl OceanSpectrum {
     /// Expected height variance Σ Ψ(k)Δk² of the modes this spectrum holds
     /// (what the random amplitudes average to), for calibration checks.
     pub fn expected_variance(&self) -> f64 {
+        self.expected_moments().0
+    }
+
+    /// Expected slope variance along x and z, Σ kx²Ψ Δk² and Σ kz²Ψ Δk²: what
+    /// the simulated waves resolve (the renderer adds the unresolved rest).
+    pub fn expected_slope_variance(&self) -> [f64; 2] {
+        let m = self.expected_moments();
+        [m.1, m.2]
+    }
+
+    fn expected_moments(&self) -> (f64, f64, f64) {
         let n = self.settings.resolution;
         let spreading = Spreading::new(self.settings.sea.spreading);
-        let mut total = 0.0;
+        let mut total = (0.0, 0.0, 0.0);
         for cascade in &self.cascades {
             let dk = 2.0 * PI / cascade.patch_size;
             for z in 0..n {
@@ -189,7 +200,10 @@ impl OceanSpectrum {
                     let k = (kx * kx + kz * kz).sqrt();
                     let nyquist = fx.abs() as usize == n / 2 || fz.abs() as usize == n / 2;
                     if k > 0.0 && !nyquist && k >= cascade.k_min && k < cascade.k_max {
-                        total += self.settings.sea.directional_density(kx, kz, &spreading) * dk * dk;
+                        let v = self.settings.sea.directional_density(kx, kz, &spreading) * dk * dk;
+                        total.0 += v;
+                        total.1 += kx * kx * v;
+                        total.2 += kz * kz * v;
                     }
                 }
             }

@@ -82,6 +82,14 @@ impl SineWaves {
         SineWaves { waves }
     }
 
+    /// Slope variance along x and z of the sum: Σ (a·k)²/2 per axis.
+    pub fn slope_variance(&self) -> [f64; 2] {
+        self.waves.iter().fold([0.0, 0.0], |acc, w| {
+            let a2 = w.amplitude * w.amplitude / 2.0;
+            [acc[0] + a2 * w.kx * w.kx, acc[1] + a2 * w.kz * w.kz]
+        })
+    }
+
     /// Phase of each wave at time t, reduced mod 2π in f64 (what the GPU gets).
     pub fn phases(&self, t: f64) -> Vec<f32> {
         self.waves.iter().map(|w| (w.phase0 - w.omega * t).rem_euclid(2.0 * PI) as f32).collect()

@@ -1,0 +1,108 @@
+//! `hydrolux bench`: frame-time statistics (median, p95) measured as wall
+//! clock around submit + wait, and per-pass GPU times from timestamp queries
+//! where the adapter has them (labelled as such).
+
+use crate::SceneArgs;
+use anyhow::{Result, bail};
+use clap::Args;
+use hydrolux::Renderer;
+use hydrolux::headless::HeadlessTarget;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// Frames to measure (after 3 warm-up frames).
+    #[arg(long, default_value_t = 60)]
+    pub frames: u32,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    let i = ((sorted.len() - 1) as f64 * p).round() as usize;
+    sorted[i]
+}
+
+pub fn run(a: BenchArgs) -> Result<()> {
+    crate::render::check_size(a.width, a.height)?;
+    if a.frames == 0 {
+        bail!("--frames 0: must be at least 1");
+    }
+    let scene = a.scene.load()?;
+    let ctx = crate::headless_context()?;
+    let info = ctx.adapter.get_info();
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
+    renderer.set_timing(true);
+    let target = HeadlessTarget::new(&ctx.device, (a.width, a.height));
+    let camera = scene.camera();
+    for i in 0..3 {
+        target.submit(&mut renderer, camera, i as f64 / 60.0);
+        renderer.collect_timings();
+    }
+    let mut frame_ms = Vec::new();
+    let mut passes: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
+    let mut order: Vec<&'static str> = Vec::new();
+    for i in 0..a.frames {
+        let t0 = Instant::now();
+        let index = target.submit(&mut renderer, camera, (i + 3) as f64 / 60.0);
+        ctx.device.poll(hydrolux::wgpu::PollType::Wait { submission_index: Some(index), timeout: None })?;
+        frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        renderer.collect_timings();
+        for (name, ms) in renderer.last_timings() {
+            if !order.contains(name) {
+                order.push(name);
+            }
+            passes.entry(name).or_default().push(*ms);
+        }
+    }
+    frame_ms.sort_by(f64::total_cmp);
+    let median = percentile(&frame_ms, 0.5);
+    let p95 = percentile(&frame_ms, 0.95);
+    let pass_medians: Vec<(&str, f64)> = order
+        .iter()
+        .map(|n| {
+            let mut v = passes[n].clone();
+            v.sort_by(f64::total_cmp);
+            (*n, percentile(&v, 0.5))
+        })
+        .collect();
+    let timestamps = renderer.has_timestamps();
+    if a.json {
+        let j = serde_json::json!({
+            "adapter": info.name,
+            "backend": format!("{:?}", info.backend),
+            "scene": a.scene.scene,
+            "overrides": a.scene.set,
+            "width": a.width,
+            "height": a.height,
+            "frames": a.frames,
+            "frame_ms": { "median": median, "p95": p95, "source": "wall clock around submit + wait" },
+            "passes_ms": pass_medians.iter().map(|(n, v)| serde_json::json!({"pass": n, "median": v})).collect::<Vec<_>>(),
+            "pass_times_source": if timestamps { "GPU timestamp queries" } else { "unavailable (adapter lacks TIMESTAMP_QUERY)" },
+        });
+        println!("{}", serde_json::to_string_pretty(&j)?);
+    } else {
+        println!("adapter   {} ({:?})", info.name, info.backend);
+        println!("scene     {} {}", a.scene.scene, a.scene.set.join(" "));
+        println!("size      {}×{}, {} frames", a.width, a.height, a.frames);
+        println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
+        if timestamps {
+            println!("passes    (GPU timestamps, median ms)");
+            for (n, v) in &pass_medians {
+                println!("  {n:<16} {v:8.3}");
+            }
+            println!("  {:<16} {:8.3}", "sum", pass_medians.iter().map(|p| p.1).sum::<f64>());
+        } else {
+            println!("passes    unavailable: the adapter has no timestamp queries");
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,85 @@
+//! `--dump KIND=FILE`: internal buffers as float arrays (.npy or .exr).
+//! Surface buffers are sampled on the N×N grid of the largest cascade
+//! (x_j = j·L/N, row = z, col = x), before horizontal displacement; for the
+//! FFT ocean they come from the GPU's float32 FFT output.
+
+use crate::output::{self, FloatImage, Format};
+use anyhow::{Result, bail};
+use hydrolux::Renderer;
+use hydrolux::core::scene::WaterModel;
+use hydrolux::core::waves::SurfaceSample;
+use hydrolux::core::waves::ocean::OceanFields;
+use std::path::PathBuf;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DumpKind {
+    Height,
+    Displacement,
+    Normals,
+    Jacobian,
+    Hdr,
+}
+
+pub const KINDS: &str = "height, displacement, normals, jacobian, hdr";
+
+#[derive(Clone, Debug)]
+pub struct Dump {
+    pub kind: DumpKind,
+    pub path: PathBuf,
+    pub format: Format,
+}
+
+pub fn parse(text: &str) -> Result<Dump> {
+    let Some((kind, file)) = text.split_once('=') else {
+        bail!("--dump `{text}`: expected KIND=FILE with KIND one of {KINDS}");
+    };
+    let kind = match kind {
+        "height" => DumpKind::Height,
+        "displacement" => DumpKind::Displacement,
+        "normals" => DumpKind::Normals,
+        "jacobian" => DumpKind::Jacobian,
+        "hdr" => DumpKind::Hdr,
+        other => bail!("--dump `{other}`: unknown buffer; choose one of {KINDS}"),
+    };
+    let path = PathBuf::from(file);
+    let format = output::format_of(&path, &[Format::Npy, Format::Exr], "--dump file")?;
+    Ok(Dump { kind, path, format })
+}
+
+/// Surface samples on the largest cascade's grid.
+fn surface_grid(renderer: &Renderer) -> (usize, Vec<SurfaceSample>) {
+    let scene = renderer.scene();
+    let n = scene.ocean.resolution as usize;
+    let l = scene.ocean.patch_size as f64;
+    let points: Vec<[f64; 2]> = (0..n).flat_map(|z| (0..n).map(move |x| [x as f64 * l / n as f64, z as f64 * l / n as f64])).collect();
+    let samples = match (scene.water.model, renderer.read_ocean_fields()) {
+        (WaterModel::Fft, Some(texels)) => {
+            let fields = OceanFields {
+                resolution: n,
+                patch_sizes: scene.ocean_settings().cascades().iter().map(|c| c.patch_size).collect(),
+                texels,
+            };
+            points.iter().map(|p| fields.sample(p[0], p[1])).collect()
+        }
+        _ => renderer.probe_surface(&points.iter().map(|p| [p[0] as f32, p[1] as f32]).collect::<Vec<_>>()),
+    };
+    (n, samples)
+}
+
+pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
+    let (width, height, channels, data): (usize, usize, usize, Vec<f32>) = if dump.kind == DumpKind::Hdr {
+        let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame has been rendered to dump") };
+        (w as usize, h as usize, 3, px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
+    } else {
+        let (n, samples) = surface_grid(renderer);
+        let (c, data): (usize, Vec<f32>) = match dump.kind {
+            DumpKind::Height => (1, samples.iter().map(|s| s.displacement[1]).collect()),
+            DumpKind::Displacement => (3, samples.iter().flat_map(|s| s.displacement).collect()),
+            DumpKind::Normals => (3, samples.iter().flat_map(|s| s.normal().to_array()).collect()),
+            DumpKind::Jacobian => (1, samples.iter().map(|s| s.jacobian()).collect()),
+            DumpKind::Hdr => unreachable!("handled above"),
+        };
+        (n, n, c, data)
+    };
+    output::write_float(&dump.path, dump.format, &FloatImage { width, height, channels, data: &data })
+}

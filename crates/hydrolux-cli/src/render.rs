@@ -1,0 +1,115 @@
+//! `hydrolux render`: headless images and numbered image sequences.
+
+use crate::SceneArgs;
+use crate::dumps::{self, Dump};
+use crate::output::{self, FloatImage, Format};
+use anyhow::{Result, bail};
+use clap::Args;
+use hydrolux::Renderer;
+use hydrolux::headless::HeadlessTarget;
+use std::path::{Path, PathBuf};
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Output image: .png (8-bit sRGB, tone-mapped) or .exr (linear float, pre-exposed radiance).
+    #[arg(long, default_value = "hydrolux.png")]
+    pub out: PathBuf,
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// Simulation time of the (first) frame, seconds.
+    #[arg(long, default_value_t = 0.0)]
+    pub time: f64,
+    /// Number of frames; more than one writes OUT_0000.png, OUT_0001.png, …
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Frames per second of simulated time in a sequence.
+    #[arg(long, default_value_t = 30.0)]
+    pub fps: f64,
+    /// Write an internal buffer: KIND=FILE.npy|FILE.exr with KIND one of height, displacement, normals, jacobian, hdr. Repeatable.
+    #[arg(long = "dump", value_name = "KIND=FILE")]
+    pub dump: Vec<String>,
+}
+
+/// `ocean.png`, frame 3 of a sequence → `ocean_0003.png`.
+pub fn numbered(path: &Path, frame: u32, frames: u32) -> PathBuf {
+    if frames <= 1 {
+        return path.to_path_buf();
+    }
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("png");
+    path.with_file_name(format!("{stem}_{frame:04}.{ext}"))
+}
+
+pub fn check_size(width: u32, height: u32) -> Result<()> {
+    for (name, v) in [("--width", width), ("--height", height)] {
+        if !(1..=16384).contains(&v) {
+            bail!("{name} {v} is out of range: must be 1 to 16384 pixels");
+        }
+    }
+    Ok(())
+}
+
+pub fn run(a: RenderArgs) -> Result<()> {
+    check_size(a.width, a.height)?;
+    if a.frames == 0 {
+        bail!("--frames 0: must be at least 1");
+    }
+    if !(a.fps.is_finite() && a.fps > 0.0) {
+        bail!("--fps {}: must be a positive number", a.fps);
+    }
+    if !a.time.is_finite() {
+        bail!("--time {}: must be a finite number of seconds", a.time);
+    }
+    let format = output::format_of(&a.out, &[Format::Png, Format::Exr], "--out")?;
+    let dumps: Vec<Dump> = a.dump.iter().map(|d| dumps::parse(d)).collect::<Result<_>>()?;
+    output::check_writable(&a.out)?;
+    for d in &dumps {
+        output::check_writable(&d.path)?;
+    }
+    let scene = a.scene.load()?;
+    let ctx = crate::headless_context()?;
+    let max = ctx.device.limits().max_texture_dimension_2d;
+    if a.width > max || a.height > max {
+        bail!("{}×{} is larger than this GPU allows ({max} pixels per side)", a.width, a.height);
+    }
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
+    let target = HeadlessTarget::new(&ctx.device, (a.width, a.height));
+    let progress = (a.frames > 1).then(|| {
+        let bar = indicatif::ProgressBar::new(a.frames as u64);
+        bar.set_style(indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})").expect("valid template"));
+        bar
+    });
+    for i in 0..a.frames {
+        let time = a.time + i as f64 / a.fps;
+        let pixels = target.render(&mut renderer, scene.camera(), time);
+        let out = numbered(&a.out, i, a.frames);
+        match format {
+            Format::Png => output::write_png(&out, a.width, a.height, &pixels)?,
+            _ => {
+                let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame rendered") };
+                let data: Vec<f32> = px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
+                output::write_exr(&out, &FloatImage { width: w as usize, height: h as usize, channels: 3, data: &data })?;
+            }
+        }
+        for d in &dumps {
+            let path = numbered(&d.path, i, a.frames);
+            dumps::write(&Dump { path, ..d.clone() }, &renderer)?;
+        }
+        if let Some(bar) = &progress {
+            bar.inc(1);
+        }
+    }
+    if let Some(bar) = progress {
+        bar.finish();
+    }
+    if a.frames == 1 {
+        eprintln!("wrote {}", a.out.display());
+    } else {
+        eprintln!("wrote {} frames: {} … {}", a.frames, numbered(&a.out, 0, a.frames).display(), numbered(&a.out, a.frames - 1, a.frames).display());
+    }
+    Ok(())
+}

@@ -1,0 +1,73 @@
+//! Getting a device: headless (CLI render/bench, tests) or for a window.
+//! The features Hydrolux uses are optional except what every WebGPU adapter
+//! has; timestamp queries are enabled when the adapter offers them.
+
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum ContextError {
+    #[error(
+        "no GPU adapter found: install your GPU's Vulkan/Metal/DX12 driver, or Mesa's software Vulkan \
+         (Debian/Ubuntu: apt-get install mesa-vulkan-drivers)"
+    )]
+    NoAdapter,
+    #[error("the GPU adapter refused to create a device: {0}")]
+    Device(String),
+}
+
+/// A device and queue with the adapter they came from.
+pub struct GpuContext {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+}
+
+/// Features Hydrolux turns on when the adapter has them.
+pub fn optional_features(adapter: &wgpu::Adapter) -> wgpu::Features {
+    adapter.features() & wgpu::Features::TIMESTAMP_QUERY
+}
+
+/// Device limits: the adapter's own storage-buffer and texture limits, so
+/// large FFT sizes work where the hardware allows them.
+pub fn required_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
+    let a = adapter.limits();
+    wgpu::Limits {
+        max_storage_buffer_binding_size: a.max_storage_buffer_binding_size,
+        max_buffer_size: a.max_buffer_size,
+        max_texture_dimension_2d: a.max_texture_dimension_2d,
+        max_compute_workgroup_storage_size: a.max_compute_workgroup_storage_size,
+        ..wgpu::Limits::default()
+    }
+}
+
+impl GpuContext {
+    /// A device with no window. Honours WGPU_BACKEND / WGPU_ADAPTER_NAME.
+    pub fn headless() -> Result<Self, ContextError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            compatible_surface: None,
+            force_fallback_adapter: false,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|_| ContextError::NoAdapter)?;
+        Self::from_adapter(instance, adapter)
+    }
+
+    /// A device on a chosen adapter (the viewer picks one compatible with its window).
+    pub fn from_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self, ContextError> {
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("hydrolux"),
+            required_features: optional_features(&adapter),
+            required_limits: required_limits(&adapter),
+            ..Default::default()
+        }))
+        .map_err(|e| ContextError::Device(e.to_string()))?;
+        Ok(GpuContext { instance, adapter, device, queue })
+    }
+
+    pub fn has_timestamps(&self) -> bool {
+        self.device.features().contains(wgpu::Features::TIMESTAMP_QUERY)
+    }
+}

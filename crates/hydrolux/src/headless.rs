@@ -1,0 +1,44 @@
+//! Rendering without a window: an offscreen sRGB target and readback, for
+//! the CLI, benchmarks and tests.
+
+use crate::gpu_util::read_texture;
+use crate::renderer::{FrameInput, Renderer};
+use hydrolux_core::camera::Camera;
+
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+pub struct HeadlessTarget {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    pub size: (u32, u32),
+}
+
+impl HeadlessTarget {
+    pub fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("headless target"),
+            size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        HeadlessTarget { texture, view, size }
+    }
+
+    /// Render one frame, wait for it, and return its tightly packed RGBA8 (sRGB) pixels.
+    pub fn render(&self, renderer: &mut Renderer, camera: Camera, time: f64) -> Vec<u8> {
+        self.submit(renderer, camera, time);
+        read_texture(renderer.device(), renderer.queue(), &self.texture, 4)
+    }
+
+    /// Render one frame and submit it without reading it back.
+    pub fn submit(&self, renderer: &mut Renderer, camera: Camera, time: f64) -> wgpu::SubmissionIndex {
+        let mut encoder = renderer.device().create_command_encoder(&Default::default());
+        renderer.render(&mut encoder, &FrameInput { target: &self.view, size: self.size, camera, time });
+        renderer.queue().submit([encoder.finish()])
+    }
+}

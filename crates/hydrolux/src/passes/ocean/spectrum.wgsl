@@ -1,0 +1,58 @@
+// Time evolution of the initial spectrum h0 (Tessendorf §3.4) and the
+// spectral fields for displacement, slopes and the Jacobian, packed two real
+// fields per complex number. Twin: hydrolux_core::waves::ocean::evolve_mode.
+
+struct SpectrumMode {
+    h0: vec2<f32>,
+    h0_minus_conj: vec2<f32>,
+    k: vec2<f32>,
+    omega_cycles: u32,
+    pad: u32,
+}
+
+struct EvolveParams {
+    // x time phase τ = frac(t/T)·2³²; y N; z cascades; w unused
+    tau_n: vec4<u32>,
+    // x choppiness λ
+    choppiness: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> params: EvolveParams;
+@group(0) @binding(1) var<storage, read> modes: array<SpectrumMode>;
+@group(0) @binding(2) var<storage, read_write> fields: array<vec4<f32>>;
+
+@compute @workgroup_size(8, 8, 1)
+fn evolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = params.tau_n.y;
+    if (id.x >= n || id.y >= n) {
+        return;
+    }
+    let c = id.z;
+    let i = id.y * n + id.x;
+    let m = modes[c * n * n + i];
+    // Exact phase: whole cycles × τ wraps mod 2³², i.e. mod one period.
+    let turns = m.omega_cycles * params.tau_n.x;
+    let theta = f32(turns) * (TAU / 4294967296.0);
+    let h = cmul(m.h0, cexp_i(-theta)) + cmul(m.h0_minus_conj, cexp_i(theta));
+    let k = length(m.k);
+    var inv_k = 0.0;
+    if (k > 0.0) {
+        inv_k = 1.0 / k;
+    }
+    let lambda = params.choppiness.x;
+    let dx = cmul_i(h * (-lambda * m.k.x * inv_k));
+    let dz = cmul_i(h * (-lambda * m.k.y * inv_k));
+    let hx = cmul_i(h * m.k.x);
+    let hz = cmul_i(h * m.k.y);
+    let dxx = h * (lambda * m.k.x * m.k.x * inv_k);
+    let dzz = h * (lambda * m.k.y * m.k.y * inv_k);
+    let dxz = h * (lambda * m.k.x * m.k.y * inv_k);
+    // A + i·B for complex A, B.
+    let f0 = dx + cmul_i(h);
+    let f1 = dz + cmul_i(hx);
+    let f2 = hz + cmul_i(dxx);
+    let f3 = dzz + cmul_i(dxz);
+    let plane = n * n;
+    fields[(2u * c) * plane + i] = vec4<f32>(f0, f1);
+    fields[(2u * c + 1u) * plane + i] = vec4<f32>(f2, f3);
+}

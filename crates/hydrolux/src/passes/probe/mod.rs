@@ -1,0 +1,69 @@
+//! GPU queries: the surface exactly as the renderer samples it, at any
+//! points (heights for buoyancy, and the GPU side of the CPU-twin tests), and
+//! the sky cube map in any direction.
+
+use crate::gpu_util::*;
+use crate::shaders::{self, compose};
+use hydrolux_core::waves::SurfaceSample;
+use wgpu::util::DeviceExt;
+
+pub fn source() -> String {
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::SURFACE, include_str!("probe.wgsl")])
+}
+
+pub struct ProbePass {
+    layout: wgpu::BindGroupLayout,
+    surface: wgpu::ComputePipeline,
+    sky: wgpu::ComputePipeline,
+}
+
+impl ProbePass {
+    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, surface: &wgpu::BindGroupLayout) -> Self {
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("probe io"),
+            entries: &[storage_entry(0, cs, true), storage_entry(1, cs, false)],
+        });
+        let module = shader(device, "probe", &source());
+        let p = |entry| compute_pipeline(device, entry, &module, entry, &[globals, surface, &layout]);
+        ProbePass { surface: p("probe_surface"), sky: p("probe_sky"), layout }
+    }
+
+    fn run(&self, device: &wgpu::Device, queue: &wgpu::Queue, pipeline: &wgpu::ComputePipeline, groups: [&wgpu::BindGroup; 2], points: &[[f32; 4]]) -> Vec<[f32; 12]> {
+        if points.is_empty() {
+            return Vec::new();
+        }
+        let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("probe points"), contents: bytemuck::cast_slice(points), usage: wgpu::BufferUsages::STORAGE });
+        let size = (points.len() * 48) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor { label: Some("probe results"), size, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
+        let io = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("probe io"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() }, wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() }],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, groups[0], &[]);
+            pass.set_bind_group(1, groups[1], &[]);
+            pass.set_bind_group(2, &io, &[]);
+            pass.dispatch_workgroups((points.len() as u32).div_ceil(64), 1, 1);
+        }
+        queue.submit([encoder.finish()]);
+        bytemuck::cast_slice(&read_buffer(device, queue, &output, size)).to_vec()
+    }
+
+    pub fn surface(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], points: &[[f32; 2]]) -> Vec<SurfaceSample> {
+        let pts: Vec<[f32; 4]> = points.iter().map(|p| [p[0], p[1], 0.0, 0.0]).collect();
+        self.run(device, queue, &self.surface, groups, &pts)
+            .into_iter()
+            .map(|r| SurfaceSample { displacement: [r[0], r[1], r[2]], slope: [r[4], r[5]], dxx: r[6], dzz: r[7], dxz: r[8] })
+            .collect()
+    }
+
+    pub fn sky(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {
+        let pts: Vec<[f32; 4]> = dirs.iter().map(|d| [d[0], d[1], d[2], 0.0]).collect();
+        self.run(device, queue, &self.sky, groups, &pts).into_iter().map(|r| [r[0], r[1], r[2]]).collect()
+    }
+}

@@ -1,0 +1,30 @@
+// Evaluate the surface (as the renderer draws it) and the sky cube map at
+// arbitrary points: GPU height queries for users (buoyancy) and the hook the
+// GPU-versus-CPU tests use.
+
+struct ProbeOut {
+    disp: vec4<f32>,
+    slope_dxx_dzz: vec4<f32>,
+    dxz: vec4<f32>,
+}
+
+@group(2) @binding(0) var<storage, read> points: array<vec4<f32>>;
+@group(2) @binding(1) var<storage, read_write> results: array<ProbeOut>;
+
+@compute @workgroup_size(64, 1, 1)
+fn probe_surface(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= arrayLength(&points)) {
+        return;
+    }
+    let s = surface_sample_footprint(points[id.x].xy, 0.0);
+    results[id.x] = ProbeOut(vec4<f32>(s.disp, 0.0), vec4<f32>(s.slope, s.dxx, s.dzz), vec4<f32>(s.dxz, 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(64, 1, 1)
+fn probe_sky(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= arrayLength(&points)) {
+        return;
+    }
+    let c = textureSampleLevel(sky_cube, sky_sampler, points[id.x].xyz, 0.0);
+    results[id.x] = ProbeOut(c, vec4<f32>(0.0), vec4<f32>(0.0));
+}

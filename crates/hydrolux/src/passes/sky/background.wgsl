@@ -1,0 +1,46 @@
+// The sky behind everything: the analytic model per pixel (sharper than the
+// cube map) plus the sun's disk with limb darkening. Drawn at the far plane
+// (reversed Z: depth 0) so the water covers it.
+
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> VsOut {
+    let xy = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u)) * 2.0 - 1.0;
+    var out: VsOut;
+    out.clip = vec4<f32>(xy, 0.0, 1.0);
+    out.ndc = xy;
+    return out;
+}
+
+fn view_ray(ndc: vec2<f32>) -> vec3<f32> {
+    let far = frame.inv_view_proj * vec4<f32>(ndc, 1e-6, 1.0);
+    return normalize(far.xyz / far.w - frame.camera_pos.xyz);
+}
+
+// Sun disk radiance (pre-exposed) towards `dir`, limb-darkened.
+fn sun_disk(dir: vec3<f32>) -> vec3<f32> {
+    let cos_a = dot(dir, frame.sun_dir.xyz);
+    let cos_r = frame.sun_dir.w;
+    if (cos_a < cos_r) {
+        return vec3<f32>(0.0);
+    }
+    let r = sqrt(max(1.0 - cos_a * cos_a, 0.0)) / sqrt(max(1.0 - cos_r * cos_r, 1e-12));
+    let mu = sqrt(max(1.0 - r * r, 0.0));
+    let limb = 1.0 - 0.6 * (1.0 - mu);
+    return frame.sun_illuminance.rgb * frame.sun_illuminance.w * limb / 0.8;
+}
+
+@fragment
+fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    let dir = view_ray(in.ndc);
+    var l = sky_radiance(sky, dir) * exposure();
+    if (dir.y > 0.0) {
+        l += sun_disk(dir);
+    }
+    return vec4<f32>(min(l, vec3<f32>(60000.0)), 1.0);
+}

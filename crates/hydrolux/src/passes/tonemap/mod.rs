@@ -1,0 +1,71 @@
+//! Output: filmic tone map of the pre-exposed HDR image into the caller's
+//! target (`tonemap.wgsl`; CPU twin `hydrolux_core::tonemap`).
+
+use crate::gpu_util::*;
+use crate::shaders::{self, compose};
+use crate::timing::GpuTimer;
+
+pub fn source(srgb_target: bool) -> String {
+    let c = format!("const OUTPUT_SRGB_CURVE: bool = {};\n", !srgb_target);
+    compose(&[&c, shaders::CONSTANTS, shaders::FRAME, shaders::TONEMAP_CURVE, include_str!("tonemap.wgsl")])
+}
+
+pub struct TonemapPass {
+    pub layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl TonemapPass {
+    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, target_format: wgpu::TextureFormat) -> Self {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tonemap input"),
+            entries: &[texture_entry(0, wgpu::ShaderStages::FRAGMENT, wgpu::TextureViewDimension::D2, false)],
+        });
+        let module = shader(device, "tonemap", &source(target_format.is_srgb()));
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("tonemap"),
+            layout: Some(&pipeline_layout(device, "tonemap", &[globals, &layout])),
+            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(target_format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        TonemapPass { layout, pipeline }
+    }
+
+    pub fn input_group(&self, device: &wgpu::Device, hdr: &wgpu::TextureView) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tonemap input"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(hdr) }],
+        })
+    }
+
+    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, target: &wgpu::TextureView, globals: &wgpu::BindGroup, input: &wgpu::BindGroup, timer: Option<&mut GpuTimer>) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tonemap"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timer.and_then(|t| t.render_writes("tonemap")),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, globals, &[]);
+        pass.set_bind_group(1, input, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

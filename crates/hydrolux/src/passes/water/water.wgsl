@@ -1,0 +1,143 @@
+// The water surface: a camera-centred clipmap of square rings (geometry
+// clipmaps, Losasso & Hoppe 2004) whose vertices sit on a world-fixed grid (no
+// swimming) and morph onto the next coarser ring's grid before its edge
+// (CDLOD-style, no cracks or popping). Shading: exact Fresnel (seed 000
+// §2.1.2), environment-mapped sky reflection (§3.1.2), a sun glint from a
+// Gaussian slope distribution whose variance comes from the filtered slope
+// moments plus the unresolved Cox–Munk remainder (Bruneton, Neyret & Holzschuch
+// 2010), the light scattered up from the water body, and foam where the choppy
+// displacement folds (Jacobian < 1; Tessendorf §3.3).
+// The rings are drawn twice: depth only (`fs_depth`), then shaded with depth
+// test Equal, so each pixel runs the expensive shading once however thin the
+// distant triangles get (grazing views make them sub-pixel).
+// Displacement fades to zero across the outermost displaced ring, where waves
+// are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
+// RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
+// SKY_CUBE_SIZE are prepended by the pass.
+
+struct VsOut {
+    @invariant @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) grid_pos: vec2<f32>,
+}
+
+@vertex
+fn vs_main(@location(0) cell: vec2<i32>, @builtin(instance_index) level: u32) -> VsOut {
+    let spacing = frame.surface_detail.z * exp2(f32(level));
+    let cam = frame.camera_pos.xz;
+    // Snap to twice the spacing so this ring's even vertices are the next ring's vertices.
+    let centre = round(cam / (2.0 * spacing)) * 2.0 * spacing;
+    var g = centre + vec2<f32>(cell) * spacing;
+    let half_extent = RING_HALF * spacing;
+    let d = max(abs(g.x - cam.x), abs(g.y - cam.y));
+    // The camera is at most one spacing from the centre, so every edge vertex
+    // is past morph_end: the ring's border matches the coarser ring exactly.
+    let morph_end = half_extent - 1.5 * spacing;
+    let morph_start = morph_end - 0.3 * half_extent;
+    let k = clamp((d - morph_start) / (morph_end - morph_start), 0.0, 1.0);
+    let odd = vec2<f32>(cell & vec2<i32>(1));
+    g -= odd * spacing * k;
+    let s = surface_sample_footprint(g, spacing * (1.0 + k));
+    var fade = 1.0;
+    if (level + 1u == DISPLACED_RINGS) {
+        let from_centre = max(abs(g.x - centre.x), abs(g.y - centre.y));
+        fade = 1.0 - smoothstep(0.5 * half_extent, half_extent, from_centre);
+    }
+    let world = vec3<f32>(g.x + s.disp.x * fade, s.disp.y * fade, g.y + s.disp.z * fade);
+    return vs_out(world, g);
+}
+
+fn vs_out(world: vec3<f32>, grid_pos: vec2<f32>) -> VsOut {
+    var out: VsOut;
+    out.clip = frame.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    out.grid_pos = grid_pos;
+    return out;
+}
+
+// The flat far field: a coarse square ring (cells to ±FAR_HALF, hole inside
+// ±FAR_HALF/2) stretched radially so its inner edge is the outermost
+// displaced ring's edge (same snapped centre) and its outer edge FAR_SCALE
+// times further out. Both edges lie at y = 0, so the seam is closed.
+@vertex
+fn vs_far(@location(0) cell: vec2<i32>) -> VsOut {
+    let last = frame.surface_detail.z * exp2(f32(DISPLACED_RINGS - 1u));
+    let centre = round(frame.camera_pos.xz / (2.0 * last)) * 2.0 * last;
+    let c = vec2<f32>(cell);
+    let edge = max(abs(c.x), abs(c.y));
+    let t = (edge - 0.5 * FAR_HALF) / (0.5 * FAR_HALF);
+    let inner = RING_HALF * last;
+    let radius = mix(inner, inner * FAR_SCALE, t * t);
+    let g = centre + c / edge * radius;
+    return vs_out(vec3<f32>(g.x, 0.0, g.y), g);
+}
+
+// Takes the same inputs as fs_main so both pipelines keep the same vertex
+// outputs and compute bit-identical positions.
+@fragment
+fn fs_depth(in: VsOut) {
+    _ = in.world;
+}
+
+// Probability density of facet slopes ζ (Gaussian, per-axis variance σ²).
+fn slope_pdf(zeta: vec2<f32>, variance: vec2<f32>) -> f32 {
+    let v = max(variance, vec2<f32>(1e-5));
+    return exp(-0.5 * (zeta.x * zeta.x / v.x + zeta.y * zeta.y / v.y)) / (TAU * sqrt(v.x * v.y));
+}
+
+@fragment
+fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    let p = in.grid_pos;
+    let s = surface_sample_grad(p, dpdx(p), dpdy(p));
+    let to_eye = frame.camera_pos.xyz - in.world;
+    let dist = length(to_eye);
+    let v = to_eye / dist;
+    var n = surface_normal(s);
+    // Filtered normals can face away at grazing angles; tilt them back just enough.
+    let nv = dot(n, v);
+    if (nv < 0.02) {
+        n = normalize(n + (0.02 - nv) * v);
+    }
+    let cos_v = max(dot(n, v), 1e-3);
+    let ior = frame.water_body.w;
+    let f = fresnel(frame.modes.x, cos_v, 1.0, ior);
+
+    // Slope variance inside the pixel: resolved (moments) + unresolved (sub-grid).
+    let variance = s.slope_variance + frame.surface_detail.xy;
+    let sigma = sqrt(variance.x + variance.y);
+
+    // Sky reflection, blurred by the slope spread (a slope σ spreads reflected rays by ~2σ).
+    var r = reflect(-v, n);
+    r.y = abs(r.y);
+    let lod = clamp(log2(2.0 * sigma * SKY_CUBE_SIZE / (0.5 * PI)), 0.0, 8.0);
+    let sky_reflected = textureSampleLevel(sky_cube, sky_sampler, r, lod).rgb * exposure();
+
+    // Sun glint.
+    let l = frame.sun_dir.xyz;
+    var glint = vec3<f32>(0.0);
+    if (l.y > 0.0) {
+        let h = normalize(l + v);
+        let zeta = -h.xz / h.y + n.xz / n.y;
+        let cos_h = h.y;
+        let fh = fresnel(frame.modes.x, dot(v, h), 1.0, ior);
+        let brdf = fh * slope_pdf(zeta, variance) / (4.0 * cos_v * pow(cos_h, 4.0));
+        glint = frame.sun_illuminance.rgb * brdf * max(dot(n, l), 0.0) / max(l.y, 1e-3) * l.y;
+    }
+
+    // Light scattered back up out of the water body (refined by the optics issue).
+    let e_down = frame.sky_ambient.rgb + frame.sun_illuminance.rgb * max(l.y, 0.0);
+    let body = frame.water_body.rgb * e_down / PI * (1.0 - f);
+
+    var color = f * sky_reflected + glint + body;
+
+    // Whitecaps where the choppy surface folds.
+    let foam = clamp((0.45 - surface_jacobian(s)) / 0.5, 0.0, 1.0) * 0.9;
+    color = mix(color, vec3<f32>(0.75) * e_down / PI, foam);
+
+    // Aerial perspective: distant water melts into the horizon haze.
+    let horizon_dir = normalize(vec3<f32>(-v.x, 0.02, -v.z));
+    let horizon = textureSampleLevel(sky_cube, sky_sampler, horizon_dir, 0.0).rgb * exposure();
+    let haze = 1.0 - exp(-dist / 40000.0);
+    color = mix(color, horizon, haze);
+    return vec4<f32>(min(color, vec3<f32>(60000.0)), 1.0);
+}

@@ -1,0 +1,456 @@
+//! The renderer: owns the passes, turns a [`Scene`] into their inputs, and
+//! records one frame in order (see ARCHITECTURE.md):
+//! ocean simulate → sky bake (when the sun moved) → sky → water → tonemap.
+
+use crate::gpu_util::*;
+use crate::passes::mips::Downsampler;
+use crate::passes::ocean::{OceanPass, OceanTooLarge};
+use crate::passes::probe::ProbePass;
+use crate::passes::sky::SkyPass;
+use crate::passes::tonemap::TonemapPass;
+use crate::passes::water::{self, WaterPass};
+use crate::targets::Targets;
+use crate::timing::GpuTimer;
+use crate::uniforms::{FrameUniforms, SurfaceUniforms};
+use hydrolux_core::camera::Camera;
+use hydrolux_core::scene::{Fresnel, Scene, Tonemap, WaterModel};
+use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
+use hydrolux_core::tonemap::exposure_scale;
+use hydrolux_core::waves::SurfaceSample;
+use hydrolux_core::waves::ocean::{OceanSettings, OceanSpectrum, REPEAT_PERIOD_S};
+use hydrolux_core::waves::sines::{MAX_SINE_WAVES, SineWaves};
+use hydrolux_core::waves::spectrum::cox_munk_slope_variance;
+
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    OceanTooLarge(#[from] OceanTooLarge),
+}
+
+/// What one frame needs beyond the scene: where to draw, and when.
+pub struct FrameInput<'a> {
+    pub target: &'a wgpu::TextureView,
+    pub size: (u32, u32),
+    pub camera: Camera,
+    /// Simulation time, seconds.
+    pub time: f64,
+}
+
+struct SurfaceState {
+    ocean_settings: OceanSettings,
+    ocean: OceanPass,
+    group: wgpu::BindGroup,
+    sines: SineWaves,
+    /// Slope variance per axis that the surface model does not resolve.
+    unresolved_variance: [f32; 2],
+}
+
+pub struct Renderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    target_format: wgpu::TextureFormat,
+    globals_layout: wgpu::BindGroupLayout,
+    surface_layout: wgpu::BindGroupLayout,
+    frame_buffer: wgpu::Buffer,
+    surface_buffer: wgpu::Buffer,
+    surface_sampler: wgpu::Sampler,
+    globals: wgpu::BindGroup,
+    downsampler: Downsampler,
+    sky: SkyPass,
+    water: WaterPass,
+    tonemap: TonemapPass,
+    probe: ProbePass,
+    surface: SurfaceState,
+    targets: Option<Targets>,
+    scene: Scene,
+    sky_irradiance: glam::Vec3,
+    timer: Option<GpuTimer>,
+    timing: bool,
+    last_timings: Vec<(&'static str, f64)>,
+}
+
+impl Renderer {
+    /// Create every pass for drawing into textures of `target_format`.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, scene: &Scene) -> Result<Self, RenderError> {
+        let (vs, fs, cs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
+        let all = vs | fs | cs;
+        let globals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals"),
+            entries: &[
+                uniform_entry(0, all),
+                uniform_entry(1, all),
+                texture_entry(2, all, wgpu::TextureViewDimension::Cube, true),
+                sampler_entry(3, all),
+            ],
+        });
+        let surface_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("surface"),
+            entries: &[
+                uniform_entry(0, all),
+                texture_entry(1, all, wgpu::TextureViewDimension::D2Array, true),
+                texture_entry(2, all, wgpu::TextureViewDimension::D2Array, true),
+                texture_entry(3, all, wgpu::TextureViewDimension::D2Array, true),
+                sampler_entry(4, all),
+            ],
+        });
+        let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
+        let surface_buffer = uniform_buffer(device, "surface", &bytemuck::Zeroable::zeroed() as &SurfaceUniforms);
+        let sky_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sky"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let surface_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("surface"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            anisotropy_clamp: 16,
+            ..Default::default()
+        });
+        let downsampler = Downsampler::new(device);
+        let sky = SkyPass::new(device, &downsampler, &globals_layout);
+        let globals = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals"),
+            layout: &globals_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: sky.params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&sky.cube_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sky_sampler) },
+            ],
+        });
+        let water = WaterPass::new(device, &globals_layout, &surface_layout);
+        let tonemap = TonemapPass::new(device, &globals_layout, target_format);
+        let probe = ProbePass::new(device, &globals_layout, &surface_layout);
+        let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, &surface_sampler, scene)?;
+        let timer = GpuTimer::new(device, queue);
+        let mut r = Renderer {
+            device: device.clone(),
+            queue: queue.clone(),
+            target_format,
+            globals_layout,
+            surface_layout,
+            frame_buffer,
+            surface_buffer,
+            surface_sampler,
+            globals,
+            downsampler,
+            sky,
+            water,
+            tonemap,
+            probe,
+            surface,
+            targets: None,
+            scene: scene.clone(),
+            sky_irradiance: glam::Vec3::ZERO,
+            timer,
+            timing: false,
+            last_timings: Vec::new(),
+        };
+        r.update_sky();
+        Ok(r)
+    }
+
+    fn build_surface(
+        device: &wgpu::Device,
+        downsampler: &Downsampler,
+        layout: &wgpu::BindGroupLayout,
+        buffer: &wgpu::Buffer,
+        sampler: &wgpu::Sampler,
+        scene: &Scene,
+    ) -> Result<SurfaceState, RenderError> {
+        let ocean_settings = scene.ocean_settings();
+        let spectrum = OceanSpectrum::new(&ocean_settings);
+        let ocean = OceanPass::new(device, &spectrum, downsampler)?;
+        let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+        let (v1, v2, v3) = (view(&ocean.textures.displacement), view(&ocean.textures.derivative), view(&ocean.textures.moments));
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("surface"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&v1) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&v2) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&v3) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(sampler) },
+            ],
+        });
+        let sea = scene.sea_state();
+        let sines = SineWaves::from_sea_state(&sea, scene.sines.count as usize, scene.ocean.seed, scene.sines.gerstner as f64);
+        let total = cox_munk_slope_variance(sea.wind_speed, sea.wind_direction);
+        let resolved = match scene.water.model {
+            WaterModel::Fft => spectrum.expected_slope_variance(),
+            WaterModel::Sines => sines.slope_variance(),
+            WaterModel::Flat => [0.0, 0.0],
+        };
+        // What the geometry and textures do not carry, with a floor for capillary ripples.
+        let unresolved_variance = [(total[0] - resolved[0]).max(2e-4) as f32, (total[1] - resolved[1]).max(2e-4) as f32];
+        Ok(SurfaceState { ocean_settings, ocean, group, sines, unresolved_variance })
+    }
+
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    pub fn target_format(&self) -> wgpu::TextureFormat {
+        self.target_format
+    }
+
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Switch to another scene (or an edited one): rebuilds only what changed.
+    pub fn set_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
+        let surface_changed = scene.ocean != self.scene.ocean || scene.sines != self.scene.sines || scene.water.model != self.scene.water.model;
+        if surface_changed || scene.ocean_settings() != self.surface.ocean_settings {
+            self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, &self.surface_sampler, scene)?;
+        }
+        self.scene = scene.clone();
+        self.update_sky();
+        Ok(())
+    }
+
+    fn sky_params(&self) -> SkyParams {
+        SkyParams::new(self.scene.sun_direction(), self.scene.sky.turbidity)
+    }
+
+    fn update_sky(&mut self) {
+        let p = self.sky_params();
+        self.sky_irradiance = sky_irradiance_up(&p);
+        self.sky.prepare(&self.queue, p);
+    }
+
+    /// Collect per-pass GPU timestamps for each frame (where the adapter supports them).
+    pub fn set_timing(&mut self, on: bool) {
+        self.timing = on;
+    }
+
+    pub fn has_timestamps(&self) -> bool {
+        self.timer.is_some()
+    }
+
+    /// Per-pass GPU milliseconds of the last frame, once its submission has
+    /// been waited for ([`Renderer::collect_timings`]).
+    pub fn last_timings(&self) -> &[(&'static str, f64)] {
+        &self.last_timings
+    }
+
+    /// Wait for the last frame and read its pass timings (no-op without timing).
+    pub fn collect_timings(&mut self) {
+        if let (true, Some(t)) = (self.timing, &self.timer) {
+            self.last_timings = t.read(&self.device);
+        }
+    }
+
+    fn write_frame_uniforms(&self, camera: &Camera, size: (u32, u32), time: f64) {
+        let s = &self.scene;
+        let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
+        let view_proj = camera.view_projection(aspect);
+        let sky = self.sky_params();
+        let exposure = exposure_scale(s.render.exposure);
+        let sun = glam::Vec3::from_slice(&sky.sun_illuminance[..3]) * exposure;
+        let amb = self.sky_irradiance * exposure;
+        let model = match s.water.model {
+            WaterModel::Fft => 0,
+            WaterModel::Sines => 1,
+            WaterModel::Flat => 2,
+        };
+        let u = FrameUniforms {
+            view_proj: view_proj.to_cols_array_2d(),
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            camera_pos: [camera.position.x, camera.position.y, camera.position.z, time.rem_euclid(REPEAT_PERIOD_S) as f32],
+            sun_dir: sky.sun_direction,
+            sun_illuminance: [sun.x, sun.y, sun.z, sky.sun_illuminance[3]],
+            sky_ambient: [amb.x, amb.y, amb.z, exposure],
+            water_body: [s.water.body_color[0], s.water.body_color[1], s.water.body_color[2], s.water.ior],
+            modes: [
+                match s.water.fresnel {
+                    Fresnel::Exact => 0,
+                    Fresnel::Schlick => 1,
+                },
+                model,
+                match s.render.tonemap {
+                    Tonemap::Aces => 0,
+                    Tonemap::Clamp => 1,
+                },
+                0,
+            ],
+            viewport: [size.0 as f32, size.1 as f32, 1.0 / size.0.max(1) as f32, 1.0 / size.1.max(1) as f32],
+            surface_detail: [
+                self.surface.unresolved_variance[0],
+                self.surface.unresolved_variance[1],
+                water::BASE_SPACING,
+                water::ring_count() as f32,
+            ],
+        };
+        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
+        self.write_surface_uniforms(time);
+    }
+
+    fn write_surface_uniforms(&self, time: f64) {
+        let s = &self.scene;
+        let mut u: SurfaceUniforms = bytemuck::Zeroable::zeroed();
+        for (i, c) in self.surface.ocean_settings.cascades().iter().enumerate().take(4) {
+            u.cascade_sizes[i] = c.patch_size as f32;
+        }
+        let model = match s.water.model {
+            WaterModel::Fft => 0,
+            WaterModel::Sines => 1,
+            WaterModel::Flat => 2,
+        };
+        let waves = &self.surface.sines.waves;
+        u.counts = [self.surface.ocean.cascades, model, waves.len().min(MAX_SINE_WAVES) as u32, self.surface.ocean.n];
+        for (i, (w, phase)) in waves.iter().zip(self.surface.sines.phases(time)).enumerate().take(MAX_SINE_WAVES) {
+            u.waves[i] = [w.kx as f32, w.kz as f32, w.amplitude as f32, phase];
+            let k = (w.kx * w.kx + w.kz * w.kz).sqrt().max(1e-6);
+            u.wave_q[i / 4][i % 4] = (w.steepness / k) as f32;
+        }
+        self.queue.write_buffer(&self.surface_buffer, 0, bytemuck::bytes_of(&u));
+    }
+
+    /// Write this frame's inputs and advance the simulation, without drawing:
+    /// what [`Renderer::render`] does first. Queries and dumps use it alone.
+    pub fn simulate(&mut self, camera: &Camera, size: (u32, u32), time: f64) {
+        self.write_frame_uniforms(camera, size, time);
+        self.surface.ocean.prepare(&self.queue, time);
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        self.sky.record_bake(&mut encoder, &self.downsampler, None);
+        if self.scene.water.model == WaterModel::Fft {
+            self.surface.ocean.record(&mut encoder, &self.downsampler, None);
+        }
+        self.queue.submit([encoder.finish()]);
+    }
+
+    /// Record one frame into `encoder`, drawing into `input.target`.
+    pub fn render(&mut self, encoder: &mut wgpu::CommandEncoder, input: &FrameInput) {
+        if self.targets.as_ref().map(|t| t.size) != Some(input.size) {
+            self.targets = Some(Targets::new(&self.device, input.size, &self.tonemap));
+        }
+        self.write_frame_uniforms(&input.camera, input.size, input.time);
+        self.surface.ocean.prepare(&self.queue, input.time);
+        let mut timer = if self.timing { self.timer.as_mut() } else { None };
+        if let Some(t) = timer.as_deref_mut() {
+            t.begin_frame();
+        }
+        self.sky.record_bake(encoder, &self.downsampler, timer.as_deref_mut());
+        if self.scene.water.model == WaterModel::Fft {
+            self.surface.ocean.record(encoder, &self.downsampler, timer.as_deref_mut());
+        }
+        let targets = self.targets.as_ref().expect("targets were just created");
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("sky"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &targets.hdr_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("sky")),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.sky.record_background(&mut pass, &self.globals);
+        }
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("water"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &targets.hdr_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("water")),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.water.record(&mut pass, &self.globals, &self.surface.group, [input.camera.position.x, input.camera.position.z]);
+        }
+        self.tonemap.record(encoder, input.target, &self.globals, &targets.tonemap_input, timer.as_deref_mut());
+        if let Some(t) = timer {
+            t.resolve(encoder);
+        }
+    }
+
+    /// The last frame's linear HDR image (pre-exposed radiance, before the
+    /// tone map), RGBA float, rows top to bottom.
+    pub fn read_hdr(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
+        let t = self.targets.as_ref()?;
+        let bytes = read_texture(&self.device, &self.queue, &t.hdr, 8);
+        let halves: &[u16] = bytemuck::cast_slice(&bytes);
+        let px = halves.chunks_exact(4).map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])]).collect();
+        Some((t.size.0, t.size.1, px))
+    }
+
+    /// The FFT fields of every cascade after the last simulation step (see
+    /// [`OceanPass::read_fields`]); `None` unless `water.model = "fft"`.
+    pub fn read_ocean_fields(&self) -> Option<Vec<[f32; 8]>> {
+        (self.scene.water.model == WaterModel::Fft).then(|| self.surface.ocean.read_fields(&self.device, &self.queue))
+    }
+
+    /// The surface as the renderer samples it (finest level) at undisplaced
+    /// points (x, z), after the last simulation step.
+    pub fn probe_surface(&self, points: &[[f32; 2]]) -> Vec<SurfaceSample> {
+        self.probe.surface(&self.device, &self.queue, [&self.globals, &self.surface.group], points)
+    }
+
+    /// Height of the rendered surface above world (x, z): inverts the choppy
+    /// displacement on the CPU from GPU samples (what buoyancy code needs).
+    pub fn height_at(&self, x: f32, z: f32) -> f32 {
+        let mut p = [x, z];
+        for _ in 0..8 {
+            let s = self.probe_surface(&[p])[0];
+            p = [x - s.displacement[0], z - s.displacement[2]];
+        }
+        self.probe_surface(&[p])[0].displacement[1]
+    }
+
+    /// Radiance (kcd/m²) of the baked sky cube map in the given directions.
+    pub fn probe_sky(&self, dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {
+        self.probe.sky(&self.device, &self.queue, [&self.globals, &self.surface.group], dirs)
+    }
+
+    pub fn ocean_resolution(&self) -> u32 {
+        self.surface.ocean.n
+    }
+
+    #[doc(hidden)]
+    pub fn globals_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.globals_layout
+    }
+}
+
+/// IEEE half → single precision.
+pub fn f16_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exp = ((h >> 10) & 0x1f) as i32;
+    let frac = (h & 0x3ff) as f32;
+    match exp {
+        0 => sign * frac * 2f32.powi(-24),
+        31 => {
+            if frac == 0.0 {
+                sign * f32::INFINITY
+            } else {
+                f32::NAN
+            }
+        }
+        _ => sign * (1.0 + frac / 1024.0) * 2f32.powi(exp - 15),
+    }
+}

@@ -1,0 +1,44 @@
+//! WGSL sources. Each pass has its own file; the shared modules under
+//! `src/shaders/` are prepended to it, never pasted (WGSL has no #include).
+//! [`all_for_validation`] lists every composed shader so a test can check
+//! them all with naga, without a GPU.
+
+pub const FRAME: &str = include_str!("shaders/frame.wgsl");
+pub const CONSTANTS: &str = include_str!("shaders/constants.wgsl");
+pub const OPTICS: &str = include_str!("shaders/optics.wgsl");
+pub const COMPLEX: &str = include_str!("shaders/complex.wgsl");
+pub const SKY_MODEL: &str = include_str!("shaders/sky_model.wgsl");
+pub const SKY_BINDINGS: &str = include_str!("shaders/sky_bindings.wgsl");
+pub const SURFACE: &str = include_str!("shaders/surface.wgsl");
+pub const TONEMAP_CURVE: &str = include_str!("shaders/tonemap_curve.wgsl");
+pub const DOWNSAMPLE: &str = include_str!("shaders/downsample.wgsl");
+
+/// Join shader parts, each introduced by a comment naming its position.
+pub fn compose(parts: &[&str]) -> String {
+    let mut out = String::new();
+    for (i, p) in parts.iter().enumerate() {
+        out.push_str(&format!("// ---- part {i} ----\n"));
+        out.push_str(p);
+        out.push('\n');
+    }
+    out
+}
+
+/// Every shader the renderer builds, composed, with representative constants.
+pub fn all_for_validation() -> Vec<(String, String)> {
+    let mut v = vec![
+        ("ocean/spectrum".to_string(), crate::passes::ocean::spectrum_source()),
+        ("ocean/assemble".to_string(), crate::passes::ocean::assemble_source()),
+        ("downsample".to_string(), compose(&[DOWNSAMPLE])),
+        ("sky/bake".to_string(), crate::passes::sky::bake_source()),
+        ("sky/background".to_string(), crate::passes::sky::background_source()),
+        ("water".to_string(), crate::passes::water::source()),
+        ("tonemap/srgb-target".to_string(), crate::passes::tonemap::source(true)),
+        ("tonemap/unorm-target".to_string(), crate::passes::tonemap::source(false)),
+        ("probe".to_string(), crate::passes::probe::source()),
+    ];
+    for n in [64u32, 256, 1024] {
+        v.push((format!("ocean/fft N={n}"), crate::passes::ocean::fft_source(n)));
+    }
+    v
+}

@@ -1,0 +1,36 @@
+// Fresnel reflectance. WGSL twin of hydrolux_core::optics (seed 000 §2.1.2, §3.2).
+
+// Exact unpolarized Fresnel reflectance, light arriving with cos_i from n1 into n2.
+fn fresnel_exact(cos_i_in: f32, n1: f32, n2: f32) -> f32 {
+    let cos_i = clamp(cos_i_in, 0.0, 1.0);
+    let sin_t = n1 / n2 * sqrt(max(1.0 - cos_i * cos_i, 0.0));
+    if (sin_t >= 1.0) {
+        return 1.0;
+    }
+    let cos_t = sqrt(1.0 - sin_t * sin_t);
+    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    let rp = (n1 * cos_t - n2 * cos_i) / (n1 * cos_t + n2 * cos_i);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// Schlick's approximation; leaving the denser medium it uses the transmitted angle.
+fn fresnel_schlick(cos_i_in: f32, n1: f32, n2: f32) -> f32 {
+    var c = clamp(cos_i_in, 0.0, 1.0);
+    if (n1 > n2) {
+        let sin_t2 = (n1 / n2) * (n1 / n2) * (1.0 - c * c);
+        if (sin_t2 >= 1.0) {
+            return 1.0;
+        }
+        c = sqrt(1.0 - sin_t2);
+    }
+    let r = (n1 - n2) / (n1 + n2);
+    let r0 = r * r;
+    return r0 + (1.0 - r0) * pow(1.0 - c, 5.0);
+}
+
+fn fresnel(mode: u32, cos_i: f32, n1: f32, n2: f32) -> f32 {
+    if (mode == 1u) {
+        return fresnel_schlick(cos_i, n1, n2);
+    }
+    return fresnel_exact(cos_i, n1, n2);
+}

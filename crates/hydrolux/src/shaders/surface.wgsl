@@ -1,0 +1,132 @@
+// The water surface, whichever model makes it (group 1): FFT cascades read
+// from textures, or a sum of directional (Gerstner) waves with analytic
+// derivatives (seed 001), or flat water. Twins: hydrolux_core::waves.
+
+struct SurfaceParams {
+    // Patch size (m) of each FFT cascade.
+    cascade_sizes: vec4<f32>,
+    // x cascades, y model (0 fft, 1 sines, 2 flat), z sine count, w FFT resolution N.
+    counts: vec4<u32>,
+    // kx, kz, amplitude, phase (rad) of each sine wave.
+    waves: array<vec4<f32>, 64>,
+    // Horizontal (Gerstner) amplitude Q·A of each wave, four per vec4.
+    wave_q: array<vec4<f32>, 16>,
+}
+
+@group(1) @binding(0) var<uniform> surface: SurfaceParams;
+// Per cascade: Dx, h, Dz, ∂Dx/∂z
+@group(1) @binding(1) var displacement_tex: texture_2d_array<f32>;
+// Per cascade: ∂h/∂x, ∂h/∂z, ∂Dx/∂x, ∂Dz/∂z
+@group(1) @binding(2) var derivative_tex: texture_2d_array<f32>;
+// Per cascade: (∂h/∂x)², (∂h/∂z)², ∂h/∂x·∂h/∂z (LEAN-style moments; mips give slope variance)
+@group(1) @binding(3) var moments_tex: texture_2d_array<f32>;
+@group(1) @binding(4) var surface_sampler: sampler;
+
+struct SurfaceSample {
+    disp: vec3<f32>,
+    slope: vec2<f32>,
+    dxx: f32,
+    dzz: f32,
+    dxz: f32,
+    // Variance of the slopes inside the filter footprint (x, z), from the moments.
+    slope_variance: vec2<f32>,
+}
+
+fn zero_sample() -> SurfaceSample {
+    return SurfaceSample(vec3<f32>(0.0), vec2<f32>(0.0), 0.0, 0.0, 0.0, vec2<f32>(0.0));
+}
+
+fn sines_sample(p: vec2<f32>) -> SurfaceSample {
+    var s = zero_sample();
+    for (var i = 0u; i < surface.counts.z; i++) {
+        let w = surface.waves[i];
+        let q = surface.wave_q[i / 4u][i % 4u];
+        let k = max(length(w.xy), 1e-6);
+        let u = w.xy / k;
+        let arg = dot(w.xy, p) + w.w;
+        let sn = sin(arg);
+        let cs = cos(arg);
+        s.disp.y += w.z * cs;
+        s.slope -= w.z * w.xy * sn;
+        s.disp.x -= q * u.x * sn;
+        s.disp.z -= q * u.y * sn;
+        s.dxx -= q * u.x * w.x * cs;
+        s.dzz -= q * u.y * w.y * cs;
+        s.dxz -= q * u.x * w.y * cs;
+    }
+    return s;
+}
+
+fn cascade_uv(p: vec2<f32>, c: u32) -> vec2<f32> {
+    // Texel j holds the grid point x = j·L/N, i.e. uv = x/L + 0.5/N.
+    return p / surface.cascade_sizes[c] + vec2<f32>(0.5 / f32(surface.counts.w));
+}
+
+fn add_cascade(s: ptr<function, SurfaceSample>, d: vec4<f32>, g: vec4<f32>, m: vec4<f32>) {
+    (*s).disp += d.xyz;
+    (*s).dxz += d.w;
+    (*s).slope += g.xy;
+    (*s).dxx += g.z;
+    (*s).dzz += g.w;
+    (*s).slope_variance += max(m.xy - g.xy * g.xy, vec2<f32>(0.0));
+}
+
+// FFT surface prefiltered over a square footprint of `footprint` metres
+// (vertex and compute stages; 0 reads the finest level).
+fn fft_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
+    var s = zero_sample();
+    for (var c = 0u; c < surface.counts.x; c++) {
+        let uv = cascade_uv(p, c);
+        let texel = surface.cascade_sizes[c] / f32(surface.counts.w);
+        let lod = max(log2(max(footprint, 1e-6) / texel), 0.0);
+        let d = textureSampleLevel(displacement_tex, surface_sampler, uv, c, lod);
+        let g = textureSampleLevel(derivative_tex, surface_sampler, uv, c, lod);
+        let m = textureSampleLevel(moments_tex, surface_sampler, uv, c, lod);
+        add_cascade(&s, d, g, m);
+    }
+    return s;
+}
+
+// FFT surface with the footprint given by the screen derivatives of p
+// (fragment stage: anisotropic filtering, no aliasing at the horizon).
+fn fft_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSample {
+    var s = zero_sample();
+    for (var c = 0u; c < surface.counts.x; c++) {
+        let uv = cascade_uv(p, c);
+        let l = surface.cascade_sizes[c];
+        let gx = dpdx / l;
+        let gy = dpdy / l;
+        let d = textureSampleGrad(displacement_tex, surface_sampler, uv, c, gx, gy);
+        let g = textureSampleGrad(derivative_tex, surface_sampler, uv, c, gx, gy);
+        let m = textureSampleGrad(moments_tex, surface_sampler, uv, c, gx, gy);
+        add_cascade(&s, d, g, m);
+    }
+    return s;
+}
+
+fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
+    switch surface.counts.y {
+        case 0u: { return fft_sample_footprint(p, footprint); }
+        case 1u: { return sines_sample(p); }
+        default: { return zero_sample(); }
+    }
+}
+
+fn surface_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSample {
+    switch surface.counts.y {
+        case 0u: { return fft_sample_grad(p, dpdx, dpdy); }
+        case 1u: { return sines_sample(p); }
+        default: { return zero_sample(); }
+    }
+}
+
+// Unit normal of the displaced surface: ∂p/∂z × ∂p/∂x.
+fn surface_normal(s: SurfaceSample) -> vec3<f32> {
+    let tx = vec3<f32>(1.0 + s.dxx, s.slope.x, s.dxz);
+    let tz = vec3<f32>(s.dxz, s.slope.y, 1.0 + s.dzz);
+    return normalize(cross(tz, tx));
+}
+
+fn surface_jacobian(s: SurfaceSample) -> f32 {
+    return (1.0 + s.dxx) * (1.0 + s.dzz) - s.dxz * s.dxz;
+}
