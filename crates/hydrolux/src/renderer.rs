@@ -53,7 +53,7 @@ pub struct Renderer {
     surface_layout: wgpu::BindGroupLayout,
     frame_buffer: wgpu::Buffer,
     surface_buffer: wgpu::Buffer,
-    surface_sampler: wgpu::Sampler,
+    surface_samplers: [wgpu::Sampler; 2],
     globals: wgpu::BindGroup,
     downsampler: Downsampler,
     sky: SkyPass,
@@ -91,6 +91,7 @@ impl Renderer {
                 texture_entry(2, all, wgpu::TextureViewDimension::D2Array, true),
                 texture_entry(3, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(4, all),
+                sampler_entry(5, all),
             ],
         });
         let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
@@ -102,16 +103,19 @@ impl Renderer {
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
-        let surface_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("surface"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            anisotropy_clamp: 16,
-            ..Default::default()
-        });
+        let surface_sampler = |label, anisotropy_clamp| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: wgpu::AddressMode::Repeat,
+                address_mode_v: wgpu::AddressMode::Repeat,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                mipmap_filter: wgpu::MipmapFilterMode::Linear,
+                anisotropy_clamp,
+                ..Default::default()
+            })
+        };
+        let surface_samplers = [surface_sampler("surface", 1), surface_sampler("surface anisotropic", 16)];
         let downsampler = Downsampler::new(device);
         let sky = SkyPass::new(device, &downsampler, &globals_layout);
         let globals = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -127,7 +131,7 @@ impl Renderer {
         let water = WaterPass::new(device, &globals_layout, &surface_layout);
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
-        let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, &surface_sampler, scene)?;
+        let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, &surface_samplers, scene)?;
         let timer = GpuTimer::new(device, queue);
         let mut r = Renderer {
             device: device.clone(),
@@ -137,7 +141,7 @@ impl Renderer {
             surface_layout,
             frame_buffer,
             surface_buffer,
-            surface_sampler,
+            surface_samplers,
             globals,
             downsampler,
             sky,
@@ -161,7 +165,7 @@ impl Renderer {
         downsampler: &Downsampler,
         layout: &wgpu::BindGroupLayout,
         buffer: &wgpu::Buffer,
-        sampler: &wgpu::Sampler,
+        samplers: &[wgpu::Sampler; 2],
         scene: &Scene,
     ) -> Result<SurfaceState, RenderError> {
         let ocean_settings = scene.ocean_settings();
@@ -177,7 +181,8 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&v1) },
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&v2) },
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&v3) },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(sampler) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&samplers[0]) },
+                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&samplers[1]) },
             ],
         });
         let sea = scene.sea_state();
@@ -188,8 +193,11 @@ impl Renderer {
             WaterModel::Sines => sines.slope_variance(),
             WaterModel::Flat => [0.0, 0.0],
         };
-        // What the geometry and textures do not carry, with a floor for capillary ripples.
-        let unresolved_variance = [(total[0] - resolved[0]).max(2e-4) as f32, (total[1] - resolved[1]).max(2e-4) as f32];
+        // What the geometry and textures do not carry. At least a quarter of the
+        // Cox–Munk total stays sub-pixel: capillary ripples are never resolved,
+        // and without them single facets alias into one-pixel sparkles.
+        let unresolved = |i: usize| (total[i] - resolved[i]).max(0.25 * total[i]).max(2e-4) as f32;
+        let unresolved_variance = [unresolved(0), unresolved(1)];
         Ok(SurfaceState { ocean_settings, ocean, group, sines, unresolved_variance })
     }
 
@@ -213,7 +221,7 @@ impl Renderer {
     pub fn set_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
         let surface_changed = scene.ocean != self.scene.ocean || scene.sines != self.scene.sines || scene.water.model != self.scene.water.model;
         if surface_changed || scene.ocean_settings() != self.surface.ocean_settings {
-            self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, &self.surface_sampler, scene)?;
+            self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, &self.surface_samplers, scene)?;
         }
         self.scene = scene.clone();
         self.update_sky();

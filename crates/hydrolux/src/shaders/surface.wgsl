@@ -20,7 +20,11 @@ struct SurfaceParams {
 @group(1) @binding(2) var derivative_tex: texture_2d_array<f32>;
 // Per cascade: (∂h/∂x)², (∂h/∂z)², ∂h/∂x·∂h/∂z (LEAN-style moments; mips give slope variance)
 @group(1) @binding(3) var moments_tex: texture_2d_array<f32>;
+// Trilinear, for explicit-LOD reads (vertex and compute stages).
 @group(1) @binding(4) var surface_sampler: sampler;
+// Anisotropic, for gradient reads in fragments (explicit-LOD reads must not
+// use it: some drivers then filter anisotropically anyway, i.e. blur).
+@group(1) @binding(5) var surface_sampler_aniso: sampler;
 
 struct SurfaceSample {
     disp: vec3<f32>,
@@ -96,9 +100,9 @@ fn fft_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSam
         let l = surface.cascade_sizes[c];
         let gx = dpdx / l;
         let gy = dpdy / l;
-        let d = textureSampleGrad(displacement_tex, surface_sampler, uv, c, gx, gy);
-        let g = textureSampleGrad(derivative_tex, surface_sampler, uv, c, gx, gy);
-        let m = textureSampleGrad(moments_tex, surface_sampler, uv, c, gx, gy);
+        let d = textureSampleGrad(displacement_tex, surface_sampler_aniso, uv, c, gx, gy);
+        let g = textureSampleGrad(derivative_tex, surface_sampler_aniso, uv, c, gx, gy);
+        let m = textureSampleGrad(moments_tex, surface_sampler_aniso, uv, c, gx, gy);
         add_cascade(&s, d, g, m);
     }
     return s;

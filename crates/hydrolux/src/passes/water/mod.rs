@@ -170,7 +170,7 @@ impl WaterPass {
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: crate::targets::DEPTH_FORMAT,
                     depth_write_enabled: Some(!shade),
-                    depth_compare: Some(if shade { wgpu::CompareFunction::Equal } else { wgpu::CompareFunction::Greater }),
+                    depth_compare: Some(if shade { wgpu::CompareFunction::GreaterEqual } else { wgpu::CompareFunction::Greater }),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),

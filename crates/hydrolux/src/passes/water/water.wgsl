@@ -92,11 +92,23 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let to_eye = frame.camera_pos.xyz - in.world;
     let dist = length(to_eye);
     let v = to_eye / dist;
+    // The rasterised triangle's own normal faces the viewer whenever the
+    // triangle is visible (up to folds).
+    var n_geo = normalize(cross(dpdy(in.world), dpdx(in.world)));
+    if (dot(n_geo, v) < 0.0) {
+        n_geo = -n_geo;
+    }
     var n = surface_normal(s);
-    // Filtered normals can face away at grazing angles; tilt them back just enough.
+    // Behind a crest the filtered texture normal can face away from a pixel the
+    // mesh shows: those pixels would sparkle with grazing (total) Fresnel
+    // reflection. Lean on the geometric normal there instead.
     let nv = dot(n, v);
-    if (nv < 0.02) {
-        n = normalize(n + (0.02 - nv) * v);
+    if (nv < 0.1) {
+        n = normalize(mix(n_geo, n, clamp(nv / 0.1, 0.0, 1.0)));
+    }
+    let nv2 = dot(n, v);
+    if (nv2 < 0.02) {
+        n = normalize(n + (0.02 - nv2) * v);
     }
     let cos_v = max(dot(n, v), 1e-3);
     let ior = frame.water_body.w;
