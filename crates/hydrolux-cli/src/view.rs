@@ -1,14 +1,447 @@
-//! `hydrolux view`: interactive viewer (to be filled in).
+//! `hydrolux view`: a window with a fly camera and an egui panel that edits
+//! every scene parameter live (generated from the scene's TOML table, so new
+//! parameters appear without UI code). winit 0.30 + egui 0.37.
+//!
+//! Keys: W A S D fly, Q/E down/up, Shift faster, right mouse drag (or arrow
+//! keys) to look, Space pause, [ and ] time scale, P screenshot, Esc quit.
+
 use crate::SceneArgs;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
+use glam::Vec3;
+use hydrolux::core::camera::Camera;
+use hydrolux::core::scene::Scene;
+use hydrolux::{FrameInput, GpuContext, Renderer, wgpu};
+use std::sync::Arc;
+use std::time::Instant;
+use toml::{Table, Value};
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
 
 #[derive(Args)]
 pub struct ViewArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+    /// Quit after this many frames, writing a screenshot first (for scripted checks).
+    #[arg(long)]
+    pub frames: Option<u64>,
 }
 
-pub fn run(_a: ViewArgs) -> Result<()> {
-    anyhow::bail!("the viewer is not built yet")
+/// Choices for the enumerated scene keys.
+const ENUMS: &[(&str, &[&str])] = &[
+    ("ocean.spectrum", &["phillips", "pierson-moskowitz", "jonswap"]),
+    ("water.model", &["fft", "sines", "flat"]),
+    ("water.fresnel", &["exact", "schlick"]),
+    ("render.tonemap", &["aces", "clamp"]),
+];
+
+struct FlyCamera {
+    position: Vec3,
+    yaw: f32,
+    pitch: f32,
+    fov_y_deg: f32,
+}
+
+impl FlyCamera {
+    fn from_scene(s: &Scene) -> Self {
+        let c = s.camera();
+        let f = c.forward();
+        FlyCamera { position: c.position, yaw: f.z.atan2(f.x), pitch: f.y.asin(), fov_y_deg: c.fov_y_deg }
+    }
+
+    fn forward(&self) -> Vec3 {
+        Vec3::new(self.pitch.cos() * self.yaw.cos(), self.pitch.sin(), self.pitch.cos() * self.yaw.sin())
+    }
+
+    fn camera(&self) -> Camera {
+        Camera { position: self.position, look_at: self.position + self.forward(), up: Vec3::Y, fov_y_deg: self.fov_y_deg }
+    }
+}
+
+struct Gfx {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    ctx: GpuContext,
+    renderer: Renderer,
+    egui_ctx: egui::Context,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+}
+
+struct Viewer {
+    args: ViewArgs,
+    scene: Scene,
+    table: Table,
+    error: Option<String>,
+    gfx: Option<Gfx>,
+    camera: FlyCamera,
+    keys: std::collections::HashSet<KeyCode>,
+    looking: bool,
+    last_cursor: Option<(f64, f64)>,
+    sim_time: f64,
+    time_scale: f64,
+    paused: bool,
+    last_frame: Instant,
+    frame_ms: f32,
+    frames: u64,
+    screenshot_requested: bool,
+    status: String,
+    fatal: Option<anyhow::Error>,
+}
+
+impl Viewer {
+    fn init(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let attrs = Window::default_attributes()
+            .with_title(format!("Hydrolux — {}", self.args.scene.scene))
+            .with_inner_size(winit::dpi::PhysicalSize::new(self.args.width, self.args.height));
+        let window = Arc::new(event_loop.create_window(attrs).context("cannot open a window")?);
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle())));
+        let surface = instance.create_surface(window.clone()).context("cannot create a drawing surface for the window")?;
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            compatible_surface: Some(&surface),
+            force_fallback_adapter: false,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|_| hydrolux::ContextError::NoAdapter)?;
+        let ctx = GpuContext::from_adapter(instance, adapter)?;
+        let size = window.inner_size();
+        let caps = surface.get_capabilities(&ctx.adapter);
+        let format = caps.formats.iter().copied().find(|f| f.is_srgb()).unwrap_or(caps.formats[0]);
+        let config = wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode: wgpu::PresentMode::AutoVsync,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps.alpha_modes[0],
+            view_formats: vec![],
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        };
+        surface.configure(&ctx.device, &config);
+        let renderer = Renderer::new(&ctx.device, &ctx.queue, format, &self.scene)?;
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(egui_ctx.clone(), egui::ViewportId::ROOT, &window, Some(window.scale_factor() as f32), None, None);
+        let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, format, egui_wgpu::RendererOptions::default());
+        self.gfx = Some(Gfx { window, surface, config, ctx, renderer, egui_ctx, egui_state, egui_renderer });
+        self.last_frame = Instant::now();
+        Ok(())
+    }
+
+    fn apply_table(&mut self) {
+        match Scene::from_toml(&self.table.to_string(), "viewer", &[]) {
+            Ok(s) => {
+                if let Some(g) = &mut self.gfx
+                    && let Err(e) = g.renderer.set_scene(&s)
+                {
+                    self.error = Some(e.to_string());
+                    return;
+                }
+                self.scene = s;
+                self.error = None;
+            }
+            Err(e) => self.error = Some(e.to_string()),
+        }
+    }
+
+    fn panel(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Hydrolux");
+        ui.label(format!("{:.1} ms/frame   t = {:.1} s{}", self.frame_ms, self.sim_time, if self.paused { "  (paused)" } else { "" }));
+        ui.horizontal(|ui| {
+            if ui.button(if self.paused { "play" } else { "pause" }).clicked() {
+                self.paused = !self.paused;
+            }
+            ui.add(egui::Slider::new(&mut self.time_scale, 0.0..=4.0).text("time ×"));
+        });
+        ui.horizontal(|ui| {
+            if ui.button("reset camera").clicked() {
+                self.camera = FlyCamera::from_scene(&self.scene);
+            }
+            if ui.button("screenshot (P)").clicked() {
+                self.screenshot_requested = true;
+            }
+        });
+        if !self.status.is_empty() {
+            ui.label(&self.status);
+        }
+        if let Some(e) = &self.error {
+            ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
+        }
+        ui.separator();
+        let mut changed = false;
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            let sections: Vec<String> = self.table.keys().cloned().collect();
+            for section in sections {
+                let Some(Value::Table(t)) = self.table.get_mut(&section) else { continue };
+                egui::CollapsingHeader::new(&section).default_open(matches!(section.as_str(), "ocean" | "sun" | "water")).show(ui, |ui| {
+                    for (key, value) in t.iter_mut() {
+                        changed |= edit_value(ui, &format!("{section}.{key}"), key, value);
+                    }
+                });
+            }
+        });
+        if changed {
+            self.apply_table();
+        }
+    }
+
+    fn update_camera(&mut self, dt: f32) {
+        let speed = if self.keys.contains(&KeyCode::ShiftLeft) { 40.0 } else { 8.0 } * dt;
+        let f = self.camera.forward();
+        let flat = Vec3::new(f.x, 0.0, f.z).normalize_or_zero();
+        let right = flat.cross(Vec3::Y);
+        let k = |c| self.keys.contains(&c);
+        let mut m = Vec3::ZERO;
+        if k(KeyCode::KeyW) { m += f; }
+        if k(KeyCode::KeyS) { m -= f; }
+        if k(KeyCode::KeyD) { m += right; }
+        if k(KeyCode::KeyA) { m -= right; }
+        if k(KeyCode::KeyE) { m += Vec3::Y; }
+        if k(KeyCode::KeyQ) { m -= Vec3::Y; }
+        self.camera.position += m * speed;
+        let turn = 1.2 * dt;
+        if k(KeyCode::ArrowLeft) { self.camera.yaw -= turn; }
+        if k(KeyCode::ArrowRight) { self.camera.yaw += turn; }
+        if k(KeyCode::ArrowUp) { self.camera.pitch += turn; }
+        if k(KeyCode::ArrowDown) { self.camera.pitch -= turn; }
+        self.camera.pitch = self.camera.pitch.clamp(-1.5, 1.5);
+    }
+
+    fn redraw(&mut self) -> Result<()> {
+        let now = Instant::now();
+        let dt = (now - self.last_frame).as_secs_f32().min(0.1);
+        self.last_frame = now;
+        self.frame_ms = 0.9 * self.frame_ms + 0.1 * dt * 1000.0;
+        self.update_camera(dt);
+        if !self.paused {
+            self.sim_time += dt as f64 * self.time_scale;
+        }
+        let Some(mut g) = self.gfx.take() else { return Ok(()) };
+        let result = self.draw(&mut g);
+        self.gfx = Some(g);
+        result
+    }
+
+    fn draw(&mut self, g: &mut Gfx) -> Result<()> {
+        let size = g.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(()); // minimised: nothing to draw
+        }
+        let frame = match g.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                g.surface.configure(&g.ctx.device, &g.config);
+                return Ok(());
+            }
+            _ => return Ok(()), // timeout / occluded / validation: try next frame
+        };
+        let view = frame.texture.create_view(&Default::default());
+        let raw = g.egui_state.take_egui_input(&g.window);
+        let egui_ctx = g.egui_ctx.clone();
+        let mut out = egui_ctx.run_ui(raw, |ui| {
+            egui::Panel::left("scene").default_size(300.0).show(ui, |ui| self.panel(ui));
+        });
+        g.egui_state.handle_platform_output(&g.window, out.platform_output);
+        let jobs = g.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
+        let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [g.config.width, g.config.height], pixels_per_point: out.pixels_per_point };
+        for (id, deltas) in &out.textures_delta.set {
+            for delta in deltas {
+                g.egui_renderer.update_texture(&g.ctx.device, &g.ctx.queue, *id, delta);
+            }
+        }
+        let mut encoder = g.ctx.device.create_command_encoder(&Default::default());
+        let camera = self.camera.camera();
+        g.renderer.render(&mut encoder, &FrameInput { target: &view, size: (g.config.width, g.config.height), camera, time: self.sim_time });
+        g.egui_renderer.update_buffers(&g.ctx.device, &g.ctx.queue, &mut encoder, &jobs, &screen);
+        {
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("egui"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                })],
+                ..Default::default()
+            });
+            g.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
+        }
+        g.ctx.queue.submit([encoder.finish()]);
+        g.ctx.queue.present(frame);
+        for id in &out.textures_delta.free {
+            g.egui_renderer.free_texture(id);
+        }
+        // Every delta above was applied; epaint insists on being told.
+        out.textures_delta.clear();
+        self.frames += 1;
+        let last = self.args.frames.is_some_and(|n| self.frames >= n);
+        if self.screenshot_requested || last {
+            self.screenshot_requested = false;
+            self.status = self.screenshot(g, camera).unwrap_or_else(|e| format!("screenshot failed: {e:#}"));
+            eprintln!("{}", self.status);
+        }
+        Ok(())
+    }
+
+    /// Render the current view (without the panel) at window size to a PNG.
+    fn screenshot(&mut self, g: &mut Gfx, camera: Camera) -> Result<String> {
+        let (w, h) = (g.config.width, g.config.height);
+        let mut r = Renderer::new(&g.ctx.device, &g.ctx.queue, hydrolux::headless::FORMAT, &self.scene)?;
+        let target = hydrolux::headless::HeadlessTarget::new(&g.ctx.device, (w, h));
+        let px = target.render(&mut r, camera, self.sim_time);
+        let name = (0..).map(|i| format!("hydrolux-screenshot-{i:03}.png")).find(|n| !std::path::Path::new(n).exists()).unwrap_or_default();
+        crate::output::write_png(std::path::Path::new(&name), w, h, &px)?;
+        Ok(format!("wrote {name}"))
+    }
+}
+
+/// One widget per TOML value; returns whether it changed.
+fn edit_value(ui: &mut egui::Ui, path: &str, key: &str, value: &mut Value) -> bool {
+    ui.horizontal(|ui| {
+        ui.label(key);
+        match value {
+            Value::Float(f) => {
+                let speed = (f.abs() * 0.01).max(0.01);
+                ui.add(egui::DragValue::new(f).speed(speed)).changed()
+            }
+            Value::Integer(i) => ui.add(egui::DragValue::new(i).speed(1.0)).changed(),
+            Value::Boolean(b) => ui.checkbox(b, "").changed(),
+            Value::Array(a) => {
+                let mut c = false;
+                for v in a.iter_mut() {
+                    if let Value::Float(f) = v {
+                        c |= ui.add(egui::DragValue::new(f).speed(0.05)).changed();
+                    }
+                }
+                c
+            }
+            Value::String(s) => {
+                if let Some((_, options)) = ENUMS.iter().find(|(p, _)| *p == path) {
+                    let mut c = false;
+                    egui::ComboBox::from_id_salt(path).selected_text(s.as_str()).show_ui(ui, |ui| {
+                        for o in *options {
+                            c |= ui.selectable_value(s, o.to_string(), *o).changed();
+                        }
+                    });
+                    c
+                } else {
+                    ui.text_edit_singleline(s).lost_focus()
+                }
+            }
+            _ => false,
+        }
+    })
+    .inner
+}
+
+impl ApplicationHandler for Viewer {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_none()
+            && let Err(e) = self.init(event_loop)
+        {
+            self.fatal = Some(e);
+            event_loop.exit();
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(g) = &mut self.gfx else { return };
+        let consumed = g.egui_state.on_window_event(&g.window, &event).consumed;
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                if size.width > 0 && size.height > 0 {
+                    g.config.width = size.width;
+                    g.config.height = size.height;
+                    g.surface.configure(&g.ctx.device, &g.config);
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. } if !consumed || event.state == ElementState::Released => {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    if event.state == ElementState::Pressed {
+                        self.keys.insert(code);
+                        match code {
+                            KeyCode::Escape => event_loop.exit(),
+                            KeyCode::Space => self.paused = !self.paused,
+                            KeyCode::BracketLeft => self.time_scale = (self.time_scale * 0.5).max(1.0 / 64.0),
+                            KeyCode::BracketRight => self.time_scale = (self.time_scale * 2.0).min(64.0),
+                            KeyCode::KeyP => self.screenshot_requested = true,
+                            _ => {}
+                        }
+                    } else {
+                        self.keys.remove(&code);
+                    }
+                }
+            }
+            WindowEvent::MouseInput { button: MouseButton::Right, state, .. } => {
+                self.looking = state == ElementState::Pressed && !consumed;
+                self.last_cursor = None;
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if self.looking {
+                    if let Some((x, y)) = self.last_cursor {
+                        self.camera.yaw += (position.x - x) as f32 * 0.003;
+                        self.camera.pitch = (self.camera.pitch - (position.y - y) as f32 * 0.003).clamp(-1.5, 1.5);
+                    }
+                    self.last_cursor = Some((position.x, position.y));
+                }
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.redraw() {
+                    self.fatal = Some(e);
+                    event_loop.exit();
+                }
+                if self.args.frames.is_some_and(|n| self.frames >= n) {
+                    event_loop.exit();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(g) = &self.gfx {
+            g.window.request_redraw();
+        }
+    }
+}
+
+pub fn run(args: ViewArgs) -> Result<()> {
+    crate::render::check_size(args.width, args.height)?;
+    let scene = args.scene.load()?;
+    let event_loop = EventLoop::new().context("cannot open a window: no display (set DISPLAY, or use `hydrolux render` headless)")?;
+    let mut viewer = Viewer {
+        table: scene.to_table(),
+        camera: FlyCamera::from_scene(&scene),
+        scene,
+        args,
+        error: None,
+        gfx: None,
+        keys: Default::default(),
+        looking: false,
+        last_cursor: None,
+        sim_time: 0.0,
+        time_scale: 1.0,
+        paused: false,
+        last_frame: Instant::now(),
+        frame_ms: 0.0,
+        frames: 0,
+        screenshot_requested: false,
+        status: String::new(),
+        fatal: None,
+    };
+    event_loop.run_app(&mut viewer).context("window event loop failed")?;
+    match viewer.fatal {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }
