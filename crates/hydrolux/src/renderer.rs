@@ -53,7 +53,6 @@ pub struct Renderer {
     surface_layout: wgpu::BindGroupLayout,
     frame_buffer: wgpu::Buffer,
     surface_buffer: wgpu::Buffer,
-    surface_samplers: [wgpu::Sampler; 2],
     globals: wgpu::BindGroup,
     downsampler: Downsampler,
     sky: SkyPass,
@@ -103,19 +102,7 @@ impl Renderer {
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
-        let surface_sampler = |label, anisotropy_clamp| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some(label),
-                address_mode_u: wgpu::AddressMode::Repeat,
-                address_mode_v: wgpu::AddressMode::Repeat,
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                mipmap_filter: wgpu::MipmapFilterMode::Linear,
-                anisotropy_clamp,
-                ..Default::default()
-            })
-        };
-        let surface_samplers = [surface_sampler("surface", 1), surface_sampler("surface anisotropic", 16)];
+
         let downsampler = Downsampler::new(device);
         let sky = SkyPass::new(device, &downsampler, &globals_layout);
         let globals = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -131,7 +118,7 @@ impl Renderer {
         let water = WaterPass::new(device, &globals_layout, &surface_layout);
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
-        let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, &surface_samplers, scene)?;
+        let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, scene)?;
         let timer = GpuTimer::new(device, queue);
         let mut r = Renderer {
             device: device.clone(),
@@ -141,7 +128,6 @@ impl Renderer {
             surface_layout,
             frame_buffer,
             surface_buffer,
-            surface_samplers,
             globals,
             downsampler,
             sky,
@@ -165,9 +151,27 @@ impl Renderer {
         downsampler: &Downsampler,
         layout: &wgpu::BindGroupLayout,
         buffer: &wgpu::Buffer,
-        samplers: &[wgpu::Sampler; 2],
         scene: &Scene,
     ) -> Result<SurfaceState, RenderError> {
+        // Trilinear for explicit-LOD reads; anisotropic for fragment gradients.
+        let sampler = |label, anisotropy_clamp| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: wgpu::AddressMode::Repeat,
+                address_mode_v: wgpu::AddressMode::Repeat,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                mipmap_filter: wgpu::MipmapFilterMode::Linear,
+                anisotropy_clamp,
+                ..Default::default()
+            })
+        };
+        let anisotropy = match scene.render.anisotropy {
+            0 if device.adapter_info().device_type == wgpu::DeviceType::Cpu => 1,
+            0 => 16,
+            a => a.min(16) as u16,
+        };
+        let samplers = [sampler("surface", 1), sampler("surface anisotropic", anisotropy)];
         let ocean_settings = scene.ocean_settings();
         let spectrum = OceanSpectrum::new(&ocean_settings);
         let ocean = OceanPass::new(device, &spectrum, downsampler)?;
@@ -219,9 +223,12 @@ impl Renderer {
 
     /// Switch to another scene (or an edited one): rebuilds only what changed.
     pub fn set_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
-        let surface_changed = scene.ocean != self.scene.ocean || scene.sines != self.scene.sines || scene.water.model != self.scene.water.model;
+        let surface_changed = scene.ocean != self.scene.ocean
+            || scene.sines != self.scene.sines
+            || scene.water.model != self.scene.water.model
+            || scene.render.anisotropy != self.scene.render.anisotropy;
         if surface_changed || scene.ocean_settings() != self.surface.ocean_settings {
-            self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, &self.surface_samplers, scene)?;
+            self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, scene)?;
         }
         self.scene = scene.clone();
         self.update_sky();

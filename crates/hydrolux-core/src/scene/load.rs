@@ -280,6 +280,13 @@ impl Scene {
             });
         }
         range("sines.gerstner", self.sines.gerstner, (0.0..=1.0).contains(&self.sines.gerstner), "must be in [0, 1]")?;
+        if self.render.anisotropy > 16 {
+            return Err(SceneError::OutOfRange {
+                key: "render.anisotropy".into(),
+                value: self.render.anisotropy.to_string(),
+                allowed: "must be 0 (automatic) or 1 to 16".into(),
+            });
+        }
         range("render.exposure", self.render.exposure, (-10.0..=30.0).contains(&self.render.exposure), "must be in [-10, 30] EV")?;
         Ok(())
     }

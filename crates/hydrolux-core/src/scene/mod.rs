@@ -135,6 +135,10 @@ pub struct RenderDesc {
     /// Photographic exposure, EV100 (sunny day ≈ 15).
     pub exposure: f32,
     pub tonemap: Tonemap,
+    /// Anisotropic filtering of the wave textures: 1–16, or 0 = automatic
+    /// (16 on GPUs, 1 on CPU adapters such as lavapipe, where each extra tap
+    /// is paid in full: 16× costs ~1000× the frame time there).
+    pub anisotropy: u32,
 }
 
 impl Default for Scene {
@@ -203,7 +207,7 @@ impl Default for SinesDesc {
 
 impl Default for RenderDesc {
     fn default() -> Self {
-        RenderDesc { exposure: 14.5, tonemap: Tonemap::Aces }
+        RenderDesc { exposure: 14.5, tonemap: Tonemap::Aces, anisotropy: 0 }
     }
 }
 

@@ -40,12 +40,19 @@ fn zero_sample() -> SurfaceSample {
     return SurfaceSample(vec3<f32>(0.0), vec2<f32>(0.0), 0.0, 0.0, 0.0, vec2<f32>(0.0));
 }
 
-fn sines_sample(p: vec2<f32>) -> SurfaceSample {
+// Sum of directional waves, each faded out as its wavelength approaches the
+// footprint (metres; 0 = exact) so distant short waves do not alias: their
+// slope variance moves into `slope_variance`, i.e. into the roughness.
+fn sines_sample(p: vec2<f32>, footprint: f32) -> SurfaceSample {
     var s = zero_sample();
     for (var i = 0u; i < surface.counts.z; i++) {
-        let w = surface.waves[i];
-        let q = surface.wave_q[i / 4u][i % 4u];
-        let k = max(length(w.xy), 1e-6);
+        let w0 = surface.waves[i];
+        let k = max(length(w0.xy), 1e-6);
+        let keep = 1.0 - smoothstep(0.2, 0.5, footprint * k / TAU);
+        let w = vec4<f32>(w0.xy, w0.z * keep, w0.w);
+        let q = surface.wave_q[i / 4u][i % 4u] * keep;
+        let lost = (1.0 - keep * keep) * 0.5 * w0.z * w0.z;
+        s.slope_variance += lost * w0.xy * w0.xy;
         let u = w.xy / k;
         let arg = dot(w.xy, p) + w.w;
         let sn = sin(arg);
@@ -111,7 +118,7 @@ fn fft_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSam
 fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
     switch surface.counts.y {
         case 0u: { return fft_sample_footprint(p, footprint); }
-        case 1u: { return sines_sample(p); }
+        case 1u: { return sines_sample(p, footprint); }
         default: { return zero_sample(); }
     }
 }
@@ -119,7 +126,7 @@ fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
 fn surface_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSample {
     switch surface.counts.y {
         case 0u: { return fft_sample_grad(p, dpdx, dpdy); }
-        case 1u: { return sines_sample(p); }
+        case 1u: { return sines_sample(p, max(length(dpdx), length(dpdy))); }
         default: { return zero_sample(); }
     }
 }

@@ -142,8 +142,10 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
 
     var color = f * sky_reflected + glint + body;
 
-    // Whitecaps where the choppy surface folds.
-    let foam = clamp((0.45 - surface_jacobian(s)) / 0.5, 0.0, 1.0) * 0.9;
+    // Whitecaps where the choppy surface compresses towards folding (J → 0).
+    // The ramp gives a few per cent cover in a near gale, as Monahan's
+    // whitecap fit W ≈ 3.8e-6·U^3.4 expects, and almost none in a breeze.
+    let foam = smoothstep(0.75, 0.4, surface_jacobian(s)) * 0.9;
     color = mix(color, vec3<f32>(0.75) * e_down / PI, foam);
 
     // Aerial perspective: distant water melts into the horizon haze.
