@@ -43,8 +43,17 @@ impl SeaState {
         let u = self.wind_speed.max(1e-3);
         match self.kind {
             SpectrumKind::PiersonMoskowitz | SpectrumKind::Phillips => 0.855 * GRAVITY / u,
-            SpectrumKind::Jonswap => 22.0 * (GRAVITY * GRAVITY / (u * self.fetch.max(1.0))).powf(1.0 / 3.0),
+            SpectrumKind::Jonswap => 22.0 * (GRAVITY * GRAVITY / (u * self.effective_fetch())).powf(1.0 / 3.0),
         }
+    }
+
+    /// Fetch (m) used by JONSWAP: the given fetch, capped where the sea is
+    /// fully developed (where JONSWAP's peak frequency reaches
+    /// Pierson–Moskowitz's 0.855·g/U). A longer fetch adds no energy.
+    pub fn effective_fetch(&self) -> f64 {
+        let u = self.wind_speed.max(1e-3);
+        let fully_developed = u * u / (GRAVITY * (0.855f64 / 22.0).powi(3));
+        self.fetch.clamp(1.0, fully_developed)
     }
 
     /// One-sided frequency spectrum S(ω) in m²·s (∫S dω = height variance).
@@ -61,7 +70,7 @@ impl SeaState {
             }
             SpectrumKind::Jonswap => {
                 let u = self.wind_speed.max(1e-3);
-                let alpha = 0.076 * (u * u / (self.fetch.max(1.0) * g)).powf(0.22);
+                let alpha = 0.076 * (u * u / (self.effective_fetch() * g)).powf(0.22);
                 let sigma = if w <= wp { 0.07 } else { 0.09 };
                 let r = (-(w - wp).powi(2) / (2.0 * sigma * sigma * wp * wp)).exp();
                 alpha * g * g / w.powi(5) * (-1.25 * (wp / w).powi(4)).exp() * self.peak_enhancement.powf(r)
@@ -208,6 +217,21 @@ mod tests {
         longer.fetch = 200_000.0;
         assert!(longer.significant_wave_height() > j.significant_wave_height());
         assert!(longer.peak_omega() < j.peak_omega());
+    }
+
+    #[test]
+    fn jonswap_saturates_at_full_development() {
+        let mut j = pm(9.0);
+        j.kind = SpectrumKind::Jonswap;
+        j.fetch = 5_000_000.0;
+        // Beyond the fully developed fetch the peak sits at Pierson–Moskowitz's.
+        assert!((j.peak_omega() - 0.855 * GRAVITY / 9.0).abs() < 1e-9);
+        let mut longer = j.clone();
+        longer.fetch = 50_000_000.0;
+        assert_eq!(j.significant_wave_height(), longer.significant_wave_height());
+        // A fresh breeze (Beaufort 5) over open water: Hs of a couple of metres.
+        let hs = j.significant_wave_height();
+        assert!((1.8..2.8).contains(&hs), "Hs {hs}");
     }
 
     #[test]
