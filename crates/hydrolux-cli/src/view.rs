@@ -218,9 +218,11 @@ impl Viewer {
 
     fn redraw(&mut self) -> Result<()> {
         let now = Instant::now();
-        let dt = (now - self.last_frame).as_secs_f32().min(0.1);
+        let real_dt = (now - self.last_frame).as_secs_f32();
         self.last_frame = now;
-        self.frame_ms = 0.9 * self.frame_ms + 0.1 * dt * 1000.0;
+        self.frame_ms = if self.frame_ms == 0.0 { real_dt * 1000.0 } else { 0.9 * self.frame_ms + 0.1 * real_dt * 1000.0 };
+        // Slow frames (software rendering, a stall) must not make the camera jump.
+        let dt = real_dt.min(0.1);
         self.update_camera(dt);
         if !self.paused {
             self.sim_time += dt as f64 * self.time_scale;

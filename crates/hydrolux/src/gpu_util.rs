@@ -78,6 +78,22 @@ pub fn pipeline_layout(device: &wgpu::Device, label: &str, layouts: &[&wgpu::Bin
     device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(label), bind_group_layouts: &groups, immediate_size: 0 })
 }
 
+/// A pipeline drawing one fullscreen triangle (`vs_main`, `fs_main`) into
+/// one colour target, without depth.
+pub fn fullscreen_pipeline(device: &wgpu::Device, label: &str, module: &wgpu::ShaderModule, layouts: &[&wgpu::BindGroupLayout], format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout(device, label, layouts)),
+        vertex: wgpu::VertexState { module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState { module, entry_point: Some("fs_main"), compilation_options: Default::default(), targets: &[Some(format.into())] }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// Copy `size` bytes of `source` to the CPU (submits and waits).
 pub fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, source: &wgpu::Buffer, size: u64) -> Vec<u8> {
     let staging = device.create_buffer(&wgpu::BufferDescriptor {

@@ -11,6 +11,7 @@ pub const SKY_MODEL: &str = include_str!("shaders/sky_model.wgsl");
 pub const SKY_BINDINGS: &str = include_str!("shaders/sky_bindings.wgsl");
 pub const SURFACE: &str = include_str!("shaders/surface.wgsl");
 pub const TONEMAP_CURVE: &str = include_str!("shaders/tonemap_curve.wgsl");
+pub const FULLSCREEN: &str = include_str!("shaders/fullscreen.wgsl");
 pub const DOWNSAMPLE: &str = include_str!("shaders/downsample.wgsl");
 
 /// Join shader parts, each introduced by a comment naming its position.

@@ -10,7 +10,7 @@ struct VsOut {
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> VsOut {
-    let xy = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u)) * 2.0 - 1.0;
+    let xy = fullscreen_ndc(i);
     var out: VsOut;
     out.clip = vec4<f32>(xy, 0.0, 1.0);
     out.ndc = xy;

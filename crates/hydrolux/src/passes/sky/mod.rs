@@ -17,7 +17,7 @@ pub fn bake_source() -> String {
 }
 
 pub fn background_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::SKY_MODEL, shaders::SKY_BINDINGS, include_str!("background.wgsl")])
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::SKY_MODEL, shaders::SKY_BINDINGS, include_str!("background.wgsl")])
 }
 
 pub struct SkyPass {
@@ -68,22 +68,7 @@ impl SkyPass {
         let bake = compute_pipeline(device, "sky bake", &module, "bake", &[&layout]);
         let mips = downsampler.chain(device, &cube);
         let module = shader(device, "sky background", &background_source());
-        let background = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("sky background"),
-            layout: Some(&pipeline_layout(device, "sky background", &[globals])),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(crate::targets::HDR_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let background = fullscreen_pipeline(device, "sky background", &module, &[globals], crate::targets::HDR_FORMAT);
         SkyPass { params, cube, cube_view, bake, bake_group, mips, background, current: None, dirty: true }
     }
 

@@ -7,7 +7,7 @@ use crate::timing::GpuTimer;
 
 pub fn source(srgb_target: bool) -> String {
     let c = format!("const OUTPUT_SRGB_CURVE: bool = {};\n", !srgb_target);
-    compose(&[&c, shaders::CONSTANTS, shaders::FRAME, shaders::TONEMAP_CURVE, include_str!("tonemap.wgsl")])
+    compose(&[&c, shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::TONEMAP_CURVE, include_str!("tonemap.wgsl")])
 }
 
 pub struct TonemapPass {
@@ -22,22 +22,7 @@ impl TonemapPass {
             entries: &[texture_entry(0, wgpu::ShaderStages::FRAGMENT, wgpu::TextureViewDimension::D2, false)],
         });
         let module = shader(device, "tonemap", &source(target_format.is_srgb()));
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("tonemap"),
-            layout: Some(&pipeline_layout(device, "tonemap", &[globals, &layout])),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(target_format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = fullscreen_pipeline(device, "tonemap", &module, &[globals, &layout], target_format);
         TonemapPass { layout, pipeline }
     }
 

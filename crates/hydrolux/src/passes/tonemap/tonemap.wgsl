@@ -6,8 +6,7 @@
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    let xy = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u)) * 2.0 - 1.0;
-    return vec4<f32>(xy, 0.0, 1.0);
+    return vec4<f32>(fullscreen_ndc(i), 0.0, 1.0);
 }
 
 @fragment
