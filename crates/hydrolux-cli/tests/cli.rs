@@ -1,0 +1,77 @@
+//! The `hydrolux` binary as a user meets it: bad input gives one line naming
+//! the bad value, exit status 1, no panic and no file; good input writes
+//! valid files.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn hydrolux(args: &[&str], dir: &PathBuf) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_hydrolux"))
+        .args(args)
+        .current_dir(dir)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("run hydrolux");
+    let stderr = String::from_utf8_lossy(&out.stderr).lines().filter(|l| !l.contains("XDG_RUNTIME_DIR")).collect::<Vec<_>>().join("\n");
+    (out.status.code().unwrap_or(-1), stderr)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("hydrolux-cli-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn bad_input_is_one_line_exit_1_and_writes_nothing() {
+    let dir = scratch("bad");
+    std::fs::write(dir.join("broken.toml"), "[ocean]\nwind_speed = = 3\n").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "--scene", "nowhere"], "unknown scene `nowhere`"),
+        (&["render", "--scene", "missing.toml"], "cannot read scene file missing.toml"),
+        (&["render", "--scene", "broken.toml"], "broken.toml:2:"),
+        (&["render", "--set", "ocean.wind_sped=3"], "did you mean `ocean.wind_speed`"),
+        (&["render", "--set", "ocean.wind_speed=\"fast\""], "must be a number"),
+        (&["render", "--set", "ocean.wind_speed=-1"], "`ocean.wind_speed` = -1 is out of range"),
+        (&["render", "--set", "ocean.resolution=100"], "power of two"),
+        (&["render", "--set", "camera.fov_y_deg=0"], "(0, 180)"),
+        (&["render", "--width", "0"], "--width 0"),
+        (&["render", "--out", "picture.jpg"], "must end in .png or .exr"),
+        (&["render", "--out", "no/such/folder/x.png"], "does not exist"),
+        (&["render", "--dump", "sky=x.npy"], "unknown buffer"),
+        (&["render", "--frames", "0"], "--frames 0"),
+        (&["bench", "--frames", "0"], "--frames 0"),
+    ];
+    for (args, want) in cases {
+        let (code, err) = hydrolux(args, &dir);
+        assert_eq!(code, 1, "{args:?}: exit {code}, stderr {err}");
+        assert!(err.contains(want), "{args:?}: `{err}` lacks `{want}`");
+        assert_eq!(err.lines().count(), 1, "{args:?}: not one line: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("broken.toml")], "files were written: {left:?}");
+}
+
+#[test]
+fn render_writes_png_exr_and_npy_dumps() {
+    let dir = scratch("good");
+    let (code, err) = hydrolux(
+        &["render", "--width", "48", "--height", "32", "--set", "ocean.resolution=64", "--out", "a.png", "--dump", "height=h.npy", "--dump", "jacobian=j.exr"],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let png = std::fs::read(dir.join("a.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let npy = std::fs::read(dir.join("h.npy")).unwrap();
+    let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (64, 64)"));
+    assert_eq!(npy.len(), 10 + hlen + 64 * 64 * 4);
+    let heights: Vec<f32> = npy[10 + hlen..].chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
+    assert!(heights.iter().any(|h| h.abs() > 0.05), "the sea is flat");
+    assert_eq!(&std::fs::read(dir.join("j.exr")).unwrap()[..4], &[0x76, 0x2f, 0x31, 0x01]);
+    let (code, err) = hydrolux(&["render", "--width", "32", "--height", "16", "--out", "s.png", "--frames", "2", "--set", "water.model=flat"], &dir);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("s_0000.png").exists() && dir.join("s_0001.png").exists());
+}
