@@ -43,6 +43,8 @@ struct SurfaceState {
     sines: SineWaves,
     /// Slope variance per axis that the surface model does not resolve.
     unresolved_variance: [f32; 2],
+    /// Conservative reach (m) of the displacement, vertically and sideways, for culling.
+    bounds_margin: f32,
 }
 
 pub struct Renderer {
@@ -202,7 +204,14 @@ impl Renderer {
         // and without them single facets alias into one-pixel sparkles.
         let unresolved = |i: usize| (total[i] - resolved[i]).max(0.25 * total[i]).max(2e-4) as f32;
         let unresolved_variance = [unresolved(0), unresolved(1)];
-        Ok(SurfaceState { ocean_settings, ocean, group, sines, unresolved_variance })
+        // Crests rarely pass 2·Hs; 3·Hs plus the choppy sideways shift is safe.
+        let hs = match scene.water.model {
+            WaterModel::Fft => 4.0 * spectrum.expected_variance().sqrt(),
+            WaterModel::Sines => 4.0 * sines.waves.iter().map(|w| w.amplitude * w.amplitude / 2.0).sum::<f64>().sqrt(),
+            WaterModel::Flat => 0.0,
+        };
+        let bounds_margin = (3.0 * hs * (1.0 + scene.ocean.choppiness as f64 + scene.sines.gerstner as f64) + 1.0) as f32;
+        Ok(SurfaceState { ocean_settings, ocean, group, sines, unresolved_variance, bounds_margin })
     }
 
     pub fn device(&self) -> &wgpu::Device {
@@ -396,7 +405,8 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            self.water.record(&mut pass, &self.globals, &self.surface.group, [input.camera.position.x, input.camera.position.z]);
+            let aspect = input.size.0.max(1) as f32 / input.size.1.max(1) as f32;
+            self.water.record(&mut pass, &self.globals, &self.surface.group, &input.camera, aspect, self.surface.bounds_margin);
         }
         self.tonemap.record(encoder, input.target, &self.globals, &targets.tonemap_input, timer.as_deref_mut());
         if let Some(t) = timer {

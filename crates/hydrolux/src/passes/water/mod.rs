@@ -3,6 +3,7 @@
 //! sky reflection, sun glint, the water body and foam (see `water.wgsl`).
 
 use crate::gpu_util::*;
+use hydrolux_core::camera::Camera;
 use crate::shaders::{self, compose};
 use wgpu::util::DeviceExt;
 
@@ -40,37 +41,72 @@ pub fn source() -> String {
     ])
 }
 
+/// Tiles per side of a ring: rings are culled per tile against the frustum.
+pub const TILES: i32 = 4;
+
 /// A square grid of cells (vertices at integer cell corners in [−h, h]²),
-/// with index ranges for several variants (hole positions).
+/// with index ranges per variant (hole position) and per tile.
 struct GridMesh {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
-    variants: Vec<std::ops::Range<u32>>,
+    /// `tiles[variant][tile]`: the tile's cell bounds [x0, z0, x1, z1] and index range.
+    tiles: Vec<Vec<([i32; 4], std::ops::Range<u32>)>>,
 }
 
 impl GridMesh {
     fn new(device: &wgpu::Device, label: &str, h: i32, holes: &[Option<(i32, i32)>]) -> Self {
         let cells: Vec<[i32; 2]> = (-h..=h).flat_map(|z| (-h..=h).map(move |x| [x, z])).collect();
         let mut idx = Vec::new();
-        let mut variants = Vec::new();
+        let mut tiles = Vec::new();
+        let t = 2 * h / TILES;
         for hole in holes {
-            let start = idx.len() as u32;
-            idx.extend(grid_indices(h, *hole));
-            variants.push(start..idx.len() as u32);
+            let mut per_tile = Vec::new();
+            for tz in 0..TILES {
+                for tx in 0..TILES {
+                    let bounds = [-h + tx * t, -h + tz * t, -h + (tx + 1) * t, -h + (tz + 1) * t];
+                    let start = idx.len() as u32;
+                    idx.extend(grid_indices(h, *hole, bounds));
+                    if idx.len() as u32 > start {
+                        per_tile.push((bounds, start..idx.len() as u32));
+                    }
+                }
+            }
+            tiles.push(per_tile);
         }
         let init = |contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         GridMesh {
             vertices: init(bytemuck::cast_slice(&cells), wgpu::BufferUsages::VERTEX),
             indices: init(bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX),
-            variants,
+            tiles,
         }
     }
 
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: usize, instances: std::ops::Range<u32>) {
+    /// Draw the tiles of `variant` whose cell bounds pass `visible`.
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: usize, instance: u32, visible: impl Fn([i32; 4]) -> bool) {
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(self.variants[variant].clone(), 0, instances);
+        for (bounds, range) in &self.tiles[variant] {
+            if visible(*bounds) {
+                pass.draw_indexed(range.clone(), 0, instance..instance + 1);
+            }
+        }
     }
+}
+
+/// The view frustum as inward-facing planes (a·x + b·y + c·z + d ≥ 0 inside),
+/// from a reversed-Z, infinite-far view-projection matrix: left, right,
+/// bottom, top, near (there is no far plane).
+pub fn frustum_planes(view_proj: glam::Mat4) -> [glam::Vec4; 5] {
+    let r = |i| view_proj.row(i);
+    [r(3) + r(0), r(3) - r(0), r(3) + r(1), r(3) - r(1), r(3) - r(2)]
+}
+
+/// Whether the box [min, max] is at least partly inside the frustum.
+pub fn box_visible(planes: &[glam::Vec4; 5], min: glam::Vec3, max: glam::Vec3) -> bool {
+    planes.iter().all(|p| {
+        let far_corner = glam::Vec3::new(if p.x >= 0.0 { max.x } else { min.x }, if p.y >= 0.0 { max.y } else { min.y }, if p.z >= 0.0 { max.z } else { min.z });
+        p.truncate().dot(far_corner) + p.w >= 0.0
+    })
 }
 
 /// Centre of ring `level` for a camera at `xz`, exactly as `vs_main` computes
@@ -104,14 +140,15 @@ pub struct WaterPass {
     shade_far: wgpu::RenderPipeline,
 }
 
-/// Index list of the quads of a (2h)×(2h) cell grid, skipping the (h)×(h)
-/// square centred at `hole` (in cells) when there is one.
-fn grid_indices(h: i32, hole: Option<(i32, i32)>) -> Vec<u32> {
+/// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
+/// ([x0, z0, x1, z1] in cells), skipping the (h)×(h) square centred at
+/// `hole` (in cells) when there is one.
+fn grid_indices(h: i32, hole: Option<(i32, i32)>, bounds: [i32; 4]) -> Vec<u32> {
     let side = (2 * h + 1) as u32;
     let id = |x: i32, z: i32| ((z + h) as u32) * side + (x + h) as u32;
     let mut out = Vec::new();
-    for z in -h..h {
-        for x in -h..h {
+    for z in bounds[1]..bounds[3] {
+        for x in bounds[0]..bounds[2] {
             if let Some((hx, hz)) = hole {
                 let inside = x >= hx - h / 2 && x < hx + h / 2 && z >= hz - h / 2 && z < hz + h / 2;
                 if inside {
@@ -128,6 +165,20 @@ fn grid_indices(h: i32, hole: Option<(i32, i32)>) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn frustum_keeps_what_is_ahead_and_drops_what_is_behind() {
+        let cam = Camera { position: glam::Vec3::new(0.0, 5.0, 0.0), look_at: glam::Vec3::new(0.0, 0.0, -50.0), up: glam::Vec3::Y, fov_y_deg: 60.0 };
+        let planes = frustum_planes(cam.view_projection(16.0 / 9.0));
+        let ahead = box_visible(&planes, glam::Vec3::new(-5.0, -1.0, -40.0), glam::Vec3::new(5.0, 1.0, -30.0));
+        let behind = box_visible(&planes, glam::Vec3::new(-5.0, -1.0, 30.0), glam::Vec3::new(5.0, 1.0, 40.0));
+        let far_left = box_visible(&planes, glam::Vec3::new(-500.0, -1.0, -20.0), glam::Vec3::new(-400.0, 1.0, -10.0));
+        // A huge box around the camera is always visible.
+        let around = box_visible(&planes, glam::Vec3::splat(-1000.0), glam::Vec3::splat(1000.0));
+        assert!(ahead && !behind && !far_left && around);
+        // Very far ahead is still inside: there is no far plane.
+        assert!(box_visible(&planes, glam::Vec3::new(-10.0, -1.0, -90_000.0), glam::Vec3::new(10.0, 1.0, -80_000.0)));
+    }
 
     #[test]
     fn every_ring_hole_is_exactly_the_finer_ring() {
@@ -200,19 +251,35 @@ impl WaterPass {
         }
     }
 
-    /// Depth pre-pass, then shading of what survived (depth Equal).
-    /// `camera_xz` picks each ring's hole so it meets the finer ring exactly.
-    pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, surface: &wgpu::BindGroup, camera_xz: [f32; 2]) {
+    /// Depth pre-pass, then shading of what survived (depth Equal). Tiles
+    /// outside the frustum are skipped; `bounds_margin` (m) is how far the
+    /// displaced surface can reach beyond a tile's flat footprint (up and
+    /// down, and sideways).
+    pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, surface: &wgpu::BindGroup, camera: &Camera, aspect: f32, bounds_margin: f32) {
+        let planes = frustum_planes(camera.view_projection(aspect));
+        let xz = [camera.position.x, camera.position.z];
+        let visible = |level: u32| {
+            let spacing = BASE_SPACING * 2f32.powi(level as i32);
+            let centre = ring_centre(xz, level);
+            let planes = &planes;
+            move |b: [i32; 4]| {
+                // Morphing moves vertices by up to one spacing.
+                let m = bounds_margin + spacing;
+                let min = glam::Vec3::new(centre[0] + b[0] as f32 * spacing - m, -bounds_margin, centre[1] + b[1] as f32 * spacing - m);
+                let max = glam::Vec3::new(centre[0] + b[2] as f32 * spacing + m, bounds_margin, centre[1] + b[3] as f32 * spacing + m);
+                box_visible(planes, min, max)
+            }
+        };
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, surface, &[]);
         for (rings, far) in [(&self.depth_rings, &self.depth_far), (&self.shade_rings, &self.shade_far)] {
             pass.set_pipeline(rings);
-            self.full.draw(pass, 0, 0..1);
+            self.full.draw(pass, 0, 0, visible(0));
             for level in 1..DISPLACED_RINGS {
-                self.ring.draw(pass, hole_variant(camera_xz, level), level..level + 1);
+                self.ring.draw(pass, hole_variant(xz, level), level, visible(level));
             }
             pass.set_pipeline(far);
-            self.far.draw(pass, 0, 0..1);
+            self.far.draw(pass, 0, 0, |_| true);
         }
     }
 }
