@@ -240,7 +240,13 @@ impl Viewer {
         }
         let frame = match g.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+            wgpu::CurrentSurfaceTexture::Outdated => {
+                g.surface.configure(&g.ctx.device, &g.config);
+                return Ok(());
+            }
+            wgpu::CurrentSurfaceTexture::Lost => {
+                // The surface itself is gone: make a new one for the same window.
+                g.surface = g.ctx.instance.create_surface(g.window.clone()).context("cannot recreate the window surface")?;
                 g.surface.configure(&g.ctx.device, &g.config);
                 return Ok(());
             }

@@ -447,6 +447,11 @@ impl Renderer {
         self.probe_surface(&[p])[0].displacement[1]
     }
 
+    /// Fresnel reflectance as the shaders compute it, for (cos θi, n1, n2, Schlick?).
+    pub fn probe_fresnel(&self, queries: &[(f32, f32, f32, bool)]) -> Vec<f32> {
+        self.probe.fresnel(&self.device, &self.queue, [&self.globals, &self.surface.group], queries)
+    }
+
     /// Radiance (kcd/m²) of the baked sky cube map in the given directions.
     pub fn probe_sky(&self, dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {
         self.probe.sky(&self.device, &self.queue, [&self.globals, &self.surface.group], dirs)

@@ -115,6 +115,25 @@ fn sky_cube_map_matches_preetham_in_every_direction() {
     }
 }
 
+#[test]
+fn shader_fresnel_matches_cpu_optics() {
+    use hydrolux::core::optics::{fresnel_exact, fresnel_schlick};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let r = renderer(&ctx, &scene(SMALL_OCEAN));
+    let mut queries = Vec::new();
+    for i in 0..=90 {
+        let c = (i as f32).to_radians().cos();
+        for (n1, n2) in [(1.0, 1.333), (1.333, 1.0), (1.0, 1.5)] {
+            queries.push((c, n1, n2, false));
+            queries.push((c, n1, n2, true));
+        }
+    }
+    for (q, g) in queries.iter().zip(r.probe_fresnel(&queries)) {
+        let c = if q.3 { fresnel_schlick(q.0, q.1, q.2) } else { fresnel_exact(q.0, q.1, q.2) };
+        assert!((g - c).abs() < 1e-5, "{q:?}: GPU {g} CPU {c}");
+    }
+}
+
 fn render(scene: &Scene, size: (u32, u32), time: f64) -> (Vec<u8>, Vec<[f32; 4]>) {
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let mut r = renderer(&ctx, scene);

@@ -8,13 +8,14 @@ use hydrolux_core::waves::SurfaceSample;
 use wgpu::util::DeviceExt;
 
 pub fn source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::SURFACE, include_str!("probe.wgsl")])
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::SURFACE, include_str!("probe.wgsl")])
 }
 
 pub struct ProbePass {
     layout: wgpu::BindGroupLayout,
     surface: wgpu::ComputePipeline,
     sky: wgpu::ComputePipeline,
+    fresnel: wgpu::ComputePipeline,
 }
 
 impl ProbePass {
@@ -26,7 +27,7 @@ impl ProbePass {
         });
         let module = shader(device, "probe", &source());
         let p = |entry| compute_pipeline(device, entry, &module, entry, &[globals, surface, &layout]);
-        ProbePass { surface: p("probe_surface"), sky: p("probe_sky"), layout }
+        ProbePass { surface: p("probe_surface"), sky: p("probe_sky"), fresnel: p("probe_fresnel"), layout }
     }
 
     fn run(&self, device: &wgpu::Device, queue: &wgpu::Queue, pipeline: &wgpu::ComputePipeline, groups: [&wgpu::BindGroup; 2], points: &[[f32; 4]]) -> Vec<[f32; 12]> {
@@ -60,6 +61,12 @@ impl ProbePass {
             .into_iter()
             .map(|r| SurfaceSample { displacement: [r[0], r[1], r[2]], slope: [r[4], r[5]], dxx: r[6], dzz: r[7], dxz: r[8] })
             .collect()
+    }
+
+    /// Fresnel reflectance as the shaders compute it, for (cos θi, n1, n2, Schlick?).
+    pub fn fresnel(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], queries: &[(f32, f32, f32, bool)]) -> Vec<f32> {
+        let pts: Vec<[f32; 4]> = queries.iter().map(|q| [q.0, q.1, q.2, if q.3 { 1.0 } else { 0.0 }]).collect();
+        self.run(device, queue, &self.fresnel, groups, &pts).into_iter().map(|r| r[0]).collect()
     }
 
     pub fn sky(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {

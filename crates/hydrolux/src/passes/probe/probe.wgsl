@@ -1,6 +1,6 @@
 // Evaluate the surface (as the renderer draws it) and the sky cube map at
 // arbitrary points: GPU height queries for users (buoyancy) and the hook the
-// GPU-versus-CPU tests use.
+// GPU-versus-CPU tests use; and the shaders' Fresnel formulas.
 
 struct ProbeOut {
     disp: vec4<f32>,
@@ -27,4 +27,15 @@ fn probe_sky(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let c = textureSampleLevel(sky_cube, sky_sampler, points[id.x].xyz, 0.0);
     results[id.x] = ProbeOut(c, vec4<f32>(0.0), vec4<f32>(0.0));
+}
+
+// x = cos θi, y = n1, z = n2, w = mode (0 exact, 1 Schlick) → reflectance.
+@compute @workgroup_size(64, 1, 1)
+fn probe_fresnel(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= arrayLength(&points)) {
+        return;
+    }
+    let q = points[id.x];
+    let r = fresnel(u32(q.w), q.x, q.y, q.z);
+    results[id.x] = ProbeOut(vec4<f32>(r, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0));
 }
