@@ -14,10 +14,8 @@ use std::time::Instant;
 pub struct BenchArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    #[arg(long, default_value_t = 1280)]
-    pub width: u32,
-    #[arg(long, default_value_t = 720)]
-    pub height: u32,
+    #[command(flatten)]
+    pub size: crate::SizeArgs,
     /// Frames to measure (after 3 warm-up frames).
     #[arg(long, default_value_t = 60)]
     pub frames: u32,
@@ -32,7 +30,7 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 }
 
 pub fn run(a: BenchArgs) -> Result<()> {
-    crate::render::check_size(a.width, a.height)?;
+    a.size.check()?;
     if a.frames == 0 {
         bail!("--frames 0: must be at least 1");
     }
@@ -41,7 +39,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let info = ctx.adapter.get_info();
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
     renderer.set_timing(true);
-    let target = HeadlessTarget::new(&ctx.device, (a.width, a.height));
+    let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     let camera = scene.camera();
     for i in 0..3 {
         target.submit(&mut renderer, camera, i as f64 / 60.0);
@@ -81,8 +79,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "backend": format!("{:?}", info.backend),
             "scene": a.scene.scene,
             "overrides": a.scene.set,
-            "width": a.width,
-            "height": a.height,
+            "width": a.size.width,
+            "height": a.size.height,
             "frames": a.frames,
             "frame_ms": { "median": median, "p95": p95, "source": "wall clock around submit + wait" },
             "passes_ms": pass_medians.iter().map(|(n, v)| serde_json::json!({"pass": n, "median": v})).collect::<Vec<_>>(),
@@ -92,7 +90,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     } else {
         println!("adapter   {} ({:?})", info.name, info.backend);
         println!("scene     {} {}", a.scene.scene, a.scene.set.join(" "));
-        println!("size      {}×{}, {} frames", a.width, a.height, a.frames);
+        println!("size      {}×{}, {} frames", a.size.width, a.size.height, a.frames);
         println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
         if timestamps {
             println!("passes    (GPU timestamps, median ms)");

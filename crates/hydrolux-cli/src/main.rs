@@ -28,6 +28,26 @@ pub struct SceneArgs {
     pub set: Vec<String>,
 }
 
+/// Output size, shared by every command that draws.
+#[derive(Args, Clone, Copy)]
+pub struct SizeArgs {
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    #[arg(long, default_value_t = 720)]
+    pub height: u32,
+}
+
+impl SizeArgs {
+    pub fn check(&self) -> Result<()> {
+        for (name, v) in [("--width", self.width), ("--height", self.height)] {
+            if !(1..=16384).contains(&v) {
+                anyhow::bail!("{name} {v} is out of range: must be 1 to 16384 pixels");
+            }
+        }
+        Ok(())
+    }
+}
+
 impl SceneArgs {
     pub fn load(&self) -> Result<Scene> {
         Ok(Scene::load(&self.scene, &self.set)?)

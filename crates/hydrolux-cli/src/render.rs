@@ -16,10 +16,8 @@ pub struct RenderArgs {
     /// Output image: .png (8-bit sRGB, tone-mapped) or .exr (linear float, pre-exposed radiance).
     #[arg(long, default_value = "hydrolux.png")]
     pub out: PathBuf,
-    #[arg(long, default_value_t = 1280)]
-    pub width: u32,
-    #[arg(long, default_value_t = 720)]
-    pub height: u32,
+    #[command(flatten)]
+    pub size: crate::SizeArgs,
     /// Simulation time of the (first) frame, seconds.
     #[arg(long, default_value_t = 0.0)]
     pub time: f64,
@@ -44,17 +42,8 @@ pub fn numbered(path: &Path, frame: u32, frames: u32) -> PathBuf {
     path.with_file_name(format!("{stem}_{frame:04}.{ext}"))
 }
 
-pub fn check_size(width: u32, height: u32) -> Result<()> {
-    for (name, v) in [("--width", width), ("--height", height)] {
-        if !(1..=16384).contains(&v) {
-            bail!("{name} {v} is out of range: must be 1 to 16384 pixels");
-        }
-    }
-    Ok(())
-}
-
 pub fn run(a: RenderArgs) -> Result<()> {
-    check_size(a.width, a.height)?;
+    a.size.check()?;
     if a.frames == 0 {
         bail!("--frames 0: must be at least 1");
     }
@@ -73,11 +62,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let scene = a.scene.load()?;
     let ctx = crate::headless_context()?;
     let max = ctx.device.limits().max_texture_dimension_2d;
-    if a.width > max || a.height > max {
-        bail!("{}×{} is larger than this GPU allows ({max} pixels per side)", a.width, a.height);
+    if a.size.width > max || a.size.height > max {
+        bail!("{}×{} is larger than this GPU allows ({max} pixels per side)", a.size.width, a.size.height);
     }
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
-    let target = HeadlessTarget::new(&ctx.device, (a.width, a.height));
+    let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     let progress = (a.frames > 1).then(|| {
         let bar = indicatif::ProgressBar::new(a.frames as u64);
         bar.set_style(indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})").expect("valid template"));
@@ -88,7 +77,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let pixels = target.render(&mut renderer, scene.camera(), time);
         let out = numbered(&a.out, i, a.frames);
         match format {
-            Format::Png => output::write_png(&out, a.width, a.height, &pixels)?,
+            Format::Png => output::write_png(&out, a.size.width, a.size.height, &pixels)?,
             _ => {
                 let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame rendered") };
                 let data: Vec<f32> = px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();

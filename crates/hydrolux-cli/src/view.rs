@@ -25,10 +25,8 @@ use winit::window::{Window, WindowId};
 pub struct ViewArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    #[arg(long, default_value_t = 1280)]
-    pub width: u32,
-    #[arg(long, default_value_t = 720)]
-    pub height: u32,
+    #[command(flatten)]
+    pub size: crate::SizeArgs,
     /// Quit after this many frames, writing a screenshot first (for scripted checks).
     #[arg(long)]
     pub frames: Option<u64>,
@@ -101,7 +99,7 @@ impl Viewer {
     fn init(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let attrs = Window::default_attributes()
             .with_title(format!("Hydrolux — {}", self.args.scene.scene))
-            .with_inner_size(winit::dpi::PhysicalSize::new(self.args.width, self.args.height));
+            .with_inner_size(winit::dpi::PhysicalSize::new(self.args.size.width, self.args.size.height));
         let window = Arc::new(event_loop.create_window(attrs).context("cannot open a window")?);
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle())));
         let surface = instance.create_surface(window.clone()).context("cannot create a drawing surface for the window")?;
@@ -424,7 +422,7 @@ impl ApplicationHandler for Viewer {
 }
 
 pub fn run(args: ViewArgs) -> Result<()> {
-    crate::render::check_size(args.width, args.height)?;
+    args.size.check()?;
     let scene = args.scene.load()?;
     let event_loop = EventLoop::new().context("cannot open a window: no display (set DISPLAY, or use `hydrolux render` headless)")?;
     let mut viewer = Viewer {
