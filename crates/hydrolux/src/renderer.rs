@@ -51,7 +51,6 @@ pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
     target_format: wgpu::TextureFormat,
-    globals_layout: wgpu::BindGroupLayout,
     surface_layout: wgpu::BindGroupLayout,
     frame_buffer: wgpu::Buffer,
     surface_buffer: wgpu::Buffer,
@@ -126,7 +125,6 @@ impl Renderer {
             device: device.clone(),
             queue: queue.clone(),
             target_format,
-            globals_layout,
             surface_layout,
             frame_buffer,
             surface_buffer,
@@ -438,6 +436,9 @@ impl Renderer {
 
     /// Height of the rendered surface above world (x, z): inverts the choppy
     /// displacement on the CPU from GPU samples (what buoyancy code needs).
+    /// Each call waits for the GPU several times; for many points, batch
+    /// [`Renderer::probe_surface`] or use the CPU twin
+    /// `hydrolux_core::waves::ocean::OceanFields::height_at`.
     pub fn height_at(&self, x: f32, z: f32) -> f32 {
         let mut p = [x, z];
         for _ in 0..8 {
@@ -459,11 +460,6 @@ impl Renderer {
 
     pub fn ocean_resolution(&self) -> u32 {
         self.surface.ocean.n
-    }
-
-    #[doc(hidden)]
-    pub fn globals_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.globals_layout
     }
 }
 
