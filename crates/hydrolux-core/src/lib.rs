@@ -3,8 +3,11 @@
 //! ("twin") of every GPU algorithm, so each can be tested against the other.
 
 pub mod camera;
+pub mod geometry;
+pub mod medium;
 pub mod npy;
 pub mod optics;
+pub mod projective;
 pub mod scene;
 pub mod sky;
 pub mod tonemap;

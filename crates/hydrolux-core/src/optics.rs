@@ -13,11 +13,17 @@ pub const IOR_AIR: f32 = 1.0;
 pub const IOR_WATER: f32 = 1.333;
 
 /// Which Fresnel formula shades the surface. `Exact` is the default; the
-/// approximations exist to compare against it (seed 000 §3.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// approximations exist to compare against it. Every mode gives the
+/// reflectance R; the transmittance is always 1 − R, so energy is conserved.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FresnelMode {
     Exact,
+    /// Seed 000 eq. 3.1–3.2.
     Schlick,
+    /// Jensen & Goliáš: R = 1/(1 + cos θ)^8 (seed 003 eq. 27).
+    JensenGolias,
+    /// R = (1 − E·N)^q with a free exponent q (seed 002 eq. 3).
+    Power(f32),
 }
 
 /// Mirror `incident` (pointing towards the surface) about `normal`.
@@ -84,11 +90,35 @@ pub fn fresnel_schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
     r0 + (1.0 - r0) * (1.0 - cos).powi(5)
 }
 
+/// cos θ for an approximation that only knows external reflection: leaving
+/// the denser medium, the transmitted angle (or `None` beyond the critical angle).
+fn external_cos(cos_i: f32, n1: f32, n2: f32) -> Option<f32> {
+    let cos = cos_i.clamp(0.0, 1.0);
+    if n1 <= n2 {
+        return Some(cos);
+    }
+    let sin_t2 = (n1 / n2).powi(2) * (1.0 - cos * cos);
+    (sin_t2 < 1.0).then(|| (1.0 - sin_t2).sqrt())
+}
+
+/// Jensen & Goliáš' fit R = 1/(1 + cos θ)^8 (seed 003 eq. 27): 1/256 at
+/// normal incidence (too low for water's 0.02), 1 at grazing.
+pub fn fresnel_jensen_golias(cos_i: f32, n1: f32, n2: f32) -> f32 {
+    external_cos(cos_i, n1, n2).map_or(1.0, |c| (1.0 + c).powi(-8))
+}
+
+/// The artistic (1 − E·N)^q of seed 002 eq. 3.
+pub fn fresnel_power(cos_i: f32, n1: f32, n2: f32, q: f32) -> f32 {
+    external_cos(cos_i, n1, n2).map_or(1.0, |c| (1.0 - c).powf(q))
+}
+
 /// Fresnel reflectance with the chosen formula.
 pub fn fresnel(mode: FresnelMode, cos_i: f32, n1: f32, n2: f32) -> f32 {
     match mode {
         FresnelMode::Exact => fresnel_exact(cos_i, n1, n2),
         FresnelMode::Schlick => fresnel_schlick(cos_i, n1, n2),
+        FresnelMode::JensenGolias => fresnel_jensen_golias(cos_i, n1, n2),
+        FresnelMode::Power(q) => fresnel_power(cos_i, n1, n2, q),
     }
 }
 
@@ -139,6 +169,26 @@ mod tests {
             let s = fresnel_schlick(cos, IOR_AIR, IOR_WATER);
             assert!((e - s).abs() < 0.06, "{i}°: exact {e} schlick {s}");
         }
+    }
+
+    #[test]
+    fn every_mode_reflects_between_zero_and_one_with_tir() {
+        let modes = [FresnelMode::Exact, FresnelMode::Schlick, FresnelMode::JensenGolias, FresnelMode::Power(5.0)];
+        let c = critical_angle(IOR_WATER, IOR_AIR).unwrap();
+        for m in modes {
+            for i in 0..=90 {
+                let cos = (i as f32).to_radians().cos();
+                for (n1, n2) in [(IOR_AIR, IOR_WATER), (IOR_WATER, IOR_AIR)] {
+                    let r = fresnel(m, cos, n1, n2);
+                    assert!((0.0..=1.0).contains(&r), "{m:?} {i}° {n1}->{n2}: {r}");
+                }
+            }
+            assert_eq!(fresnel(m, (c + 0.01).cos(), IOR_WATER, IOR_AIR), 1.0, "{m:?} has TIR");
+            assert!(fresnel(m, 0.0, IOR_AIR, IOR_WATER) > 0.99, "{m:?} is a mirror at grazing");
+        }
+        assert!((fresnel_jensen_golias(1.0, IOR_AIR, IOR_WATER) - 1.0 / 256.0).abs() < 1e-7);
+        assert_eq!(fresnel_power(1.0, IOR_AIR, IOR_WATER, 5.0), 0.0);
+        assert!((fresnel_power(0.5, IOR_AIR, IOR_WATER, 2.0) - 0.25).abs() < 1e-6);
     }
 
     #[test]
