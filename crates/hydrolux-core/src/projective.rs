@@ -74,6 +74,28 @@ pub fn refraction_uv_depth(view_proj: &Mat4, p: Vec3, t_dir: Vec3, dv: f32, max_
     clip_to_uv(*view_proj * (p + t_dir * dv.clamp(0.0, max_dv)).extend(1.0))
 }
 
+/// The sun's shadow space, bent by refraction (twin of
+/// `shaders/shadow_space.wgsl`): a point `depth` = −y below the mean surface
+/// is moved back up the refracted beam (`travel`, pointing down) to its entry
+/// point, then down the unrefracted beam (`-sun_dir`) to the same depth. An
+/// orthographic projection along the sun then gives every point on one
+/// refracted beam the same texel (exact for a flat surface).
+pub fn shadow_space(world: Vec3, sun_dir: Vec3, travel: Vec3) -> Vec3 {
+    let d = (-world.y).max(0.0);
+    let entry = world - travel * (d / (-travel.y).max(1e-3));
+    entry - sun_dir * (d / sun_dir.y.max(1e-3))
+}
+
+/// Orthographic light view-projection along `sun_dir` covering the box
+/// [min, max] (depth 0 nearest the sun, 1 farthest).
+pub fn sun_view_projection(sun_dir: Vec3, min: Vec3, max: Vec3) -> Mat4 {
+    let centre = 0.5 * (min + max);
+    let radius = (0.5 * (max - min)).length().max(1e-3);
+    let up = if sun_dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    let view = glam::camera::rh::view::look_at_mat4(centre + sun_dir * 2.0 * radius, centre, up);
+    glam::camera::rh::proj::directx::orthographic(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5) * view
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -82,6 +104,30 @@ mod tests {
 
     fn camera() -> Camera {
         Camera { position: Vec3::new(1.0, 4.0, 6.0), look_at: Vec3::new(0.0, 0.0, -10.0), up: Vec3::Y, fov_y_deg: 50.0 }
+    }
+
+    #[test]
+    fn refracted_beam_shares_its_shadow_texel() {
+        let sun = crate::sky::sun_direction(35.0, 20.0);
+        let travel = refract(-sun, Vec3::Y, 1.0, 1.333).unwrap();
+        let vp = sun_view_projection(sun, Vec3::splat(-20.0), Vec3::splat(20.0));
+        let entry = Vec3::new(2.0, 0.0, -3.0);
+        let texel = |p: Vec3| (vp * shadow_space(p, sun, travel).extend(1.0)).truncate().truncate();
+        for depth in [0.5f32, 3.0, 9.0] {
+            let under = entry + travel * (depth / -travel.y);
+            assert!((texel(under) - texel(entry)).length() < 1e-5, "depth {depth}");
+            // Depth along the light still grows down the beam (occlusion order).
+            let z = |p: Vec3| (vp * shadow_space(p, sun, travel).extend(1.0)).z;
+            assert!(z(under) > z(entry));
+        }
+        // Above the water nothing moves.
+        let above = Vec3::new(1.0, 2.0, 3.0);
+        assert_eq!(shadow_space(above, sun, travel), above);
+        // The box fits inside the light's clip volume.
+        for c in [Vec3::splat(-20.0), Vec3::splat(20.0), Vec3::new(20.0, -20.0, 20.0)] {
+            let p = vp * c.extend(1.0);
+            assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0 && (0.0..=1.0).contains(&p.z), "{p}");
+        }
     }
 
     #[test]

@@ -89,10 +89,48 @@ fn suggestion(key: &str, schema: &Table) -> String {
 fn check_against_schema(user: &mut Table, schema: &Table, prefix: &str, origin: &str, root: &Table) -> Result<(), SceneError> {
     for (k, v) in user.iter_mut() {
         let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+        if path == "objects" {
+            check_objects(v, origin)?;
+            continue;
+        }
         let Some(expected) = schema.get(k) else {
             return Err(SceneError::UnknownKey { origin: origin.into(), key: path.clone(), suggestion: suggestion(&path, root) });
         };
         check_value(v, expected, &path, origin, root)?;
+    }
+    Ok(())
+}
+
+/// `[[objects]]`: an array of tables, each checked against a default object.
+fn check_objects(v: &mut Value, origin: &str) -> Result<(), SceneError> {
+    let schema = toml::Table::try_from(super::ObjectDesc::default()).expect("an object always serialises");
+    let Value::Array(items) = v else {
+        return Err(SceneError::WrongType {
+            origin: origin.into(),
+            key: "objects".into(),
+            expected: "an array of tables ([[objects]] sections)".into(),
+            got: format!("{} {}", type_name(v), show(v)),
+        });
+    };
+    for (i, item) in items.iter_mut().enumerate() {
+        let path = format!("objects[{i}]");
+        let Value::Table(t) = item else {
+            return Err(SceneError::WrongType { origin: origin.into(), key: path, expected: "a table".into(), got: type_name(item).into() });
+        };
+        for (k, v) in t.iter_mut() {
+            let key = format!("{path}.{k}");
+            let Some(expected) = schema.get(k) else {
+                let mut keys = Vec::new();
+                all_keys(&schema, "", &mut keys);
+                let near = keys.iter().min_by_key(|c| levenshtein(k, c));
+                let suggestion = match near {
+                    Some(c) if levenshtein(k, c) <= 3 => format!("; did you mean `{path}.{c}`?"),
+                    _ => format!(" (object keys are {})", schema.keys().cloned().collect::<Vec<_>>().join(", ")),
+                };
+                return Err(SceneError::UnknownKey { origin: origin.into(), key, suggestion });
+            };
+            check_value(v, expected, &key, origin, &schema)?;
+        }
     }
     Ok(())
 }
@@ -180,6 +218,13 @@ impl Scene {
         })?;
         let schema = Scene::default().to_table();
         check_against_schema(&mut user, &schema, "", origin, &schema)?;
+        // Coefficients given without a named medium mean a custom medium.
+        if let Some(Value::Table(w)) = user.get_mut("water")
+            && (w.contains_key("absorption") || w.contains_key("scattering"))
+            && !w.contains_key("medium")
+        {
+            w.insert("medium".into(), Value::String("custom".into()));
+        }
         for o in overrides {
             let (path, value) = parse_override(o)?;
             let mut one = Table::new();
@@ -210,7 +255,9 @@ impl Scene {
         }
         let text = std::fs::read_to_string(Path::new(spec))
             .map_err(|e| SceneError::Io { path: spec.into(), reason: e.to_string() })?;
-        Scene::from_toml(&text, spec, overrides)
+        let mut scene = Scene::from_toml(&text, spec, overrides)?;
+        scene.base_dir = Path::new(spec).parent().map(Path::to_path_buf).unwrap_or_default();
+        Ok(scene)
     }
 
     /// Range checks. Device-dependent limits (N against buffer sizes) are
@@ -288,8 +335,82 @@ impl Scene {
             });
         }
         range("render.exposure", self.render.exposure, (-10.0..=30.0).contains(&self.render.exposure), "must be in [-10, 30] EV")?;
+        let r = &self.render;
+        if !(256..=8192).contains(&r.shadow_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "render.shadow_resolution".into(),
+                value: r.shadow_resolution.to_string(),
+                allowed: "must be 256 to 8192".into(),
+            });
+        }
+        range("render.reflection_resolution", r.reflection_resolution, r.reflection_resolution > 0.05 && r.reflection_resolution <= 1.0, "must be in (0.05, 1]")?;
+        range("render.fov_margin", r.fov_margin, (0.0..=2.0).contains(&r.fov_margin), "must be in [0, 2]")?;
+        range("water.fresnel_power", w.fresnel_power, w.fresnel_power > 0.0 && w.fresnel_power <= 50.0, "must be in (0, 50]")?;
+        for (name, v) in [("absorption", w.absorption), ("scattering", w.scattering)] {
+            for (i, c) in v.iter().enumerate() {
+                range(&format!("water.{name}[{i}]"), *c, (0.0..=100.0).contains(c), "must be in [0, 100] per metre")?;
+            }
+        }
+        range("water.phase_g", w.phase_g, (-0.99..=0.99).contains(&w.phase_g), "must be in [-0.99, 0.99]")?;
+        range("water.simple_attenuation", w.simple_attenuation, (0.0..=100.0).contains(&w.simple_attenuation), "must be in [0, 100] per metre")?;
+        range("water.refraction_depth", w.refraction_depth, w.refraction_depth > 0.0 && w.refraction_depth <= 1000.0, "must be in (0, 1000] m")?;
+        range("water.refraction_max", w.refraction_max, w.refraction_max > 0.0 && w.refraction_max <= 1000.0, "must be in (0, 1000] m")?;
+        range("water.reflection_height", w.reflection_height, (0.0..=1000.0).contains(&w.reflection_height), "must be in [0, 1000] m")?;
+        let f = &self.floor;
+        range("floor.depth", f.depth, (0.0..=10_000.0).contains(&f.depth), "must be in [0, 10000] m (0 = no floor)")?;
+        range("floor.size", f.size, f.size > 0.0 && f.size <= 100_000.0, "must be in (0, 100000] m")?;
+        if !(2..=2048).contains(&f.resolution) {
+            return Err(SceneError::OutOfRange { key: "floor.resolution".into(), value: f.resolution.to_string(), allowed: "must be 2 to 2048".into() });
+        }
+        range("floor.relief", f.relief, (0.0..=10_000.0).contains(&f.relief), "must be in [0, 10000] m")?;
+        range("floor.shore_radius", f.shore_radius, f.shore_radius > 0.0, "must be > 0 m")?;
+        range("floor.shore_height", f.shore_height, f.shore_height.abs() <= 10_000.0, "must be in [-10000, 10000] m")?;
+        if f.terrain == super::TerrainKind::Heightmap && f.heightmap.is_empty() {
+            return Err(SceneError::OutOfRange {
+                key: "floor.heightmap".into(),
+                value: "\"\"".into(),
+                allowed: "must name a PNG or JPEG file when floor.terrain = \"heightmap\"".into(),
+            });
+        }
+        if f.terrain != super::TerrainKind::None && f.depth <= 0.0 {
+            return Err(SceneError::OutOfRange {
+                key: "floor.depth".into(),
+                value: f.depth.to_string(),
+                allowed: "must be > 0 m under a terrain (the depth of its lowest point)".into(),
+            });
+        }
+        validate_material("floor.material", &f.material)?;
+        if self.objects.len() > 1024 {
+            return Err(SceneError::OutOfRange { key: "objects".into(), value: self.objects.len().to_string(), allowed: "at most 1024 objects".into() });
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            for (j, c) in o.scale.iter().enumerate() {
+                range(&format!("objects[{i}].scale[{j}]"), *c, c.abs() > 1e-6, "must be non-zero")?;
+            }
+            for (j, c) in o.position.iter().chain(&o.rotation_deg).enumerate() {
+                range(&format!("objects[{i}].{}", if j < 3 { "position" } else { "rotation_deg" }), *c, true, "must be finite")?;
+            }
+            validate_material(&format!("objects[{i}].material"), &o.material)?;
+        }
         Ok(())
     }
+}
+
+fn validate_material(key: &str, m: &super::MaterialDesc) -> Result<(), SceneError> {
+    for (name, v) in [("albedo", m.albedo), ("pattern_color", m.pattern_color)] {
+        for (i, c) in v.iter().enumerate() {
+            if !(0.0..=1.0).contains(c) {
+                return Err(SceneError::OutOfRange { key: format!("{key}.{name}[{i}]"), value: c.to_string(), allowed: "must be in [0, 1]".into() });
+            }
+        }
+    }
+    if !(m.tile_size > 0.0 && m.tile_size.is_finite()) {
+        return Err(SceneError::OutOfRange { key: format!("{key}.tile_size"), value: m.tile_size.to_string(), allowed: "must be > 0 m".into() });
+    }
+    if !(m.uv_scale.is_finite() && m.uv_scale != 0.0) {
+        return Err(SceneError::OutOfRange { key: format!("{key}.uv_scale"), value: m.uv_scale.to_string(), allowed: "must be finite and non-zero".into() });
+    }
+    Ok(())
 }
 
 fn flatten_single(t: &Table, path: &[String]) -> (Vec<String>, Value) {
@@ -360,6 +481,27 @@ mod tests {
             assert!(e.contains(want), "{scene} {sets:?}: `{e}` lacks `{want}`");
             assert!(!e.contains('\n'), "multi-line error: {e}");
         }
+    }
+
+    #[test]
+    fn objects_are_checked_and_media_resolve() {
+        let text = "[[objects]]\nprimitive = \"sphere\"\nposition = [0, 1, 2]\n[objects.material]\nalbedo = [0.9, 0.1, 0.1]\n";
+        let s = Scene::from_toml(text, "x.toml", &[]).unwrap();
+        assert_eq!(s.objects.len(), 1);
+        assert_eq!(s.objects[0].primitive, super::super::Primitive::Sphere);
+        assert_eq!(s.objects[0].material.albedo, [0.9, 0.1, 0.1]);
+        let e = Scene::from_toml("[[objects]]\npositon = [0, 1, 2]\n", "x.toml", &[]).unwrap_err().to_string();
+        assert!(e.contains("`objects[0].positon`") && e.contains("did you mean `objects[0].position`"), "{e}");
+        let e = Scene::from_toml("[[objects]]\nscale = [1, 0, 1]\n", "x.toml", &[]).unwrap_err().to_string();
+        assert!(e.contains("objects[0].scale[1]"), "{e}");
+        let e = Scene::from_toml("[water]\nmedium = \"swamp\"\n", "x.toml", &[]).unwrap_err().to_string();
+        assert!(e.contains("water.medium") && e.contains("clear_ocean") && e.contains("turbid_harbor"), "{e}");
+        // Coefficients alone make a custom medium.
+        let s = Scene::from_toml("[water]\nabsorption = [0.5, 0.1, 0.05]\n", "x.toml", &[]).unwrap();
+        assert_eq!(s.water.medium, super::super::MediumName::Custom);
+        assert_eq!(s.medium().absorption, glam::Vec3::new(0.5, 0.1, 0.05));
+        let s = Scene::from_toml("[water]\nmedium = \"pure\"\n", "x.toml", &[]).unwrap();
+        assert_eq!(s.medium().absorption, glam::Vec3::from(crate::medium::PURE_WATER_ABSORPTION));
     }
 
     #[test]

@@ -3,12 +3,15 @@
 //! rules in [`load`].
 
 mod builtin;
+mod geometry;
 mod load;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene};
+pub use geometry::{FLOOR_EXTENT, SceneObject};
 pub use load::{SceneError, apply_override, parse_override};
 
 use crate::camera::Camera;
+use crate::medium::Medium;
 use crate::optics::FresnelMode;
 use crate::waves::ocean::OceanSettings;
 use crate::waves::spectrum::{SeaState, SpectrumKind};
@@ -26,6 +29,13 @@ pub struct Scene {
     pub water: WaterDesc,
     pub sines: SinesDesc,
     pub render: RenderDesc,
+    pub floor: FloorDesc,
+    /// `[[objects]]` entries: meshes and primitives with a transform and material.
+    pub objects: Vec<ObjectDesc>,
+    /// Folder that relative mesh, texture and heightmap paths start from (the
+    /// scene file's folder; the working directory for built-ins).
+    #[serde(skip)]
+    pub base_dir: std::path::PathBuf,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -100,6 +110,39 @@ pub enum WaterModel {
 pub enum Fresnel {
     Exact,
     Schlick,
+    JensenGolias,
+    Power,
+}
+
+/// How the light coming up out of the water is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WaterOptics {
+    /// Absorption and single scattering of the medium (seed 000 §3.3).
+    Physical,
+    /// Seed 002 eq. 5–6: blend towards `body_color` by e^(−d·k).
+    Simple,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MediumName {
+    Pure,
+    ClearOcean,
+    Coastal,
+    TurbidHarbor,
+    /// `water.absorption` and `water.scattering` as given.
+    Custom,
+}
+
+/// How the refracted ray finds what it sees in the refraction texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RefractionLookup {
+    /// Seed 002 eq. 1: W = U + dv·R, dv from the refraction depth, clamped.
+    Depth,
+    /// Seed 000 §4.4: where the ray meets a plane `refraction_depth` below.
+    Plane,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -108,9 +151,109 @@ pub struct WaterDesc {
     pub model: WaterModel,
     pub ior: f32,
     pub fresnel: Fresnel,
-    /// Diffuse reflectance of the deep water body (linear RGB): the light
-    /// scattered back up out of the water.
+    /// Exponent q of `fresnel = "power"`: R = (1 − E·N)^q (seed 002 eq. 3).
+    pub fresnel_power: f32,
+    pub optics: WaterOptics,
+    /// A named medium, or `custom` for `absorption` and `scattering` below
+    /// (giving either of them without `medium` means `custom`).
+    pub medium: MediumName,
+    /// σa per channel (R, G, B), m⁻¹; used with `medium = "custom"`.
+    pub absorption: [f32; 3],
+    /// σs per channel (R, G, B), m⁻¹; used with `medium = "custom"`.
+    pub scattering: [f32; 3],
+    /// Henyey–Greenstein anisotropy g of the in-scattering (0 = isotropic).
+    pub phase_g: f32,
+    /// `optics = "simple"`: colour of the water (linear RGB albedo) and its
+    /// attenuation k (m⁻¹) in e^(−d·k).
     pub body_color: [f32; 3],
+    pub simple_attenuation: f32,
+    pub refraction: RefractionLookup,
+    /// `refraction = "plane"`: depth of the lookup plane (m).
+    pub refraction_depth: f32,
+    /// `refraction = "depth"`: clamp of dv (m).
+    pub refraction_max: f32,
+    /// Height above the mean surface of the plane the reflected ray is
+    /// intersected with (m): how far the reflection moves with the waves.
+    pub reflection_height: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Pattern {
+    None,
+    /// Square tiles of `tile_size` with grout lines in `pattern_color`.
+    Tiles,
+    Checker,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MaterialDesc {
+    /// Diffuse reflectance (linear RGB); multiplies the texture.
+    pub albedo: [f32; 3],
+    /// PNG or JPEG image (sRGB), mapped by the mesh's texture coordinates × `uv_scale`.
+    pub texture: String,
+    pub uv_scale: f32,
+    /// A procedural pattern in world space, on the plane facing the normal.
+    pub pattern: Pattern,
+    pub pattern_color: [f32; 3],
+    /// Side of a tile or checker square (m).
+    pub tile_size: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TerrainKind {
+    None,
+    /// A procedural basin whose shore rises out of the water.
+    Noise,
+    /// `heightmap` image: y = −depth + grey · relief.
+    Heightmap,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FloorDesc {
+    /// Depth of the floor below the mean water level (m); 0 = no floor (open ocean).
+    pub depth: f32,
+    pub terrain: TerrainKind,
+    pub heightmap: String,
+    /// Side of the terrain's square (m).
+    pub size: f32,
+    /// Terrain vertices per side.
+    pub resolution: u32,
+    /// Fractal relief (noise) or height range (heightmap), m.
+    pub relief: f32,
+    /// Noise basin: radius where the shore is fully risen, and its height (m).
+    pub shore_radius: f32,
+    pub shore_height: f32,
+    pub seed: u64,
+    pub material: MaterialDesc,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Primitive {
+    Box,
+    Sphere,
+    Cylinder,
+    Plane,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ObjectDesc {
+    pub name: String,
+    /// Unit-size primitive (box of side 1, sphere and cylinder of diameter 1,
+    /// plane of side 1 facing +y), scaled by `scale`.
+    pub primitive: Primitive,
+    /// An .obj, .gltf or .glb file; when given it replaces `primitive`.
+    pub mesh: String,
+    pub position: [f32; 3],
+    /// Rotation about x, then y, then z (degrees).
+    pub rotation_deg: [f32; 3],
+    pub scale: [f32; 3],
+    pub material: MaterialDesc,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -139,6 +282,30 @@ pub struct RenderDesc {
     /// (16 on GPUs, 1 on CPU adapters such as lavapipe, where each extra tap
     /// is paid in full: 16× costs ~1000× the frame time there).
     pub anisotropy: u32,
+    /// What to show: the final image or an intermediate texture.
+    pub view: DebugView,
+    /// Side of the sun's shadow map (texels).
+    pub shadow_resolution: u32,
+    /// Reflection and refraction textures' size as a fraction of the output.
+    pub reflection_resolution: f32,
+    /// Field-of-view widening of the reflection and refraction textures
+    /// (0.5 = 50% wider, seed 002 §3).
+    pub fov_margin: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DebugView {
+    Final,
+    Reflection,
+    Refraction,
+    Depth,
+    Normals,
+    Shadow,
+}
+
+impl DebugView {
+    pub const NAMES: [&'static str; 6] = ["final", "reflection", "refraction", "depth", "normals", "shadow"];
 }
 
 impl Default for Scene {
@@ -152,6 +319,9 @@ impl Default for Scene {
             water: WaterDesc::default(),
             sines: SinesDesc::default(),
             render: RenderDesc::default(),
+            floor: FloorDesc::default(),
+            objects: Vec::new(),
+            base_dir: std::path::PathBuf::new(),
         }
     }
 }
@@ -195,7 +365,60 @@ impl Default for OceanDesc {
 
 impl Default for WaterDesc {
     fn default() -> Self {
-        WaterDesc { model: WaterModel::Fft, ior: crate::optics::IOR_WATER, fresnel: Fresnel::Exact, body_color: [0.004, 0.018, 0.028] }
+        WaterDesc {
+            model: WaterModel::Fft,
+            ior: crate::optics::IOR_WATER,
+            fresnel: Fresnel::Exact,
+            fresnel_power: 5.0,
+            optics: WaterOptics::Physical,
+            medium: MediumName::ClearOcean,
+            absorption: crate::medium::MediumPreset::ClearOcean.medium().absorption.into(),
+            scattering: crate::medium::MediumPreset::ClearOcean.medium().scattering.into(),
+            phase_g: 0.5,
+            body_color: [0.004, 0.018, 0.028],
+            simple_attenuation: 0.25,
+            refraction: RefractionLookup::Depth,
+            refraction_depth: 2.0,
+            refraction_max: 8.0,
+            reflection_height: 1.5,
+        }
+    }
+}
+
+impl Default for MaterialDesc {
+    fn default() -> Self {
+        MaterialDesc { albedo: [0.6, 0.6, 0.6], texture: String::new(), uv_scale: 1.0, pattern: Pattern::None, pattern_color: [0.1, 0.1, 0.1], tile_size: 0.25 }
+    }
+}
+
+impl Default for FloorDesc {
+    fn default() -> Self {
+        FloorDesc {
+            depth: 0.0,
+            terrain: TerrainKind::None,
+            heightmap: String::new(),
+            size: 300.0,
+            resolution: 256,
+            relief: 1.5,
+            shore_radius: 90.0,
+            shore_height: 5.0,
+            seed: 1,
+            material: MaterialDesc { albedo: [0.45, 0.40, 0.32], ..MaterialDesc::default() },
+        }
+    }
+}
+
+impl Default for ObjectDesc {
+    fn default() -> Self {
+        ObjectDesc {
+            name: String::new(),
+            primitive: Primitive::Box,
+            mesh: String::new(),
+            position: [0.0; 3],
+            rotation_deg: [0.0; 3],
+            scale: [1.0; 3],
+            material: MaterialDesc::default(),
+        }
     }
 }
 
@@ -207,7 +430,15 @@ impl Default for SinesDesc {
 
 impl Default for RenderDesc {
     fn default() -> Self {
-        RenderDesc { exposure: 14.5, tonemap: Tonemap::Aces, anisotropy: 0 }
+        RenderDesc {
+            exposure: 14.5,
+            tonemap: Tonemap::Aces,
+            anisotropy: 0,
+            view: DebugView::Final,
+            shadow_resolution: 2048,
+            reflection_resolution: 0.5,
+            fov_margin: 0.5,
+        }
     }
 }
 
@@ -258,7 +489,36 @@ impl Scene {
         match self.water.fresnel {
             Fresnel::Exact => FresnelMode::Exact,
             Fresnel::Schlick => FresnelMode::Schlick,
+            Fresnel::JensenGolias => FresnelMode::JensenGolias,
+            Fresnel::Power => FresnelMode::Power(self.water.fresnel_power),
         }
+    }
+
+    /// The water body's coefficients: the named preset's, or the custom ones.
+    pub fn medium(&self) -> Medium {
+        use crate::medium::MediumPreset as P;
+        let preset = match self.water.medium {
+            MediumName::Pure => P::Pure,
+            MediumName::ClearOcean => P::ClearOcean,
+            MediumName::Coastal => P::Coastal,
+            MediumName::TurbidHarbor => P::TurbidHarbor,
+            MediumName::Custom => {
+                return Medium { absorption: self.water.absorption.into(), scattering: self.water.scattering.into() };
+            }
+        };
+        preset.medium()
+    }
+
+    /// A path from the scene, relative to the scene file's folder.
+    pub fn resolve_path(&self, p: &str) -> std::path::PathBuf {
+        self.base_dir.join(p)
+    }
+
+    /// An object's model matrix: translate · rotate (x, then y, then z) · scale.
+    pub fn object_transform(o: &ObjectDesc) -> glam::Mat4 {
+        let r = o.rotation_deg.map(f32::to_radians);
+        let rotation = glam::Quat::from_rotation_z(r[2]) * glam::Quat::from_rotation_y(r[1]) * glam::Quat::from_rotation_x(r[0]);
+        glam::Mat4::from_scale_rotation_translation(o.scale.into(), rotation, o.position.into())
     }
 
     /// The scene as a TOML table (for editing and for `--set` merging).

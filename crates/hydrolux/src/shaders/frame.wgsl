@@ -23,7 +23,37 @@ struct Frame {
     // x, y unresolved (sub-texel) slope variance along x and z; z mesh spacing of
     // the finest ring (m); w number of rings.
     surface_detail: vec4<f32>,
+    // Reflection texture: widened camera × mirror about y = 0.
+    refl_view_proj: mat4x4<f32>,
+    // Refraction texture: widened camera, and its inverse.
+    refr_view_proj: mat4x4<f32>,
+    inv_refr_view_proj: mat4x4<f32>,
+    // Sun's orthographic shadow map (world → clip, applied after shadow_space()).
+    shadow_view_proj: mat4x4<f32>,
+    // rgb absorption σa (m⁻¹); w Henyey–Greenstein g.
+    absorption: vec4<f32>,
+    // rgb scattering σs (m⁻¹); w exponent q of the power Fresnel mode.
+    scattering: vec4<f32>,
+    // x reflection plane height, y refraction plane depth, z clamp of dv (m),
+    // w attenuation k of the simple water colour (m⁻¹).
+    water_params: vec4<f32>,
+    // xyz direction refracted sunlight travels under a flat surface; w its cos to the vertical.
+    sun_travel: vec4<f32>,
+    // rgb sun irradiance just under the surface facing the refracted beam, pre-exposed.
+    sun_underwater: vec4<f32>,
+    // rgb sky irradiance just under the surface (horizontal), pre-exposed.
+    sky_underwater: vec4<f32>,
+    // x optics (0 physical, 1 simple), y refraction lookup (0 depth, 1 plane),
+    // z shadow map in use (0/1), w shadow map size (texels).
+    modes2: vec4<u32>,
 }
+
+const VIEW_FINAL: u32 = 0u;
+const VIEW_REFLECTION: u32 = 1u;
+const VIEW_REFRACTION: u32 = 2u;
+const VIEW_DEPTH: u32 = 3u;
+const VIEW_NORMALS: u32 = 4u;
+const VIEW_SHADOW: u32 = 5u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 

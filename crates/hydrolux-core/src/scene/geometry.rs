@@ -1,0 +1,87 @@
+//! The scene's opaque geometry as meshes with transforms and materials:
+//! `[[objects]]` (primitives and mesh files), and the `[floor]` (flat, or a
+//! terrain from noise or a heightmap). Relative paths start at the scene
+//! file's folder. The renderer uploads this list as it is.
+
+use super::{MaterialDesc, Primitive, Scene, TerrainKind};
+use crate::geometry::load::{AssetError, load_heightmap, load_mesh};
+use crate::geometry::terrain::{BasinParams, Terrain};
+use crate::geometry::{Mesh, primitives};
+use glam::{Mat4, Vec2, Vec3};
+
+pub struct SceneObject {
+    pub name: String,
+    pub mesh: Mesh,
+    pub transform: Mat4,
+    pub material: MaterialDesc,
+    /// World-space box that casts shadows (`None`: casts none, e.g. the flat floor).
+    pub shadow_bounds: Option<(Vec3, Vec3)>,
+}
+
+/// Half-side of the flat floor and of the terrain's skirt (m).
+pub const FLOOR_EXTENT: f32 = 20_000.0;
+
+impl Scene {
+    /// Load and build every mesh of the scene (reads mesh and image files).
+    pub fn build_geometry(&self) -> Result<Vec<SceneObject>, AssetError> {
+        let mut out = Vec::new();
+        let f = &self.floor;
+        match f.terrain {
+            TerrainKind::None if f.depth > 0.0 => {
+                let e = FLOOR_EXTENT;
+                let positions = vec![Vec3::new(-e, -f.depth, -e), Vec3::new(-e, -f.depth, e), Vec3::new(e, -f.depth, e), Vec3::new(e, -f.depth, -e)];
+                let mesh = Mesh {
+                    uvs: positions.iter().map(|p| Vec2::new(p.x, p.z)).collect(),
+                    positions,
+                    normals: vec![Vec3::Y; 4],
+                    indices: vec![0, 1, 2, 0, 2, 3],
+                };
+                out.push(SceneObject { name: "floor".into(), mesh, transform: Mat4::IDENTITY, material: f.material.clone(), shadow_bounds: None });
+            }
+            TerrainKind::None => {}
+            TerrainKind::Noise | TerrainKind::Heightmap => {
+                let terrain = if f.terrain == TerrainKind::Noise {
+                    Terrain::basin(&BasinParams {
+                        size: f.size,
+                        resolution: f.resolution as usize,
+                        depth: f.depth,
+                        shore_radius: f.shore_radius,
+                        shore_height: f.shore_height,
+                        relief: f.relief,
+                        seed: f.seed,
+                    })
+                } else {
+                    let (w, h, v) = load_heightmap(&self.resolve_path(&f.heightmap))?;
+                    Terrain::from_heightmap(w, h, &v, f.size, f.depth, f.relief, f.resolution as usize)
+                };
+                let (lo, hi) = terrain.heights.iter().fold((f32::MAX, f32::MIN), |(a, b), &h| (a.min(h), b.max(h)));
+                let half = 0.5 * f.size;
+                let bounds = (Vec3::new(-half, lo, -half), Vec3::new(half, hi, half));
+                out.push(SceneObject {
+                    name: "terrain".into(),
+                    mesh: terrain.to_mesh(FLOOR_EXTENT),
+                    transform: Mat4::IDENTITY,
+                    material: f.material.clone(),
+                    shadow_bounds: Some(bounds),
+                });
+            }
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            let mesh = if o.mesh.is_empty() {
+                match o.primitive {
+                    Primitive::Box => primitives::cube(),
+                    Primitive::Sphere => primitives::sphere(64, 32),
+                    Primitive::Cylinder => primitives::cylinder(64),
+                    Primitive::Plane => primitives::plane(),
+                }
+            } else {
+                load_mesh(&self.resolve_path(&o.mesh))?
+            };
+            let transform = Scene::object_transform(o);
+            let shadow_bounds = mesh.bounds(&transform);
+            let name = if o.name.is_empty() { format!("objects[{i}]") } else { o.name.clone() };
+            out.push(SceneObject { name, mesh, transform, material: o.material.clone(), shadow_bounds });
+        }
+        Ok(out)
+    }
+}

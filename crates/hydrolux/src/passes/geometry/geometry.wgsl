@@ -1,0 +1,109 @@
+// Opaque scene geometry (objects, terrain, floor): Lambertian materials with
+// an albedo, a texture or a procedural tile/checker pattern, lit by the sun
+// (shadow-mapped) and the sky. Below the mean water level the light is the
+// light field under the surface (seed 000 §3.3): refracted, attenuated by
+// e^(−σk·d) on its way down. Drawn for several views — main, reflection
+// (mirrored, clipped to y ≥ 0), refraction (clipped to y ≤ 0) — and into the
+// sun's shadow map (`vs_shadow`).
+
+struct View {
+    view_proj: mat4x4<f32>,
+    // Kept where dot(clip_plane.xyz, world) + clip_plane.w ≥ 0.
+    clip_plane: vec4<f32>,
+}
+
+struct Object {
+    model: mat4x4<f32>,
+    // Inverse-transpose of the model's upper 3×3, as columns.
+    normal_matrix: mat3x3<f32>,
+    // rgb albedo; w texture coordinate scale.
+    albedo: vec4<f32>,
+    // rgb second pattern colour (grout); w tile size (m).
+    pattern_color: vec4<f32>,
+    // x pattern (0 none, 1 tiles, 2 checker).
+    flags: vec4<u32>,
+}
+
+@group(1) @binding(0) var<uniform> view: View;
+@group(2) @binding(0) var<uniform> object: Object;
+@group(2) @binding(1) var albedo_tex: texture_2d<f32>;
+@group(2) @binding(2) var albedo_sampler: sampler;
+
+struct VsIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+}
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+}
+
+@vertex
+fn vs_main(v: VsIn) -> VsOut {
+    let world = (object.model * vec4<f32>(v.position, 1.0)).xyz;
+    var out: VsOut;
+    out.clip = view.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    out.normal = object.normal_matrix * v.normal;
+    out.uv = v.uv * object.albedo.w;
+    return out;
+}
+
+@vertex
+fn vs_shadow(v: VsIn) -> @builtin(position) vec4<f32> {
+    let world = (object.model * vec4<f32>(v.position, 1.0)).xyz;
+    return view.view_proj * vec4<f32>(shadow_space(world), 1.0);
+}
+
+// Procedural pattern on the plane facing the dominant normal axis.
+fn pattern_mix(world: vec3<f32>, n: vec3<f32>) -> f32 {
+    let a = abs(n);
+    var p = world.xz;
+    if (a.x > a.y && a.x > a.z) {
+        p = world.zy;
+    } else if (a.z > a.y) {
+        p = world.xy;
+    }
+    let q = p / object.pattern_color.w;
+    if (object.flags.x == 1u) {
+        // Grout lines 6% of a tile wide, anti-aliased by the pixel footprint.
+        let f = abs(fract(q) - 0.5);
+        let w = max(fwidth(q), vec2<f32>(1e-4));
+        let line = smoothstep(vec2<f32>(0.47) - w, vec2<f32>(0.47) + w, f);
+        return max(line.x, line.y);
+    }
+    if (object.flags.x == 2u) {
+        let c = floor(q);
+        return f32((i32(c.x) + i32(c.y)) & 1);
+    }
+    return 0.0;
+}
+
+@fragment
+fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    if (dot(view.clip_plane.xyz, in.world) + view.clip_plane.w < 0.0) {
+        discard;
+    }
+    var n = normalize(in.normal);
+    if (!front) {
+        n = -n;
+    }
+    if (frame.modes.w == VIEW_NORMALS) {
+        return vec4<f32>(n * 0.5 + 0.5, 1.0);
+    }
+    var albedo = object.albedo.rgb * textureSample(albedo_tex, albedo_sampler, in.uv).rgb;
+    albedo = mix(albedo, object.pattern_color.rgb, pattern_mix(in.world, n));
+    let visibility = sun_visibility(in.world, n);
+    var irradiance: vec3<f32>;
+    if (in.world.y < 0.0) {
+        irradiance = underwater_irradiance(-in.world.y, n, visibility);
+    } else {
+        let l = frame.sun_dir.xyz;
+        irradiance = frame.sun_illuminance.rgb * max(dot(n, l), 0.0) * visibility + frame.sky_ambient.rgb * (0.5 + 0.5 * n.y);
+    }
+    return vec4<f32>(albedo / PI * irradiance, 1.0);
+}

@@ -1,0 +1,49 @@
+// The water body as a participating medium. WGSL twin of
+// hydrolux_core::medium (seed 000 §3.3, eq. 3.3–3.6): Beer–Lambert
+// attenuation, single scattering with a Henyey–Greenstein phase function,
+// and the light field under a flat surface. Needs `frame`.
+
+const DIFFUSE_MEAN_COSINE: f32 = 0.85;
+const PHASE_ISOTROPIC: f32 = 0.0795774715;
+
+fn extinction() -> vec3<f32> {
+    return frame.absorption.rgb + frame.scattering.rgb;
+}
+
+fn transmittance(distance: f32) -> vec3<f32> {
+    return exp(-extinction() * max(distance, 0.0));
+}
+
+fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
+    let d = 1.0 + g * g - 2.0 * g * cos_theta;
+    return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
+}
+
+// σs·p·e0·(1 − e^(−σk(1+c)s)) / (σk(1+c)), continuous at σk → 0.
+fn in_scatter(e0: vec3<f32>, phase: f32, c: f32, s: f32) -> vec3<f32> {
+    let k = extinction() * (1.0 + c);
+    let ks = k * max(s, 0.0);
+    let small = ks < vec3<f32>(1e-4);
+    let integral = select((1.0 - exp(-ks)) / max(k, vec3<f32>(1e-12)), s * (1.0 - 0.5 * ks), small);
+    return frame.scattering.rgb * phase * e0 * integral;
+}
+
+// Irradiance on a receiver with normal n, `depth` m under the mean surface.
+fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<f32> {
+    let d = max(depth, 0.0);
+    let cos_w = max(frame.sun_travel.w, 1e-3);
+    let sun = frame.sun_underwater.rgb * transmittance(d / cos_w) * max(dot(n, -frame.sun_travel.xyz), 0.0) * sun_visibility;
+    let sky = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE) * (0.5 + 0.5 * n.y);
+    return sun + sky;
+}
+
+// Light scattered once into a downward path of length s along `dir` from
+// just under the surface, towards a viewer looking along `dir`.
+fn path_in_scatter(dir: vec3<f32>, s: f32) -> vec3<f32> {
+    let down = max(-dir.y, 0.0);
+    let cos_w = max(frame.sun_travel.w, 1e-3);
+    let phase = henyey_greenstein(dot(frame.sun_travel.xyz, -dir), frame.absorption.w);
+    let sun = in_scatter(frame.sun_underwater.rgb, phase, down / cos_w, s);
+    let sky = in_scatter(frame.sky_underwater.rgb / DIFFUSE_MEAN_COSINE, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
+    return sun + sky;
+}
