@@ -28,6 +28,15 @@ impl Camera {
         self.projection(aspect) * self.view()
     }
 
+    /// The view-projection of the same camera with its field of view widened
+    /// so that tan(fov/2) grows by `1 + margin` (projective textures that
+    /// waves must be able to look slightly beyond the screen in).
+    pub fn view_projection_widened(&self, aspect: f32, margin: f32) -> Mat4 {
+        let half = (0.5 * self.fov_y_deg.to_radians()).tan() * (1.0 + margin);
+        let fov = 2.0 * half.atan();
+        glam::camera::rh::proj::directx::perspective_infinite_reverse(fov, aspect, NEAR) * self.view()
+    }
+
     /// Unit direction the camera looks along.
     pub fn forward(&self) -> Vec3 {
         (self.look_at - self.position).normalize()

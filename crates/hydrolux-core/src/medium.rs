@@ -54,7 +54,7 @@ impl MediumPreset {
             MediumPreset::Pure => (0.0, Vec3::new(0.0006, 0.0019, 0.0045)),
             MediumPreset::ClearOcean => (0.01, Vec3::new(0.028, 0.035, 0.039)),
             MediumPreset::Coastal => (0.25, Vec3::new(0.17, 0.20, 0.234)),
-            MediumPreset::TurbidHarbor => (1.6, Vec3::new(0.71, 0.82, 0.96)),
+            MediumPreset::TurbidHarbor => (2.4, Vec3::new(0.71, 0.82, 0.96)),
         };
         Medium { absorption: pure + extra * cdom, scattering }
     }

@@ -1,19 +1,24 @@
 //! The renderer: owns the passes, turns a [`Scene`] into their inputs, and
-//! records one frame in order (see ARCHITECTURE.md):
-//! ocean simulate → sky bake (when the sun moved) → sky → water → tonemap.
+//! records one frame in order (see ARCHITECTURE.md): ocean simulate → sky
+//! bake (when the sun moved) → shadow map → reflection → refraction → sky +
+//! scene → water → tonemap (or a debug view).
 
 use crate::gpu_util::*;
+use crate::passes::geometry::{GeometryPass, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding};
 use crate::passes::mips::Downsampler;
 use crate::passes::ocean::{OceanPass, OceanTooLarge};
 use crate::passes::probe::ProbePass;
 use crate::passes::sky::SkyPass;
 use crate::passes::tonemap::TonemapPass;
 use crate::passes::water::{self, WaterPass};
-use crate::targets::Targets;
+use crate::targets::{REFRACTION_MARGIN, TargetSettings, Targets};
 use crate::timing::GpuTimer;
 use crate::uniforms::{FrameUniforms, SurfaceUniforms};
 use hydrolux_core::camera::Camera;
-use hydrolux_core::scene::{Fresnel, Scene, Tonemap, WaterModel};
+use hydrolux_core::geometry::load::AssetError;
+use hydrolux_core::medium::UnderwaterLight;
+use hydrolux_core::projective::{ClipPlane, mirror_matrix, shadow_space, sun_view_projection};
+use hydrolux_core::scene::{DebugView, Fresnel, RefractionLookup, Scene, Tonemap, WaterModel, WaterOptics};
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
 use hydrolux_core::tonemap::exposure_scale;
 use hydrolux_core::waves::SurfaceSample;
@@ -25,6 +30,24 @@ use hydrolux_core::waves::spectrum::cox_munk_slope_variance;
 pub enum RenderError {
     #[error(transparent)]
     OceanTooLarge(#[from] OceanTooLarge),
+    #[error(transparent)]
+    Asset(#[from] AssetError),
+}
+
+/// The sun's shadow map and what reads it.
+struct ShadowState {
+    resolution: u32,
+    view: wgpu::TextureView,
+    /// Globals (group 0) including this shadow map.
+    globals: wgpu::BindGroup,
+}
+
+/// The geometry views: one uniform slot per view.
+struct ViewSlots {
+    main: ViewSlot,
+    reflection: ViewSlot,
+    refraction: ViewSlot,
+    shadow: ViewSlot,
 }
 
 /// What one frame needs beyond the scene: where to draw, and when.
@@ -54,9 +77,17 @@ pub struct Renderer {
     surface_layout: wgpu::BindGroupLayout,
     frame_buffer: wgpu::Buffer,
     surface_buffer: wgpu::Buffer,
-    globals: wgpu::BindGroup,
+    globals_layout: wgpu::BindGroupLayout,
+    frame_only: wgpu::BindGroup,
+    shadow_sampler: wgpu::Sampler,
+    sky_sampler: wgpu::Sampler,
+    shadow: ShadowState,
     downsampler: Downsampler,
     sky: SkyPass,
+    geometry_pass: GeometryPass,
+    geometry: SceneGeometry,
+    views: ViewSlots,
+    water_inputs_layout: wgpu::BindGroupLayout,
     water: WaterPass,
     tonemap: TonemapPass,
     probe: ProbePass,
@@ -81,7 +112,17 @@ impl Renderer {
                 uniform_entry(1, all),
                 texture_entry(2, all, wgpu::TextureViewDimension::Cube, true),
                 sampler_entry(3, all),
+                layout_entry(4, all, wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                }),
+                layout_entry(5, all, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
             ],
+        });
+        let frame_only_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame only"),
+            entries: &[uniform_entry(0, all)],
         });
         let surface_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("surface"),
@@ -104,19 +145,31 @@ impl Renderer {
             ..Default::default()
         });
 
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let frame_only = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame only"),
+            layout: &frame_only_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() }],
+        });
         let downsampler = Downsampler::new(device);
         let sky = SkyPass::new(device, &downsampler, &globals_layout);
-        let globals = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("globals"),
-            layout: &globals_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: sky.params.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&sky.cube_view) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sky_sampler) },
-            ],
-        });
-        let water = WaterPass::new(device, &globals_layout, &surface_layout);
+        let shadow = Self::build_shadow(device, &globals_layout, &frame_buffer, &sky, &sky_sampler, &shadow_sampler, scene.render.shadow_resolution);
+        let geometry_pass = GeometryPass::new(device, queue, &globals_layout, &frame_only_layout);
+        let geometry = geometry_pass.upload(device, queue, scene)?;
+        let views = ViewSlots {
+            main: geometry_pass.view_slot(device, "main view", Winding::Normal),
+            reflection: geometry_pass.view_slot(device, "reflection view", Winding::Mirrored),
+            refraction: geometry_pass.view_slot(device, "refraction view", Winding::Normal),
+            shadow: geometry_pass.view_slot(device, "shadow view", Winding::Normal),
+        };
+        let water_inputs_layout = WaterPass::inputs_layout(device);
+        let water = WaterPass::new(device, &globals_layout, &surface_layout, &water_inputs_layout);
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
         let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, scene)?;
@@ -128,9 +181,17 @@ impl Renderer {
             surface_layout,
             frame_buffer,
             surface_buffer,
-            globals,
+            globals_layout,
+            frame_only,
+            shadow_sampler,
+            sky_sampler,
+            shadow,
             downsampler,
             sky,
+            geometry_pass,
+            geometry,
+            views,
+            water_inputs_layout,
             water,
             tonemap,
             probe,
@@ -144,6 +205,41 @@ impl Renderer {
         };
         r.update_sky();
         Ok(r)
+    }
+
+    fn build_shadow(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        frame_buffer: &wgpu::Buffer,
+        sky: &SkyPass,
+        sky_sampler: &wgpu::Sampler,
+        shadow_sampler: &wgpu::Sampler,
+        resolution: u32,
+    ) -> ShadowState {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow map"),
+            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let globals = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: sky.params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&sky.cube_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(sky_sampler) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&view) },
+                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(shadow_sampler) },
+            ],
+        });
+        ShadowState { resolution, view, globals }
     }
 
     fn build_surface(
@@ -237,6 +333,21 @@ impl Renderer {
         if surface_changed || scene.ocean_settings() != self.surface.ocean_settings {
             self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, scene)?;
         }
+        if scene.floor != self.scene.floor || scene.objects != self.scene.objects || scene.base_dir != self.scene.base_dir {
+            self.geometry = self.geometry_pass.upload(&self.device, &self.queue, scene)?;
+        }
+        if scene.render.shadow_resolution != self.shadow.resolution {
+            self.shadow = Self::build_shadow(
+                &self.device,
+                &self.globals_layout,
+                &self.frame_buffer,
+                &self.sky,
+                &self.sky_sampler,
+                &self.shadow_sampler,
+                scene.render.shadow_resolution,
+            );
+            self.targets = None;
+        }
         self.scene = scene.clone();
         self.update_sky();
         Ok(())
@@ -274,14 +385,33 @@ impl Renderer {
         }
     }
 
+    /// The sun's orthographic view-projection around the shadow casters, in
+    /// refraction-bent shadow space; `None` when nothing casts shadows.
+    fn shadow_view_projection(&self, sun: glam::Vec3, travel: glam::Vec3) -> Option<glam::Mat4> {
+        let (lo, hi) = self.geometry.shadow_bounds?;
+        let mut bent = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+        for i in 0..8 {
+            let c = glam::Vec3::new(if i & 1 == 0 { lo.x } else { hi.x }, if i & 2 == 0 { lo.y } else { hi.y }, if i & 4 == 0 { lo.z } else { hi.z });
+            let p = shadow_space(c, sun, travel);
+            bent = (bent.0.min(p), bent.1.max(p));
+        }
+        (sun.y > 0.0).then(|| sun_view_projection(sun, bent.0, bent.1))
+    }
+
     fn write_frame_uniforms(&self, camera: &Camera, size: (u32, u32), time: f64) {
         let s = &self.scene;
         let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
         let view_proj = camera.view_projection(aspect);
+        let refl_view_proj = camera.view_projection_widened(aspect, s.render.fov_margin) * mirror_matrix();
+        let refr_view_proj = camera.view_projection_widened(aspect, REFRACTION_MARGIN);
         let sky = self.sky_params();
         let exposure = exposure_scale(s.render.exposure);
         let sun = glam::Vec3::from_slice(&sky.sun_illuminance[..3]) * exposure;
         let amb = self.sky_irradiance * exposure;
+        let sun_dir = glam::Vec3::from_slice(&sky.sun_direction[..3]);
+        let under = UnderwaterLight::new(sun_dir, sun, amb, s.water.ior);
+        let shadow_view_proj = self.shadow_view_projection(sun_dir, under.sun_travel);
+        let medium = s.medium();
         let model = match s.water.model {
             WaterModel::Fft => 0,
             WaterModel::Sines => 1,
@@ -299,13 +429,22 @@ impl Renderer {
                 match s.water.fresnel {
                     Fresnel::Exact => 0,
                     Fresnel::Schlick => 1,
+                    Fresnel::JensenGolias => 2,
+                    Fresnel::Power => 3,
                 },
                 model,
                 match s.render.tonemap {
                     Tonemap::Aces => 0,
                     Tonemap::Clamp => 1,
                 },
-                0,
+                match s.render.view {
+                    DebugView::Final => 0,
+                    DebugView::Reflection => 1,
+                    DebugView::Refraction => 2,
+                    DebugView::Depth => 3,
+                    DebugView::Normals => 4,
+                    DebugView::Shadow => 5,
+                },
             ],
             viewport: [size.0 as f32, size.1 as f32, 1.0 / size.0.max(1) as f32, 1.0 / size.1.max(1) as f32],
             surface_detail: [
@@ -314,7 +453,35 @@ impl Renderer {
                 water::BASE_SPACING,
                 water::ring_count() as f32,
             ],
+            refl_view_proj: refl_view_proj.to_cols_array_2d(),
+            refr_view_proj: refr_view_proj.to_cols_array_2d(),
+            inv_refr_view_proj: refr_view_proj.inverse().to_cols_array_2d(),
+            shadow_view_proj: shadow_view_proj.unwrap_or(glam::Mat4::IDENTITY).to_cols_array_2d(),
+            absorption: medium.absorption.extend(s.water.phase_g).into(),
+            scattering: medium.scattering.extend(s.water.fresnel_power).into(),
+            water_params: [s.water.reflection_height, s.water.refraction_depth, s.water.refraction_max, s.water.simple_attenuation],
+            sun_travel: under.sun_travel.extend(-under.sun_travel.y).into(),
+            sun_underwater: under.sun_irradiance.extend(0.0).into(),
+            sky_underwater: under.sky_irradiance.extend(0.0).into(),
+            modes2: [
+                match s.water.optics {
+                    WaterOptics::Physical => 0,
+                    WaterOptics::Simple => 1,
+                },
+                match s.water.refraction {
+                    RefractionLookup::Depth => 0,
+                    RefractionLookup::Plane => 1,
+                },
+                shadow_view_proj.is_some() as u32,
+                self.shadow.resolution,
+            ],
         };
+        self.views.main.write(&self.queue, view_proj, ClipPlane::none().0);
+        self.views.reflection.write(&self.queue, refl_view_proj, ClipPlane::above(0.0).0);
+        self.views.refraction.write(&self.queue, refr_view_proj, ClipPlane::below(0.0).0);
+        if let Some(m) = shadow_view_proj {
+            self.views.shadow.write(&self.queue, m, ClipPlane::none().0);
+        }
         self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
         self.write_surface_uniforms(time);
     }
@@ -353,10 +520,15 @@ impl Renderer {
         self.queue.submit([encoder.finish()]);
     }
 
+    fn target_settings(&self) -> TargetSettings {
+        TargetSettings { reflection_resolution: self.scene.render.reflection_resolution, reflection_margin: self.scene.render.fov_margin }
+    }
+
     /// Record one frame into `encoder`, drawing into `input.target`.
     pub fn render(&mut self, encoder: &mut wgpu::CommandEncoder, input: &FrameInput) {
-        if self.targets.as_ref().map(|t| t.size) != Some(input.size) {
-            self.targets = Some(Targets::new(&self.device, input.size, &self.tonemap));
+        let settings = self.target_settings();
+        if self.targets.as_ref().map(|t| (t.size, t.settings)) != Some((input.size, settings)) {
+            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.water_inputs_layout, &self.shadow.view));
         }
         self.write_frame_uniforms(&input.camera, input.size, input.time);
         self.surface.ocean.prepare(&self.queue, input.time);
@@ -369,6 +541,48 @@ impl Renderer {
             self.surface.ocean.record(encoder, &self.downsampler, timer.as_deref_mut());
         }
         let targets = self.targets.as_ref().expect("targets were just created");
+        let globals = &self.shadow.globals;
+        let casts_shadows = self.geometry.shadow_bounds.is_some() && self.scene.sun_direction().y > 0.0;
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow map"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.shadow.view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("shadow")),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            if casts_shadows {
+                self.geometry_pass.record_shadow(&mut pass, &self.frame_only, &self.views.shadow, &self.geometry);
+            }
+        }
+        // Reflection and refraction textures: cleared to "nothing here"
+        // (alpha 0, depth at infinity) so the water falls back to the sky or
+        // to bottomless water where no geometry was drawn.
+        for (name, target, slot) in [("reflection", &targets.reflection, &self.views.reflection), ("refraction", &targets.refraction, &self.views.refraction)] {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(name),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target.color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes(name)),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.geometry_pass.record(&mut pass, globals, slot, &self.geometry);
+        }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("sky"),
@@ -383,11 +597,13 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            self.sky.record_background(&mut pass, &self.globals);
+            if self.scene.render.view != DebugView::Normals {
+                self.sky.record_background(&mut pass, globals);
+            }
         }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("water"),
+                label: Some("scene and water"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: &targets.hdr_view,
                     depth_slice: None,
@@ -399,17 +615,23 @@ impl Renderer {
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("water")),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("scene+water")),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            self.geometry_pass.record(&mut pass, globals, &self.views.main, &self.geometry);
             let aspect = input.size.0.max(1) as f32 / input.size.1.max(1) as f32;
-            self.water.record(&mut pass, &self.globals, &self.surface.group, &input.camera, aspect, self.surface.bounds_margin);
+            self.water.record(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera, aspect, self.surface.bounds_margin);
         }
-        self.tonemap.record(encoder, input.target, &self.globals, &targets.tonemap_input, timer.as_deref_mut());
+        self.tonemap.record(encoder, input.target, globals, &targets.tonemap_input, timer.as_deref_mut());
         if let Some(t) = timer {
             t.resolve(encoder);
         }
+    }
+
+    /// Triangles of the scene's opaque geometry (objects, terrain, floor).
+    pub fn scene_triangles(&self) -> usize {
+        self.geometry.triangle_count
     }
 
     /// The last frame's linear HDR image (pre-exposed radiance, before the
@@ -431,7 +653,7 @@ impl Renderer {
     /// The surface as the renderer samples it (finest level) at undisplaced
     /// points (x, z), after the last simulation step.
     pub fn probe_surface(&self, points: &[[f32; 2]]) -> Vec<SurfaceSample> {
-        self.probe.surface(&self.device, &self.queue, [&self.globals, &self.surface.group], points)
+        self.probe.surface(&self.device, &self.queue, [&self.shadow.globals, &self.surface.group], points)
     }
 
     /// Height of the rendered surface above world (x, z): inverts the choppy
@@ -448,14 +670,16 @@ impl Renderer {
         self.probe_surface(&[p])[0].displacement[1]
     }
 
-    /// Fresnel reflectance as the shaders compute it, for (cos θi, n1, n2, Schlick?).
-    pub fn probe_fresnel(&self, queries: &[(f32, f32, f32, bool)]) -> Vec<f32> {
-        self.probe.fresnel(&self.device, &self.queue, [&self.globals, &self.surface.group], queries)
+    /// Fresnel reflectance as the shaders compute it for (cos θi, n1, n2), in
+    /// every mode: [exact, Schlick, Jensen–Goliáš, power (`water.fresnel_power`)].
+    /// Needs a frame's uniforms ([`Renderer::simulate`]) for the exponent.
+    pub fn probe_fresnel(&self, queries: &[(f32, f32, f32)]) -> Vec<[f32; 4]> {
+        self.probe.fresnel(&self.device, &self.queue, [&self.shadow.globals, &self.surface.group], queries)
     }
 
     /// Radiance (kcd/m²) of the baked sky cube map in the given directions.
     pub fn probe_sky(&self, dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {
-        self.probe.sky(&self.device, &self.queue, [&self.globals, &self.surface.group], dirs)
+        self.probe.sky(&self.device, &self.queue, [&self.shadow.globals, &self.surface.group], dirs)
     }
 
     pub fn ocean_resolution(&self) -> u32 {

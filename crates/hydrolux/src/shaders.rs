@@ -13,6 +13,10 @@ pub const SURFACE: &str = include_str!("shaders/surface.wgsl");
 pub const TONEMAP_CURVE: &str = include_str!("shaders/tonemap_curve.wgsl");
 pub const FULLSCREEN: &str = include_str!("shaders/fullscreen.wgsl");
 pub const DOWNSAMPLE: &str = include_str!("shaders/downsample.wgsl");
+pub const MEDIUM: &str = include_str!("shaders/medium.wgsl");
+pub const PROJECTIVE: &str = include_str!("shaders/projective.wgsl");
+pub const SHADOW_SPACE: &str = include_str!("shaders/shadow_space.wgsl");
+pub const SHADOW_LOOKUP: &str = include_str!("shaders/shadow_lookup.wgsl");
 
 /// Join shader parts, each introduced by a comment naming its position.
 pub fn compose(parts: &[&str]) -> String {
@@ -37,6 +41,8 @@ pub fn all_for_validation() -> Vec<(String, String)> {
         ("tonemap/srgb-target".to_string(), crate::passes::tonemap::source(true)),
         ("tonemap/unorm-target".to_string(), crate::passes::tonemap::source(false)),
         ("probe".to_string(), crate::passes::probe::source()),
+        ("geometry".to_string(), crate::passes::geometry::source()),
+        ("geometry/shadow".to_string(), crate::passes::geometry::shadow_source()),
     ];
     for n in [64u32, 256, 1024] {
         v.push((format!("ocean/fft N={n}"), crate::passes::ocean::fft_source(n)));

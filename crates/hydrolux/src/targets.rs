@@ -1,36 +1,105 @@
-//! Size-dependent render targets, rebuilt in one place when the output size changes.
+//! Size-dependent render targets, rebuilt in one place when the output size
+//! (or a setting that sizes them) changes: the HDR image and its depth, the
+//! reflection and refraction textures with their depths, and the bind
+//! groups that read them.
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// Field-of-view widening of the refraction texture: refracted rays bend
+/// towards the vertical, so they stray off screen much less than reflected ones.
+pub const REFRACTION_MARGIN: f32 = 0.1;
+
+/// What sizes the targets besides the output size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TargetSettings {
+    /// Reflection texel density relative to the output.
+    pub reflection_resolution: f32,
+    /// Reflection field-of-view widening (0.5 = 50%).
+    pub reflection_margin: f32,
+}
+
+pub struct ColorDepth {
+    pub size: (u32, u32),
+    pub color: wgpu::Texture,
+    pub color_view: wgpu::TextureView,
+    pub depth_view: wgpu::TextureView,
+}
+
 pub struct Targets {
     pub size: (u32, u32),
+    pub settings: TargetSettings,
     pub hdr: wgpu::Texture,
     pub hdr_view: wgpu::TextureView,
     pub depth_view: wgpu::TextureView,
-    /// The tone map's input bind group (refers to `hdr`).
+    pub reflection: ColorDepth,
+    pub refraction: ColorDepth,
+    /// The water pass's inputs (reflection, refraction colour and depth).
+    pub water_inputs: wgpu::BindGroup,
+    /// The tone map's inputs (HDR image and the debug views' textures).
     pub tonemap_input: wgpu::BindGroup,
 }
 
+fn texture(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+impl ColorDepth {
+    fn new(device: &wgpu::Device, label: &str, size: (u32, u32)) -> Self {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let color = texture(device, label, size, HDR_FORMAT, usage);
+        let depth = texture(device, label, size, DEPTH_FORMAT, usage);
+        ColorDepth { size, color_view: color.create_view(&Default::default()), color, depth_view: depth.create_view(&Default::default()) }
+    }
+}
+
+fn scaled(size: (u32, u32), s: f32) -> (u32, u32) {
+    (((size.0 as f32 * s).round() as u32).max(1), ((size.1 as f32 * s).round() as u32).max(1))
+}
+
 impl Targets {
-    pub fn new(device: &wgpu::Device, size: (u32, u32), tonemap: &crate::passes::tonemap::TonemapPass) -> Self {
-        let extent = wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 };
-        let texture = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let hdr = texture("hdr", HDR_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC);
-        let depth = texture("depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+    pub fn new(
+        device: &wgpu::Device,
+        size: (u32, u32),
+        settings: TargetSettings,
+        tonemap: &crate::passes::tonemap::TonemapPass,
+        water_inputs_layout: &wgpu::BindGroupLayout,
+        shadow_view: &wgpu::TextureView,
+    ) -> Self {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
+        let depth = texture(device, "depth", size, DEPTH_FORMAT, usage);
         let hdr_view = hdr.create_view(&Default::default());
-        let tonemap_input = tonemap.input_group(device, &hdr_view);
-        Targets { size, hdr, hdr_view, depth_view: depth.create_view(&Default::default()), tonemap_input }
+        let depth_view = depth.create_view(&Default::default());
+        let reflection = ColorDepth::new(device, "reflection", scaled(size, settings.reflection_resolution * (1.0 + settings.reflection_margin)));
+        let refraction = ColorDepth::new(device, "refraction", scaled(size, 1.0 + REFRACTION_MARGIN));
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("clamp"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let tv = wgpu::BindingResource::TextureView;
+        let water_inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("water inputs"),
+            layout: water_inputs_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: tv(&reflection.color_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: tv(&refraction.color_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: tv(&refraction.depth_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },
+            ],
+        });
+        let tonemap_input = tonemap.input_group(device, [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, shadow_view]);
+        Targets { size, settings, hdr, hdr_view, depth_view, reflection, refraction, water_inputs, tonemap_input }
     }
 }

@@ -18,6 +18,36 @@ pub struct FrameUniforms {
     pub modes: [u32; 4],
     pub viewport: [f32; 4],
     pub surface_detail: [f32; 4],
+    pub refl_view_proj: [[f32; 4]; 4],
+    pub refr_view_proj: [[f32; 4]; 4],
+    pub inv_refr_view_proj: [[f32; 4]; 4],
+    pub shadow_view_proj: [[f32; 4]; 4],
+    pub absorption: [f32; 4],
+    pub scattering: [f32; 4],
+    pub water_params: [f32; 4],
+    pub sun_travel: [f32; 4],
+    pub sun_underwater: [f32; 4],
+    pub sky_underwater: [f32; 4],
+    pub modes2: [u32; 4],
+}
+
+/// WGSL `View` (passes/geometry/geometry_common.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ViewUniforms {
+    pub view_proj: [[f32; 4]; 4],
+    pub clip_plane: [f32; 4],
+}
+
+/// WGSL `Object` (passes/geometry/geometry_common.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct ObjectUniforms {
+    pub model: [[f32; 4]; 4],
+    pub normal_matrix: [[f32; 4]; 3],
+    pub albedo: [f32; 4],
+    pub pattern_color: [f32; 4],
+    pub flags: [u32; 4],
 }
 
 /// WGSL `SurfaceParams` (shaders/surface.wgsl).
@@ -56,6 +86,8 @@ pub fn layouts() -> Vec<(&'static str, String, usize)> {
         ("SkyParams", crate::passes::sky::bake_source(), size_of::<hydrolux_core::sky::SkyParams>()),
         ("EvolveParams", crate::passes::ocean::spectrum_source(), size_of::<EvolveUniforms>()),
         ("SpectrumMode", crate::passes::ocean::spectrum_source(), size_of::<hydrolux_core::waves::ocean::SpectrumMode>()),
+        ("View", crate::passes::geometry::source(), size_of::<ViewUniforms>()),
+        ("Object", crate::passes::geometry::source(), size_of::<ObjectUniforms>()),
         ("AssembleParams", crate::passes::ocean::assemble_source(), size_of::<AssembleUniforms>()),
     ]
 }

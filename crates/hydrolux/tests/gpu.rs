@@ -116,21 +116,27 @@ fn sky_cube_map_matches_preetham_in_every_direction() {
 }
 
 #[test]
-fn shader_fresnel_matches_cpu_optics() {
-    use hydrolux::core::optics::{fresnel_exact, fresnel_schlick};
+fn shader_fresnel_matches_cpu_optics_in_every_mode() {
+    use hydrolux::core::optics::{FresnelMode, fresnel};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
-    let r = renderer(&ctx, &scene(SMALL_OCEAN));
+    let mut sets = SMALL_OCEAN.to_vec();
+    sets.push("water.fresnel_power=3.5");
+    let s = scene(&sets);
+    let mut r = renderer(&ctx, &s);
+    r.simulate(&s.camera(), (16, 16), 0.0);
     let mut queries = Vec::new();
     for i in 0..=90 {
         let c = (i as f32).to_radians().cos();
         for (n1, n2) in [(1.0, 1.333), (1.333, 1.0), (1.0, 1.5)] {
-            queries.push((c, n1, n2, false));
-            queries.push((c, n1, n2, true));
+            queries.push((c, n1, n2));
         }
     }
+    let modes = [FresnelMode::Exact, FresnelMode::Schlick, FresnelMode::JensenGolias, FresnelMode::Power(3.5)];
     for (q, g) in queries.iter().zip(r.probe_fresnel(&queries)) {
-        let c = if q.3 { fresnel_schlick(q.0, q.1, q.2) } else { fresnel_exact(q.0, q.1, q.2) };
-        assert!((g - c).abs() < 1e-5, "{q:?}: GPU {g} CPU {c}");
+        for (m, got) in modes.iter().zip(g) {
+            let want = fresnel(*m, q.0, q.1, q.2);
+            assert!((got - want).abs() < 1e-5, "{m:?} {q:?}: GPU {got} CPU {want}");
+        }
     }
 }
 

@@ -80,7 +80,9 @@ impl Terrain {
                 let wobble = 1.0 + 0.6 * fbm(q / p.shore_radius * 1.5, 3, p.seed ^ 0xABCD);
                 let r = q.length() / wobble;
                 let rise = smoothstep(0.45 * p.shore_radius, p.shore_radius, r);
-                let detail = p.relief * fbm(q / 8.0, 5, p.seed) * (0.3 + rise);
+                // Relief fades out towards the square's edge so the flat skirt meets it smoothly.
+                let edge = 1.0 - smoothstep(0.8 * 0.5 * p.size, 0.5 * p.size, x.abs().max(z.abs()));
+                let detail = p.relief * fbm(q / 8.0, 5, p.seed) * (0.3 + rise) * edge;
                 heights.push(-p.depth + (p.depth + p.shore_height) * rise + detail);
             }
         }

@@ -10,4 +10,8 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     BuiltinScene { name: "sunset", toml: include_str!("../../../../scenes/sunset.toml") },
     BuiltinScene { name: "storm", toml: include_str!("../../../../scenes/storm.toml") },
     BuiltinScene { name: "calm", toml: include_str!("../../../../scenes/calm.toml") },
+    BuiltinScene { name: "lake", toml: include_str!("../../../../scenes/lake.toml") },
+    BuiltinScene { name: "pool", toml: include_str!("../../../../scenes/pool.toml") },
+    BuiltinScene { name: "harbor", toml: include_str!("../../../../scenes/harbor.toml") },
+    BuiltinScene { name: "coastal", toml: include_str!("../../../../scenes/coastal.toml") },
 ];

@@ -162,6 +162,9 @@ pub struct WaterDesc {
     /// σs per channel (R, G, B), m⁻¹; used with `medium = "custom"`.
     pub scattering: [f32; 3],
     /// Henyey–Greenstein anisotropy g of the in-scattering (0 = isotropic).
+    /// Water's particles scatter strongly forward (g ≈ 0.9), but single
+    /// scattering with that peak misses the light multiple scattering sends
+    /// back up: g = 0 comes closer to measured water-leaving radiance.
     pub phase_g: f32,
     /// `optics = "simple"`: colour of the water (linear RGB albedo) and its
     /// attenuation k (m⁻¹) in e^(−d·k).
@@ -374,7 +377,7 @@ impl Default for WaterDesc {
             medium: MediumName::ClearOcean,
             absorption: crate::medium::MediumPreset::ClearOcean.medium().absorption.into(),
             scattering: crate::medium::MediumPreset::ClearOcean.medium().scattering.into(),
-            phase_g: 0.5,
+            phase_g: 0.0,
             body_color: [0.004, 0.018, 0.028],
             simple_attenuation: 0.25,
             refraction: RefractionLookup::Depth,

@@ -1,6 +1,9 @@
-//! One module per pass, in frame order: ocean (simulate) → sky (bake,
-//! background) → water → tonemap; probe answers queries outside the frame.
+//! One module per pass, in frame order: ocean (simulate) → sky (bake) →
+//! geometry (shadow map, reflection, refraction, main view; sky background
+//! behind it) → water → tonemap (or a debug view); probe answers queries
+//! outside the frame.
 
+pub mod geometry;
 pub mod mips;
 pub mod ocean;
 pub mod probe;

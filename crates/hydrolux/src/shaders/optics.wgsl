@@ -28,9 +28,44 @@ fn fresnel_schlick(cos_i_in: f32, n1: f32, n2: f32) -> f32 {
     return r0 + (1.0 - r0) * pow(1.0 - c, 5.0);
 }
 
-fn fresnel(mode: u32, cos_i: f32, n1: f32, n2: f32) -> f32 {
-    if (mode == 1u) {
-        return fresnel_schlick(cos_i, n1, n2);
+// cos θ for the approximations that only know external reflection: leaving
+// the denser medium, the transmitted angle's; −1 beyond the critical angle.
+fn external_cos(cos_i: f32, n1: f32, n2: f32) -> f32 {
+    let c = clamp(cos_i, 0.0, 1.0);
+    if (n1 <= n2) {
+        return c;
     }
-    return fresnel_exact(cos_i, n1, n2);
+    let sin_t2 = (n1 / n2) * (n1 / n2) * (1.0 - c * c);
+    if (sin_t2 >= 1.0) {
+        return -1.0;
+    }
+    return sqrt(1.0 - sin_t2);
+}
+
+// Jensen & Goliáš: 1/(1 + cos θ)^8 (seed 003 eq. 27).
+fn fresnel_jensen_golias(cos_i: f32, n1: f32, n2: f32) -> f32 {
+    let c = external_cos(cos_i, n1, n2);
+    if (c < 0.0) {
+        return 1.0;
+    }
+    return 1.0 / pow(1.0 + c, 8.0);
+}
+
+// (1 − E·N)^q (seed 002 eq. 3).
+fn fresnel_power(cos_i: f32, n1: f32, n2: f32, q: f32) -> f32 {
+    let c = external_cos(cos_i, n1, n2);
+    if (c < 0.0) {
+        return 1.0;
+    }
+    return pow(max(1.0 - c, 0.0), q);
+}
+
+// mode: 0 exact, 1 Schlick, 2 Jensen–Goliáš, 3 power (exponent q).
+fn fresnel(mode: u32, q: f32, cos_i: f32, n1: f32, n2: f32) -> f32 {
+    switch (mode) {
+        case 1u: { return fresnel_schlick(cos_i, n1, n2); }
+        case 2u: { return fresnel_jensen_golias(cos_i, n1, n2); }
+        case 3u: { return fresnel_power(cos_i, n1, n2, q); }
+        default: { return fresnel_exact(cos_i, n1, n2); }
+    }
 }

@@ -6,35 +6,6 @@
 // (mirrored, clipped to y ≥ 0), refraction (clipped to y ≤ 0) — and into the
 // sun's shadow map (`vs_shadow`).
 
-struct View {
-    view_proj: mat4x4<f32>,
-    // Kept where dot(clip_plane.xyz, world) + clip_plane.w ≥ 0.
-    clip_plane: vec4<f32>,
-}
-
-struct Object {
-    model: mat4x4<f32>,
-    // Inverse-transpose of the model's upper 3×3, as columns.
-    normal_matrix: mat3x3<f32>,
-    // rgb albedo; w texture coordinate scale.
-    albedo: vec4<f32>,
-    // rgb second pattern colour (grout); w tile size (m).
-    pattern_color: vec4<f32>,
-    // x pattern (0 none, 1 tiles, 2 checker).
-    flags: vec4<u32>,
-}
-
-@group(1) @binding(0) var<uniform> view: View;
-@group(2) @binding(0) var<uniform> object: Object;
-@group(2) @binding(1) var albedo_tex: texture_2d<f32>;
-@group(2) @binding(2) var albedo_sampler: sampler;
-
-struct VsIn {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-}
-
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
@@ -51,12 +22,6 @@ fn vs_main(v: VsIn) -> VsOut {
     out.normal = object.normal_matrix * v.normal;
     out.uv = v.uv * object.albedo.w;
     return out;
-}
-
-@vertex
-fn vs_shadow(v: VsIn) -> @builtin(position) vec4<f32> {
-    let world = (object.model * vec4<f32>(v.position, 1.0)).xyz;
-    return view.view_proj * vec4<f32>(shadow_space(world), 1.0);
 }
 
 // Procedural pattern on the plane facing the dominant normal axis.

@@ -63,10 +63,11 @@ impl ProbePass {
             .collect()
     }
 
-    /// Fresnel reflectance as the shaders compute it, for (cos θi, n1, n2, Schlick?).
-    pub fn fresnel(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], queries: &[(f32, f32, f32, bool)]) -> Vec<f32> {
-        let pts: Vec<[f32; 4]> = queries.iter().map(|q| [q.0, q.1, q.2, if q.3 { 1.0 } else { 0.0 }]).collect();
-        self.run(device, queue, &self.fresnel, groups, &pts).into_iter().map(|r| r[0]).collect()
+    /// Fresnel reflectance as the shaders compute it for (cos θi, n1, n2), in
+    /// every mode: [exact, Schlick, Jensen–Goliáš, power (the scene's q)].
+    pub fn fresnel(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], queries: &[(f32, f32, f32)]) -> Vec<[f32; 4]> {
+        let pts: Vec<[f32; 4]> = queries.iter().map(|q| [q.0, q.1, q.2, 0.0]).collect();
+        self.run(device, queue, &self.fresnel, groups, &pts).into_iter().map(|r| [r[0], r[1], r[2], r[3]]).collect()
     }
 
     pub fn sky(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {

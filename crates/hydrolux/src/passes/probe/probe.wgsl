@@ -29,13 +29,17 @@ fn probe_sky(@builtin(global_invocation_id) id: vec3<u32>) {
     results[id.x] = ProbeOut(c, vec4<f32>(0.0), vec4<f32>(0.0));
 }
 
-// x = cos θi, y = n1, z = n2, w = mode (0 exact, 1 Schlick) → reflectance.
+// x = cos θi, y = n1, z = n2 → reflectance in every mode (exact, Schlick,
+// Jensen–Goliáš, power with the scene's exponent).
 @compute @workgroup_size(64, 1, 1)
 fn probe_fresnel(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= arrayLength(&points)) {
         return;
     }
     let q = points[id.x];
-    let r = fresnel(u32(q.w), q.x, q.y, q.z);
-    results[id.x] = ProbeOut(vec4<f32>(r, 0.0, 0.0, 0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+    var r: vec4<f32>;
+    for (var m = 0u; m < 4u; m++) {
+        r[m] = fresnel(m, frame.scattering.w, q.x, q.y, q.z);
+    }
+    results[id.x] = ProbeOut(r, vec4<f32>(0.0), vec4<f32>(0.0));
 }

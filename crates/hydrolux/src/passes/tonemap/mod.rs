@@ -1,5 +1,6 @@
 //! Output: filmic tone map of the pre-exposed HDR image into the caller's
-//! target (`tonemap.wgsl`; CPU twin `hydrolux_core::tonemap`).
+//! target, or a debug view of an intermediate texture (`tonemap.wgsl`; CPU
+//! twin `hydrolux_core::tonemap`).
 
 use crate::gpu_util::*;
 use crate::shaders::{self, compose};
@@ -17,21 +18,33 @@ pub struct TonemapPass {
 
 impl TonemapPass {
     pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, target_format: wgpu::TextureFormat) -> Self {
+        let fs = wgpu::ShaderStages::FRAGMENT;
+        let depth = layout_entry(3, fs, wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Depth,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tonemap input"),
-            entries: &[texture_entry(0, wgpu::ShaderStages::FRAGMENT, wgpu::TextureViewDimension::D2, false)],
+            entries: &[
+                texture_entry(0, fs, wgpu::TextureViewDimension::D2, false),
+                texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
+                texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
+                depth,
+                wgpu::BindGroupLayoutEntry { binding: 4, ..depth },
+            ],
         });
         let module = shader(device, "tonemap", &source(target_format.is_srgb()));
         let pipeline = fullscreen_pipeline(device, "tonemap", &module, &[globals, &layout], target_format);
         TonemapPass { layout, pipeline }
     }
 
-    pub fn input_group(&self, device: &wgpu::Device, hdr: &wgpu::TextureView) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tonemap input"),
-            layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(hdr) }],
-        })
+    /// The HDR image and the textures the debug views show, in binding order:
+    /// hdr, reflection, refraction, depth, shadow map.
+    pub fn input_group(&self, device: &wgpu::Device, views: [&wgpu::TextureView; 5]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> =
+            views.iter().enumerate().map(|(i, v)| wgpu::BindGroupEntry { binding: i as u32, resource: wgpu::BindingResource::TextureView(v) }).collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("tonemap input"), layout: &self.layout, entries: &entries })
     }
 
     pub fn record(&self, encoder: &mut wgpu::CommandEncoder, target: &wgpu::TextureView, globals: &wgpu::BindGroup, input: &wgpu::BindGroup, timer: Option<&mut GpuTimer>) {

@@ -1,20 +1,68 @@
-// Filmic tone map of the pre-exposed HDR image into the output target.
-// modes.z: 0 ACES, 1 clamp. If the target is not an sRGB format the
-// transfer curve is applied here (OUTPUT_SRGB_CURVE prepended by the pass).
+// Output: filmic tone map of the pre-exposed HDR image into the target, or
+// one of the debug views (frame.modes.w) instead: the reflection or
+// refraction texture (tone mapped), the depth buffer (log distance), world
+// normals (written raw by the geometry and water shaders), or the sun's
+// shadow map. modes.z: 0 ACES, 1 clamp. If the target is not an sRGB
+// format the transfer curve is applied here (OUTPUT_SRGB_CURVE prepended).
 
 @group(1) @binding(0) var hdr: texture_2d<f32>;
+@group(1) @binding(1) var reflection_tex: texture_2d<f32>;
+@group(1) @binding(2) var refraction_tex: texture_2d<f32>;
+@group(1) @binding(3) var depth_tex: texture_depth_2d;
+@group(1) @binding(4) var shadow_tex: texture_depth_2d;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     return vec4<f32>(fullscreen_ndc(i), 0.0, 1.0);
 }
 
+fn tone(c: vec3<f32>) -> vec3<f32> {
+    if (frame.modes.z == 0u) {
+        return aces_filmic(c);
+    }
+    return clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// The texel of a texture of another size under this output pixel.
+fn scaled_texel(pos: vec2<f32>, dims: vec2<u32>) -> vec2<i32> {
+    return vec2<i32>(pos * vec2<f32>(dims) * frame.viewport.zw);
+}
+
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let c = textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb;
-    var mapped = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
-    if (frame.modes.z == 0u) {
-        mapped = aces_filmic(c);
+    var mapped: vec3<f32>;
+    switch (frame.modes.w) {
+        case VIEW_REFLECTION: {
+            mapped = tone(textureLoad(reflection_tex, scaled_texel(pos.xy, textureDimensions(reflection_tex)), 0).rgb);
+        }
+        case VIEW_REFRACTION: {
+            mapped = tone(textureLoad(refraction_tex, scaled_texel(pos.xy, textureDimensions(refraction_tex)), 0).rgb);
+        }
+        case VIEW_NORMALS: {
+            mapped = textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb;
+        }
+        case VIEW_DEPTH: {
+            // Reversed-Z with an infinite far plane: d = near / distance.
+            let d = textureLoad(depth_tex, vec2<i32>(pos.xy), 0);
+            var g = 0.0;
+            if (d > 0.0) {
+                g = 1.0 - log2(1.0 + 0.05 / d) / log2(1.0 + 20000.0);
+            }
+            mapped = vec3<f32>(g);
+        }
+        case VIEW_SHADOW: {
+            // The square map, letterboxed into the output.
+            let side = min(frame.viewport.x, frame.viewport.y);
+            let uv = (pos.xy - 0.5 * (frame.viewport.xy - side)) / side;
+            mapped = vec3<f32>(0.0, 0.0, 0.15);
+            if (all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0))) {
+                let dims = vec2<f32>(textureDimensions(shadow_tex));
+                mapped = vec3<f32>(1.0 - textureLoad(shadow_tex, vec2<i32>(uv * dims), 0));
+            }
+        }
+        default: {
+            mapped = tone(textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb);
+        }
     }
     if (OUTPUT_SRGB_CURVE) {
         mapped = linear_to_srgb(mapped);

@@ -37,6 +37,10 @@ pub fn source() -> String {
         shaders::SKY_MODEL,
         shaders::SKY_BINDINGS,
         shaders::SURFACE,
+        shaders::MEDIUM,
+        shaders::PROJECTIVE,
+        shaders::SHADOW_SPACE,
+        shaders::SHADOW_LOOKUP,
         include_str!("water.wgsl"),
     ])
 }
@@ -200,9 +204,28 @@ mod tests {
 }
 
 impl WaterPass {
-    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, surface: &wgpu::BindGroupLayout) -> Self {
+    /// The layout of the water's inputs (group 2): reflection colour,
+    /// refraction colour and depth, and a clamping sampler.
+    pub fn inputs_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+        let fs = wgpu::ShaderStages::FRAGMENT;
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("water inputs"),
+            entries: &[
+                texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
+                texture_entry(1, fs, wgpu::TextureViewDimension::D2, true),
+                layout_entry(2, fs, wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                }),
+                sampler_entry(3, fs),
+            ],
+        })
+    }
+
+    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, surface: &wgpu::BindGroupLayout, inputs: &wgpu::BindGroupLayout) -> Self {
         let module = shader(device, "water", &source());
-        let layout = pipeline_layout(device, "water", &[globals, surface]);
+        let layout = pipeline_layout(device, "water", &[globals, surface, inputs]);
         let pipeline = |label: &str, vs: &str, shade: bool| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
@@ -255,7 +278,17 @@ impl WaterPass {
     /// outside the frustum are skipped; `bounds_margin` (m) is how far the
     /// displaced surface can reach beyond a tile's flat footprint (up and
     /// down, and sideways).
-    pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, surface: &wgpu::BindGroup, camera: &Camera, aspect: f32, bounds_margin: f32) {
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        globals: &wgpu::BindGroup,
+        surface: &wgpu::BindGroup,
+        inputs: &wgpu::BindGroup,
+        camera: &Camera,
+        aspect: f32,
+        bounds_margin: f32,
+    ) {
         let planes = frustum_planes(camera.view_projection(aspect));
         let xz = [camera.position.x, camera.position.z];
         let visible = |level: u32| {
@@ -272,6 +305,7 @@ impl WaterPass {
         };
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, surface, &[]);
+        pass.set_bind_group(2, inputs, &[]);
         for (rings, far) in [(&self.depth_rings, &self.depth_far), (&self.shade_rings, &self.shade_far)] {
             pass.set_pipeline(rings);
             self.full.draw(pass, 0, 0, visible(0));

@@ -1,12 +1,14 @@
 // The water surface: a camera-centred clipmap of square rings (geometry
 // clipmaps, Losasso & Hoppe 2004) whose vertices sit on a world-fixed grid (no
 // swimming) and morph onto the next coarser ring's grid before its edge
-// (CDLOD-style, no cracks or popping). Shading: exact Fresnel (seed 000
-// §2.1.2), environment-mapped sky reflection (§3.1.2), a sun glint from a
-// Gaussian slope distribution whose variance comes from the filtered slope
-// moments plus the unresolved Cox–Munk remainder (Bruneton, Neyret & Holzschuch
-// 2010), the light scattered up from the water body, and foam where the choppy
-// displacement folds (Jacobian < 1; Tessendorf §3.3).
+// (CDLOD-style, no cracks or popping). Shading: Fresnel (seed 000 §2.1.2;
+// selectable formula), local reflections of the scene by projective texturing
+// (§3.1.3, §4.4) over the environment-mapped sky (§3.1.2), refraction through
+// the water body's absorption and single scattering (§3.3, §4.3; or seed
+// 002's simple water colour), a sun glint from a Gaussian slope distribution
+// whose variance comes from the filtered slope moments plus the unresolved
+// Cox–Munk remainder (Bruneton, Neyret & Holzschuch 2010), and foam where the
+// choppy displacement folds (Jacobian < 1; Tessendorf §3.3).
 // The rings are drawn twice: depth only (`fs_depth`), then shaded with depth
 // test Equal, so each pixel runs the expensive shading once however thin the
 // distant triangles get (grazing views make them sub-pixel).
@@ -14,6 +16,12 @@
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
 // SKY_CUBE_SIZE are prepended by the pass.
+
+// Inputs of the water pass (group 2), rebuilt with the render targets.
+@group(2) @binding(0) var reflection_tex: texture_2d<f32>;
+@group(2) @binding(1) var refraction_tex: texture_2d<f32>;
+@group(2) @binding(2) var refraction_depth: texture_depth_2d;
+@group(2) @binding(3) var clamp_sampler: sampler;
 
 struct VsOut {
     @invariant @builtin(position) clip: vec4<f32>,
@@ -85,6 +93,61 @@ fn slope_pdf(zeta: vec2<f32>, variance: vec2<f32>) -> f32 {
     return exp(-0.5 * (zeta.x * zeta.x / v.x + zeta.y * zeta.y / v.y)) / (TAU * sqrt(v.x * v.y));
 }
 
+// What the refraction texture shows at `uv`: its world position (w = 1), or
+// w = 0 where nothing was drawn (open water all the way down).
+fn refraction_world(uv: vec2<f32>) -> vec4<f32> {
+    let dims = vec2<f32>(textureDimensions(refraction_depth));
+    let texel = vec2<i32>(clamp(uv * dims, vec2<f32>(0.0), dims - 1.0));
+    let d = textureLoad(refraction_depth, texel, 0);
+    if (d <= 0.0) {
+        return vec4<f32>(0.0);
+    }
+    let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let w = frame.inv_refr_view_proj * vec4<f32>(ndc, d, 1.0);
+    return vec4<f32>(w.xyz / w.w, 1.0);
+}
+
+// The light that comes up through the surface at p along the refracted ray
+// t_dir (seed 000 §4.4, seed 002 §5): what the refraction texture shows where
+// that ray ends, attenuated on the way, plus the water's in-scattering.
+fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
+    let own_uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p, 1.0));
+    var uv: vec2<f32>;
+    if (frame.modes2.y == 1u) {
+        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(refraction_point_plane(p, t_dir, frame.water_params.y, 1000.0), 1.0));
+    } else {
+        // Seed 002 eq. 1: W = U + dv·R, dv = the distance to what lies behind p, clamped.
+        let behind = refraction_world(own_uv);
+        var dv = frame.water_params.z;
+        if (behind.w > 0.0) {
+            dv = min(distance(behind.xyz, p), dv);
+        }
+        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p + t_dir * dv, 1.0));
+    }
+    var hit = refraction_world(uv);
+    // Never let what is in front of the water leak in: the texture must show
+    // something beyond p and below it, or we fall back to p's own texel.
+    let cam = frame.camera_pos.xyz;
+    if (hit.w > 0.0 && (distance(hit.xyz, cam) < distance(p, cam) || hit.y > p.y + 0.05)) {
+        uv = own_uv;
+        hit = refraction_world(uv);
+    }
+    let seen = textureSampleLevel(refraction_tex, clamp_sampler, clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
+    var s = 1e5;
+    if (hit.w > 0.0) {
+        s = distance(hit.xyz, p);
+    }
+    let ior = frame.water_body.w;
+    if (frame.modes2.x == 1u) {
+        // Seed 002 eq. 5–6: blend towards the water colour by e^(−d·k).
+        let c_water = frame.water_body.rgb * e_down / PI;
+        let a = exp(-s * frame.water_params.w);
+        return c_water + a * (seen - c_water);
+    }
+    // In-medium radiance leaves through the surface divided by n² (the solid angle widens).
+    return (seen * transmittance(s) + path_in_scatter(t_dir, s)) / (ior * ior);
+}
+
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let p = in.grid_pos;
@@ -110,9 +173,13 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (nv2 < 0.02) {
         n = normalize(n + (0.02 - nv2) * v);
     }
+    if (frame.modes.w == VIEW_NORMALS) {
+        return vec4<f32>(n * 0.5 + 0.5, 1.0);
+    }
     let cos_v = max(dot(n, v), 1e-3);
     let ior = frame.water_body.w;
-    let f = fresnel(frame.modes.x, cos_v, 1.0, ior);
+    let q = frame.scattering.w;
+    let f = fresnel(frame.modes.x, q, cos_v, 1.0, ior);
 
     // Slope variance inside the pixel: resolved (moments) + unresolved (sub-grid).
     let variance = s.slope_variance + frame.surface_detail.xy;
@@ -123,24 +190,28 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     r.y = abs(r.y);
     let lod = clamp(log2(2.0 * sigma * SKY_CUBE_SIZE / (0.5 * PI)), 0.0, 8.0);
     let sky_reflected = textureSampleLevel(sky_cube, sky_sampler, r, lod).rgb * exposure();
+    // Local reflection (seed 000 §3.1.3): the mirrored scene where the
+    // reflected ray meets a plane above the surface; the sky where it has none.
+    let ruv = clamp(reflection_uv(frame.refl_view_proj, in.world, r, frame.water_params.x, 2000.0), vec2<f32>(0.001), vec2<f32>(0.999));
+    let local = textureSampleLevel(reflection_tex, clamp_sampler, ruv, 0.0);
+    let reflected = mix(sky_reflected, local.rgb, local.a);
 
-    // Sun glint.
+    // Sun glint, shadowed by the scene.
     let l = frame.sun_dir.xyz;
     var glint = vec3<f32>(0.0);
     if (l.y > 0.0) {
         let h = normalize(l + v);
         let zeta = -h.xz / h.y + n.xz / n.y;
         let cos_h = h.y;
-        let fh = fresnel(frame.modes.x, dot(v, h), 1.0, ior);
+        let fh = fresnel(frame.modes.x, q, dot(v, h), 1.0, ior);
         let brdf = fh * slope_pdf(zeta, variance) / (4.0 * cos_v * pow(cos_h, 4.0));
         glint = frame.sun_illuminance.rgb * brdf * max(dot(n, l), 0.0) / max(l.y, 1e-3) * l.y;
+        glint *= sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
     }
 
-    // Light scattered back up out of the water body (refined by the optics issue).
     let e_down = frame.sky_ambient.rgb + frame.sun_illuminance.rgb * max(l.y, 0.0);
-    let body = frame.water_body.rgb * e_down / PI * (1.0 - f);
-
-    var color = f * sky_reflected + glint + body;
+    let t_dir = refract(-v, n, 1.0 / ior);
+    var color = f * reflected + (1.0 - f) * transmitted(in.world, t_dir, e_down) + glint;
 
     // Whitecaps where the choppy surface compresses towards folding (J → 0).
     // The ramp gives a few per cent cover in a near gale, as Monahan's
