@@ -12,13 +12,16 @@ fn sun_visibility(world: vec3<f32>, n: vec3<f32>) -> f32 {
     // Normal offset against acne: one texel-ish along the normal.
     let clip = frame.shadow_view_proj * vec4<f32>(shadow_space(world + n * 0.02), 1.0);
     let uv = vec2<f32>(0.5 + 0.5 * clip.x, 0.5 - 0.5 * clip.y);
-    if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || clip.z > 1.0) {
+    if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0))) {
         return 1.0;
     }
+    // The map is fitted to the casters only: a receiver beyond its far plane
+    // is behind every caster, so it compares as the far plane.
+    let z = min(clip.z, 1.0);
     var sum = 0.0;
     for (var j = -1; j <= 1; j++) {
         for (var i = -1; i <= 1; i++) {
-            sum += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(f32(i), f32(j)) / size, clip.z - 0.0015);
+            sum += textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(f32(i), f32(j)) / size, z - 0.0015);
         }
     }
     return sum / 9.0;
