@@ -26,6 +26,10 @@ pub struct SceneArgs {
     /// Override a scene parameter: --set section.key=value (TOML value; a bare word is a string). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Show an intermediate texture instead of the final image: final,
+    /// reflection, refraction, depth, normals or shadow (= --set render.view=KIND).
+    #[arg(long, value_name = "KIND")]
+    pub view: Option<String>,
 }
 
 /// Output size, shared by every command that draws.
@@ -50,7 +54,11 @@ impl SizeArgs {
 
 impl SceneArgs {
     pub fn load(&self) -> Result<Scene> {
-        Ok(Scene::load(&self.scene, &self.set)?)
+        let mut sets = self.set.clone();
+        if let Some(v) = &self.view {
+            sets.push(format!("render.view=\"{}\"", v.replace('"', "")));
+        }
+        Ok(Scene::load(&self.scene, &sets)?)
     }
 }
 

@@ -3,14 +3,15 @@
 //! parameters appear without UI code). winit 0.30 + egui 0.37.
 //!
 //! Keys: W A S D fly, Q/E down/up, Shift faster, right mouse drag (or arrow
-//! keys) to look, Space pause, [ and ] time scale, P screenshot, Esc quit.
+//! keys) to look, Space pause, [ and ] time scale, V next debug view,
+//! P screenshot, Esc quit.
 
 use crate::SceneArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
 use hydrolux::core::camera::Camera;
-use hydrolux::core::scene::Scene;
+use hydrolux::core::scene::{DebugView, Scene};
 use hydrolux::{FrameInput, GpuContext, Renderer, wgpu};
 use std::sync::Arc;
 use std::time::Instant;
@@ -36,8 +37,16 @@ pub struct ViewArgs {
 const ENUMS: &[(&str, &[&str])] = &[
     ("ocean.spectrum", &["phillips", "pierson-moskowitz", "jonswap"]),
     ("water.model", &["fft", "sines", "flat"]),
-    ("water.fresnel", &["exact", "schlick"]),
+    ("water.fresnel", &["exact", "schlick", "jensen-golias", "power"]),
+    ("water.optics", &["physical", "simple"]),
+    ("water.medium", &["pure", "clear_ocean", "coastal", "turbid_harbor", "custom"]),
+    ("water.refraction", &["depth", "plane"]),
+    ("floor.terrain", &["none", "noise", "heightmap"]),
+    ("floor.material.pattern", &["none", "tiles", "checker"]),
+    ("objects.material.pattern", &["none", "tiles", "checker"]),
+    ("objects.primitive", &["box", "sphere", "cylinder", "plane"]),
     ("render.tonemap", &["aces", "clamp"]),
+    ("render.view", &DebugView::NAMES),
 ];
 
 struct FlyCamera {
@@ -137,7 +146,9 @@ impl Viewer {
 
     fn apply_table(&mut self) {
         match Scene::from_toml(&self.table.to_string(), "viewer", &[]) {
-            Ok(s) => {
+            Ok(mut s) => {
+                // Relative mesh and texture paths still start at the scene file.
+                s.base_dir = self.scene.base_dir.clone();
                 if let Some(g) = &mut self.gfx
                     && let Err(e) = g.renderer.set_scene(&s)
                 {
@@ -149,6 +160,18 @@ impl Viewer {
             }
             Err(e) => self.error = Some(e.to_string()),
         }
+    }
+
+    /// V: show the next debug view (final → reflection → … → shadow → final).
+    fn cycle_view(&mut self) {
+        let current = self.table.get("render").and_then(|r| r.get("view")).and_then(Value::as_str).unwrap_or("final").to_string();
+        let i = DebugView::NAMES.iter().position(|n| *n == current).unwrap_or(0);
+        let next = DebugView::NAMES[(i + 1) % DebugView::NAMES.len()];
+        if let Some(Value::Table(r)) = self.table.get_mut("render") {
+            r.insert("view".into(), Value::String(next.into()));
+        }
+        self.status = format!("view: {next}");
+        self.apply_table();
     }
 
     fn panel(&mut self, ui: &mut egui::Ui) {
@@ -177,14 +200,9 @@ impl Viewer {
         ui.separator();
         let mut changed = false;
         egui::ScrollArea::vertical().show(ui, |ui| {
-            let sections: Vec<String> = self.table.keys().cloned().collect();
-            for section in sections {
-                let Some(Value::Table(t)) = self.table.get_mut(&section) else { continue };
-                egui::CollapsingHeader::new(&section).default_open(matches!(section.as_str(), "ocean" | "sun" | "water")).show(ui, |ui| {
-                    for (key, value) in t.iter_mut() {
-                        changed |= edit_value(ui, &format!("{section}.{key}"), key, value);
-                    }
-                });
+            for (section, value) in self.table.iter_mut() {
+                let open = matches!(section.as_str(), "ocean" | "sun" | "water");
+                changed |= edit_entry(ui, section, section, section, value, open);
             }
         });
         if changed {
@@ -310,8 +328,35 @@ impl Viewer {
     }
 }
 
+/// A table becomes a collapsible section, an array of tables (`[[objects]]`)
+/// one section per entry, anything else one widget. `id` is unique per
+/// widget; `kind` is the key path without array indices (for the enum list).
+fn edit_entry(ui: &mut egui::Ui, id: &str, kind: &str, label: &str, value: &mut Value, open: bool) -> bool {
+    let mut changed = false;
+    match value {
+        Value::Table(t) => {
+            egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
+                for (key, v) in t.iter_mut() {
+                    changed |= edit_entry(ui, &format!("{id}.{key}"), &format!("{kind}.{key}"), key, v, false);
+                }
+            });
+        }
+        Value::Array(items) if items.first().is_some_and(Value::is_table) => {
+            egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
+                for (i, item) in items.iter_mut().enumerate() {
+                    let name = item.get("name").and_then(Value::as_str).filter(|n| !n.is_empty()).map(str::to_string);
+                    let title = name.map_or(format!("{label}[{i}]"), |n| format!("{label}[{i}] {n}"));
+                    changed |= edit_entry(ui, &format!("{id}[{i}]"), kind, &title, item, false);
+                }
+            });
+        }
+        _ => changed |= edit_value(ui, id, kind, label, value),
+    }
+    changed
+}
+
 /// One widget per TOML value; returns whether it changed.
-fn edit_value(ui: &mut egui::Ui, path: &str, key: &str, value: &mut Value) -> bool {
+fn edit_value(ui: &mut egui::Ui, id: &str, path: &str, key: &str, value: &mut Value) -> bool {
     ui.horizontal(|ui| {
         ui.label(key);
         match value {
@@ -333,7 +378,7 @@ fn edit_value(ui: &mut egui::Ui, path: &str, key: &str, value: &mut Value) -> bo
             Value::String(s) => {
                 if let Some((_, options)) = ENUMS.iter().find(|(p, _)| *p == path) {
                     let mut c = false;
-                    egui::ComboBox::from_id_salt(path).selected_text(s.as_str()).show_ui(ui, |ui| {
+                    egui::ComboBox::from_id_salt(id).selected_text(s.as_str()).show_ui(ui, |ui| {
                         for o in *options {
                             c |= ui.selectable_value(s, o.to_string(), *o).changed();
                         }
@@ -381,6 +426,7 @@ impl ApplicationHandler for Viewer {
                             KeyCode::BracketLeft => self.time_scale = (self.time_scale * 0.5).max(1.0 / 64.0),
                             KeyCode::BracketRight => self.time_scale = (self.time_scale * 2.0).min(64.0),
                             KeyCode::KeyP => self.screenshot_requested = true,
+                            KeyCode::KeyV => self.cycle_view(),
                             _ => {}
                         }
                     } else {

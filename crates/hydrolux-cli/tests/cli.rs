@@ -27,6 +27,10 @@ fn scratch(name: &str) -> PathBuf {
 fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     let dir = scratch("bad");
     std::fs::write(dir.join("broken.toml"), "[ocean]\nwind_speed = = 3\n").unwrap();
+    std::fs::write(dir.join("no_mesh.toml"), "[[objects]]\nmesh = \"nope.obj\"\n").unwrap();
+    std::fs::write(dir.join("bad.glb"), "not a glb").unwrap();
+    std::fs::write(dir.join("bad_mesh.toml"), "[[objects]]\nmesh = \"bad.glb\"\n").unwrap();
+    std::fs::write(dir.join("no_texture.toml"), "[[objects]]\n[objects.material]\ntexture = \"nope.png\"\n").unwrap();
     let cases: &[(&[&str], &str)] = &[
         (&["render", "--scene", "nowhere"], "unknown scene `nowhere`"),
         (&["render", "--scene", "missing.toml"], "cannot read scene file missing.toml"),
@@ -42,6 +46,11 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--dump", "sky=x.npy"], "unknown buffer"),
         (&["render", "--frames", "0"], "--frames 0"),
         (&["bench", "--frames", "0"], "--frames 0"),
+        (&["render", "--scene", "no_mesh.toml"], "cannot load mesh nope.obj: no such file"),
+        (&["render", "--scene", "bad_mesh.toml"], "cannot load mesh bad.glb"),
+        (&["render", "--scene", "no_texture.toml"], "cannot load texture nope.png: no such file"),
+        (&["render", "--set", "water.medium=swamp"], "turbid_harbor"),
+        (&["render", "--view", "xray"], "render.view"),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);
@@ -51,7 +60,9 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
-    assert_eq!(left, vec![std::ffi::OsString::from("broken.toml")], "files were written: {left:?}");
+    let mut left: Vec<String> = left.into_iter().map(|f| f.to_string_lossy().into_owned()).collect();
+    left.sort();
+    assert_eq!(left, ["bad.glb", "bad_mesh.toml", "broken.toml", "no_mesh.toml", "no_texture.toml"], "files were written: {left:?}");
 }
 
 #[test]
@@ -74,4 +85,25 @@ fn render_writes_png_exr_and_npy_dumps() {
     let (code, err) = hydrolux(&["render", "--width", "32", "--height", "16", "--out", "s.png", "--frames", "2", "--set", "water.model=flat"], &dir);
     assert_eq!(code, 0, "{err}");
     assert!(dir.join("s_0000.png").exists() && dir.join("s_0001.png").exists());
+}
+
+#[test]
+fn scenes_with_mesh_files_and_every_debug_view_render() {
+    let dir = scratch("views");
+    // An OBJ without normals, referred to relative to the scene file.
+    std::fs::write(dir.join("tetra.obj"), "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n").unwrap();
+    let scene = "[floor]\ndepth = 3\n[[objects]]\nmesh = \"tetra.obj\"\nposition = [0, -0.5, -8]\nscale = [2, 2, 2]\n";
+    std::fs::write(dir.join("mesh.toml"), scene).unwrap();
+    let mut images = Vec::new();
+    for view in ["final", "reflection", "refraction", "depth", "normals", "shadow"] {
+        let out = format!("{view}.png");
+        let (code, err) = hydrolux(&["render", "--scene", "mesh.toml", "--view", view, "--width", "64", "--height", "36", "--out", &out], &dir);
+        assert_eq!(code, 0, "{view}: {err}");
+        images.push(std::fs::read(dir.join(&out)).unwrap());
+    }
+    for i in 0..images.len() {
+        for j in i + 1..images.len() {
+            assert_ne!(images[i], images[j], "debug views {i} and {j} are the same image");
+        }
+    }
 }

@@ -15,12 +15,19 @@ pub struct AssetError {
     pub reason: String,
 }
 
+/// Fail early and plainly when the file is not there (the decoders' own
+/// messages for that are vague).
+fn exists(what: &'static str, path: &Path) -> Result<(), AssetError> {
+    if path.is_file() { Ok(()) } else { Err(err(what, path, "no such file")) }
+}
+
 fn err(what: &'static str, path: &Path, reason: impl ToString) -> AssetError {
     AssetError { what, path: path.display().to_string(), reason: reason.to_string().lines().next().unwrap_or_default().to_string() }
 }
 
 /// Load a mesh file by extension (`.obj`, `.gltf`, `.glb`).
 pub fn load_mesh(path: &Path) -> Result<Mesh, AssetError> {
+    exists("mesh", path)?;
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     let mut mesh = match ext.as_str() {
         "obj" => load_obj(path)?,
@@ -128,6 +135,7 @@ pub struct Image {
 
 /// Load a PNG or JPEG texture.
 pub fn load_texture(path: &Path) -> Result<Image, AssetError> {
+    exists("texture", path)?;
     let img = image::open(path).map_err(|e| err("texture", path, e))?.to_rgba8();
     Ok(Image { width: img.width(), height: img.height(), rgba: img.into_raw() })
 }
@@ -135,6 +143,7 @@ pub fn load_texture(path: &Path) -> Result<Image, AssetError> {
 /// Load a grey heightmap (8 or 16 bit PNG, or JPEG) as values in [0, 1],
 /// rows top to bottom; returns (width, height, values).
 pub fn load_heightmap(path: &Path) -> Result<(u32, u32, Vec<f32>), AssetError> {
+    exists("heightmap", path)?;
     let img = image::open(path).map_err(|e| err("heightmap", path, e))?.to_luma16();
     if img.width() < 2 || img.height() < 2 {
         return Err(err("heightmap", path, "it must be at least 2×2 pixels"));
@@ -173,7 +182,8 @@ mod tests {
         assert!(e.starts_with("cannot load mesh") && e.contains("junk.glb") && !e.contains('\n'), "{e}");
         let p = temp("empty.obj", b"# nothing\n");
         assert!(load_mesh(&p).unwrap_err().to_string().contains("no (non-degenerate) triangles"));
-        let e = load_mesh(Path::new("model.stl")).unwrap_err().to_string();
+        let p = temp("model.stl", b"solid");
+        let e = load_mesh(&p).unwrap_err().to_string();
         assert!(e.contains("use .obj, .gltf or .glb"), "{e}");
         let p = temp("bad.png", b"\x89PNG garbage");
         let e = load_texture(&p).unwrap_err().to_string();
