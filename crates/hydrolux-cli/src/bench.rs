@@ -38,6 +38,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let ctx = crate::headless_context()?;
     let info = ctx.adapter.get_info();
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
+    let triangles = renderer.scene_triangles();
     renderer.set_timing(true);
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     let camera = scene.camera();
@@ -82,6 +83,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "width": a.size.width,
             "height": a.size.height,
             "frames": a.frames,
+            "scene_triangles": triangles,
             "frame_ms": { "median": median, "p95": p95, "source": "wall clock around submit + wait" },
             "passes_ms": pass_medians.iter().map(|(n, v)| serde_json::json!({"pass": n, "median": v})).collect::<Vec<_>>(),
             "pass_times_source": if timestamps { "GPU timestamp queries" } else { "unavailable (adapter lacks TIMESTAMP_QUERY)" },
@@ -91,6 +93,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         println!("adapter   {} ({:?})", info.name, info.backend);
         println!("scene     {} {}", a.scene.scene, a.scene.set.join(" "));
         println!("size      {}×{}, {} frames", a.size.width, a.size.height, a.frames);
+        println!("geometry  {} scene triangles (+ water clipmap), shadow map {}², reflection at {}× output", triangles, scene.render.shadow_resolution, scene.render.reflection_resolution);
         println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
         if timestamps {
             println!("passes    (GPU timestamps, median ms)");

@@ -462,7 +462,7 @@ impl Renderer {
             water_params: [s.water.reflection_height, s.water.refraction_depth, s.water.refraction_max, s.water.simple_attenuation],
             sun_travel: under.sun_travel.extend(-under.sun_travel.y).into(),
             sun_underwater: under.sun_irradiance.extend(0.0).into(),
-            sky_underwater: under.sky_irradiance.extend(0.0).into(),
+            sky_underwater: under.sky_irradiance.extend(if self.geometry.triangle_count > 0 { 1.0 } else { 0.0 }).into(),
             modes2: [
                 match s.water.optics {
                     WaterOptics::Physical => 0,

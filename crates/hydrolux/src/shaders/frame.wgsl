@@ -41,7 +41,8 @@ struct Frame {
     sun_travel: vec4<f32>,
     // rgb sun irradiance just under the surface facing the refracted beam, pre-exposed.
     sun_underwater: vec4<f32>,
-    // rgb sky irradiance just under the surface (horizontal), pre-exposed.
+    // rgb sky irradiance just under the surface (horizontal), pre-exposed;
+    // w 1 when the scene has geometry (0: the refraction texture is empty).
     sky_underwater: vec4<f32>,
     // x optics (0 physical, 1 simple), y refraction lookup (0 depth, 1 plane),
     // z shadow map in use (0/1), w shadow map size (texels).

@@ -43,10 +43,11 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
         case VIEW_DEPTH: {
             // Reversed-Z with an infinite far plane: d = near / distance.
+            // White at 0.5 m fading logarithmically to black at 2 km; sky black.
             let d = textureLoad(depth_tex, vec2<i32>(pos.xy), 0);
             var g = 0.0;
             if (d > 0.0) {
-                g = 1.0 - log2(1.0 + 0.05 / d) / log2(1.0 + 20000.0);
+                g = clamp(1.0 - log2((0.05 / d) / 0.5) / 12.0, 0.0, 1.0);
             }
             mapped = vec3<f32>(g);
         }

@@ -111,6 +111,14 @@ fn refraction_world(uv: vec2<f32>) -> vec4<f32> {
 // t_dir (seed 000 §4.4, seed 002 §5): what the refraction texture shows where
 // that ray ends, attenuated on the way, plus the water's in-scattering.
 fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
+    let ior = frame.water_body.w;
+    if (frame.sky_underwater.w == 0.0) {
+        // Nothing under the water (open ocean): bottomless.
+        if (frame.modes2.x == 1u) {
+            return frame.water_body.rgb * e_down / PI;
+        }
+        return path_in_scatter(t_dir, 1e5) / (ior * ior);
+    }
     let own_uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p, 1.0));
     var uv: vec2<f32>;
     if (frame.modes2.y == 1u) {
@@ -137,7 +145,6 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
     if (hit.w > 0.0) {
         s = distance(hit.xyz, p);
     }
-    let ior = frame.water_body.w;
     if (frame.modes2.x == 1u) {
         // Seed 002 eq. 5–6: blend towards the water colour by e^(−d·k).
         let c_water = frame.water_body.rgb * e_down / PI;
