@@ -287,7 +287,8 @@ impl Renderer {
         });
         let sea = scene.sea_state();
         let sines = SineWaves::from_sea_state(&sea, scene.sines.count as usize, scene.ocean.seed, scene.sines.gerstner as f64);
-        let total = cox_munk_slope_variance(sea.wind_speed, sea.wind_direction);
+        let scale = scene.water.roughness_scale as f64;
+        let total = cox_munk_slope_variance(sea.wind_speed, sea.wind_direction).map(|v| v * scale);
         let resolved = match scene.water.model {
             WaterModel::Fft => spectrum.expected_slope_variance(),
             WaterModel::Sines => sines.slope_variance(),
@@ -329,6 +330,7 @@ impl Renderer {
         let surface_changed = scene.ocean != self.scene.ocean
             || scene.sines != self.scene.sines
             || scene.water.model != self.scene.water.model
+            || scene.water.roughness_scale != self.scene.water.roughness_scale
             || scene.render.anisotropy != self.scene.render.anisotropy;
         if surface_changed || scene.ocean_settings() != self.surface.ocean_settings {
             self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, scene)?;
@@ -398,6 +400,15 @@ impl Renderer {
         (sun.y > 0.0).then(|| sun_view_projection(sun, bent.0, bent.1))
     }
 
+    /// Texels of the reflection texture per radian of view angle (at its
+    /// centre): how many texels a reflected ray spread of 2σ covers.
+    fn reflection_texels_per_radian(&self, camera: &Camera, size: (u32, u32)) -> f32 {
+        let r = &self.scene.render;
+        let height = (size.1 as f32 * r.reflection_resolution * (1.0 + r.fov_margin)).round().max(1.0);
+        let half_tan = (0.5 * camera.fov_y_deg.to_radians()).tan() * (1.0 + r.fov_margin);
+        0.5 * height / half_tan
+    }
+
     fn write_frame_uniforms(&self, camera: &Camera, size: (u32, u32), time: f64) {
         let s = &self.scene;
         let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
@@ -460,6 +471,7 @@ impl Renderer {
             absorption: medium.absorption.extend(s.water.phase_g).into(),
             scattering: medium.scattering.extend(s.water.fresnel_power).into(),
             water_params: [s.water.reflection_height, s.water.refraction_depth, s.water.refraction_max, s.water.simple_attenuation],
+            reflection_params: [self.reflection_texels_per_radian(camera, size), 0.0, 0.0, 0.0],
             sun_travel: under.sun_travel.extend(-under.sun_travel.y).into(),
             sun_underwater: under.sun_irradiance.extend(0.0).into(),
             sky_underwater: under.sky_irradiance.extend(if self.geometry.triangle_count > 0 { 1.0 } else { 0.0 }).into(),
@@ -528,7 +540,7 @@ impl Renderer {
     pub fn render(&mut self, encoder: &mut wgpu::CommandEncoder, input: &FrameInput) {
         let settings = self.target_settings();
         if self.targets.as_ref().map(|t| (t.size, t.settings)) != Some((input.size, settings)) {
-            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.water_inputs_layout, &self.shadow.view));
+            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.downsampler, &self.water_inputs_layout, &self.shadow.view));
         }
         self.write_frame_uniforms(&input.camera, input.size, input.time);
         self.surface.ocean.prepare(&self.queue, input.time);
@@ -582,6 +594,13 @@ impl Renderer {
                 multiview_mask: None,
             });
             self.geometry_pass.record(&mut pass, globals, slot, &self.geometry);
+        }
+        if let Some(chain) = &targets.reflection.mips {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("reflection mips"),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.compute_writes("reflection mips")),
+            });
+            self.downsampler.record(&mut pass, chain);
         }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -22,8 +22,13 @@ pub struct TargetSettings {
 pub struct ColorDepth {
     pub size: (u32, u32),
     pub color: wgpu::Texture,
+    /// Level 0: the attachment (and what debug views show).
     pub color_view: wgpu::TextureView,
+    /// Every level, for sampling.
+    pub sampled_view: wgpu::TextureView,
     pub depth_view: wgpu::TextureView,
+    /// The mip chain's downsampling (when the texture has mips).
+    pub mips: Option<crate::passes::mips::MipChain>,
 }
 
 pub struct Targets {
@@ -54,11 +59,31 @@ fn texture(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::T
 }
 
 impl ColorDepth {
-    fn new(device: &wgpu::Device, label: &str, size: (u32, u32)) -> Self {
+    /// With `downsampler`, the colour gets a mip chain (box-filtered after
+    /// each frame's render) so rough water can read it blurred.
+    fn new(device: &wgpu::Device, label: &str, size: (u32, u32), downsampler: Option<&crate::passes::mips::Downsampler>) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
-        let color = texture(device, label, size, HDR_FORMAT, usage);
+        let levels = if downsampler.is_some() { size.0.max(size.1).max(1).ilog2() + 1 } else { 1 };
+        let color = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
+            mip_level_count: levels,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: HDR_FORMAT,
+            usage: if levels > 1 { usage | wgpu::TextureUsages::STORAGE_BINDING } else { usage },
+            view_formats: &[],
+        });
         let depth = texture(device, label, size, DEPTH_FORMAT, usage);
-        ColorDepth { size, color_view: color.create_view(&Default::default()), color, depth_view: depth.create_view(&Default::default()) }
+        let level0 = wgpu::TextureViewDescriptor { mip_level_count: Some(1), ..Default::default() };
+        ColorDepth {
+            size,
+            color_view: color.create_view(&level0),
+            sampled_view: color.create_view(&Default::default()),
+            mips: downsampler.filter(|_| levels > 1).map(|d| d.chain(device, &color)),
+            color,
+            depth_view: depth.create_view(&Default::default()),
+        }
     }
 }
 
@@ -72,6 +97,7 @@ impl Targets {
         size: (u32, u32),
         settings: TargetSettings,
         tonemap: &crate::passes::tonemap::TonemapPass,
+        downsampler: &crate::passes::mips::Downsampler,
         water_inputs_layout: &wgpu::BindGroupLayout,
         shadow_view: &wgpu::TextureView,
     ) -> Self {
@@ -80,12 +106,13 @@ impl Targets {
         let depth = texture(device, "depth", size, DEPTH_FORMAT, usage);
         let hdr_view = hdr.create_view(&Default::default());
         let depth_view = depth.create_view(&Default::default());
-        let reflection = ColorDepth::new(device, "reflection", scaled(size, settings.reflection_resolution * (1.0 + settings.reflection_margin)));
-        let refraction = ColorDepth::new(device, "refraction", scaled(size, 1.0 + REFRACTION_MARGIN));
+        let reflection = ColorDepth::new(device, "reflection", scaled(size, settings.reflection_resolution * (1.0 + settings.reflection_margin)), Some(downsampler));
+        let refraction = ColorDepth::new(device, "refraction", scaled(size, 1.0 + REFRACTION_MARGIN), None);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("clamp"),
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
         let tv = wgpu::BindingResource::TextureView;
@@ -93,7 +120,7 @@ impl Targets {
             label: Some("water inputs"),
             layout: water_inputs_layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: tv(&reflection.color_view) },
+                wgpu::BindGroupEntry { binding: 0, resource: tv(&reflection.sampled_view) },
                 wgpu::BindGroupEntry { binding: 1, resource: tv(&refraction.color_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: tv(&refraction.depth_view) },
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },

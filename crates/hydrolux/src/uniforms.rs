@@ -25,6 +25,7 @@ pub struct FrameUniforms {
     pub absorption: [f32; 4],
     pub scattering: [f32; 4],
     pub water_params: [f32; 4],
+    pub reflection_params: [f32; 4],
     pub sun_travel: [f32; 4],
     pub sun_underwater: [f32; 4],
     pub sky_underwater: [f32; 4],

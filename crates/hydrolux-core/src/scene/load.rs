@@ -355,6 +355,7 @@ impl Scene {
         range("water.simple_attenuation", w.simple_attenuation, (0.0..=100.0).contains(&w.simple_attenuation), "must be in [0, 100] per metre")?;
         range("water.refraction_depth", w.refraction_depth, w.refraction_depth > 0.0 && w.refraction_depth <= 1000.0, "must be in (0, 1000] m")?;
         range("water.refraction_max", w.refraction_max, w.refraction_max > 0.0 && w.refraction_max <= 1000.0, "must be in (0, 1000] m")?;
+        range("water.roughness_scale", w.roughness_scale, (0.0..=4.0).contains(&w.roughness_scale), "must be in [0, 4]")?;
         range("water.reflection_height", w.reflection_height, (0.0..=1000.0).contains(&w.reflection_height), "must be in [0, 1000] m")?;
         let f = &self.floor;
         range("floor.depth", f.depth, (0.0..=10_000.0).contains(&f.depth), "must be in [0, 10000] m (0 = no floor)")?;

@@ -175,6 +175,11 @@ pub struct WaterDesc {
     pub refraction_depth: f32,
     /// `refraction = "depth"`: clamp of dv (m).
     pub refraction_max: f32,
+    /// Scale of the sub-pixel (Cox–Munk) slope variance that blurs glints and
+    /// reflections: 1 for the open sea; smaller for sheltered, glassy water
+    /// (lakes, pools) whose capillary ripples are weaker than the sea's at
+    /// the same wind.
+    pub roughness_scale: f32,
     /// Height above the mean surface of the plane the reflected ray is
     /// intersected with (m): how far the reflection moves with the waves.
     pub reflection_height: f32,
@@ -384,6 +389,7 @@ impl Default for WaterDesc {
             refraction_depth: 2.0,
             refraction_max: 8.0,
             reflection_height: 1.5,
+            roughness_scale: 1.0,
         }
     }
 }

@@ -502,4 +502,14 @@ mod tests {
             assert!((h - s.displacement[1]).abs() < 0.02, "at ({wx},{wz}): {h} vs {}", s.displacement[1]);
         }
     }
+
+    #[test]
+    fn a_dead_calm_is_a_flat_sea_not_a_crash() {
+        for kind in [SpectrumKind::Phillips, SpectrumKind::PiersonMoskowitz, SpectrumKind::Jonswap] {
+            let s = settings(kind, 0.0, 32, 2);
+            let spectrum = OceanSpectrum::new(&s);
+            let v = spectrum.expected_variance();
+            assert!(v.is_finite() && v < 1e-6, "{kind:?}: variance {v}");
+        }
+    }
 }

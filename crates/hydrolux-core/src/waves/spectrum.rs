@@ -53,7 +53,8 @@ impl SeaState {
     pub fn effective_fetch(&self) -> f64 {
         let u = self.wind_speed.max(1e-3);
         let fully_developed = u * u / (GRAVITY * (0.855f64 / 22.0).powi(3));
-        self.fetch.clamp(1.0, fully_developed)
+        // max(1): in a near calm even a 1 m fetch is "fully developed".
+        self.fetch.clamp(1.0, fully_developed.max(1.0))
     }
 
     /// One-sided frequency spectrum S(ω) in m²·s (∫S dω = height variance).

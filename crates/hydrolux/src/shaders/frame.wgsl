@@ -37,6 +37,8 @@ struct Frame {
     // x reflection plane height, y refraction plane depth, z clamp of dv (m),
     // w attenuation k of the simple water colour (m⁻¹).
     water_params: vec4<f32>,
+    // x reflection texture texels per radian (for the roughness blur).
+    reflection_params: vec4<f32>,
     // xyz direction refracted sunlight travels under a flat surface; w its cos to the vertical.
     sun_travel: vec4<f32>,
     // rgb sun irradiance just under the surface facing the refracted beam, pre-exposed.

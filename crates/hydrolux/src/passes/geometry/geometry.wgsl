@@ -6,6 +6,8 @@
 // (mirrored, clipped to y ≥ 0), refraction (clipped to y ≤ 0) — and into the
 // sun's shadow map (`vs_shadow`).
 
+const GROUND_ALBEDO: f32 = 0.15;
+
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
@@ -67,8 +69,14 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     if (in.world.y < 0.0) {
         irradiance = underwater_irradiance(-in.world.y, n, visibility);
     } else {
+        // Sun, sky from above, and light bounced off the ground and water
+        // below (a grey world of albedo GROUND_ALBEDO), so the undersides
+        // that reflections show are not black.
         let l = frame.sun_dir.xyz;
-        irradiance = frame.sun_illuminance.rgb * max(dot(n, l), 0.0) * visibility + frame.sky_ambient.rgb * (0.5 + 0.5 * n.y);
+        let e_down = frame.sky_ambient.rgb + frame.sun_illuminance.rgb * max(l.y, 0.0);
+        irradiance = frame.sun_illuminance.rgb * max(dot(n, l), 0.0) * visibility
+            + frame.sky_ambient.rgb * (0.5 + 0.5 * n.y)
+            + GROUND_ALBEDO * e_down * (0.5 - 0.5 * n.y);
     }
     return vec4<f32>(albedo / PI * irradiance, 1.0);
 }

@@ -200,8 +200,16 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // Local reflection (seed 000 §3.1.3): the mirrored scene where the
     // reflected ray meets a plane above the surface; the sky where it has none.
     let ruv = clamp(reflection_uv(frame.refl_view_proj, in.world, r, frame.water_params.x, 2000.0), vec2<f32>(0.001), vec2<f32>(0.999));
-    let local = textureSampleLevel(reflection_tex, clamp_sampler, ruv, 0.0);
-    let reflected = mix(sky_reflected, local.rgb, local.a);
+    // Sub-pixel roughness spreads reflected rays (the resolved waves already
+    // move the lookup). Mips blur isotropically where real roughness smears
+    // reflections mostly vertically, so a box of half a σ of the unresolved
+    // slopes: distant reflections soften without vanishing.
+    let unresolved = sqrt(frame.surface_detail.x + frame.surface_detail.y);
+    let local_lod = log2(max(0.5 * unresolved * frame.reflection_params.x, 1.0));
+    let local = textureSampleLevel(reflection_tex, clamp_sampler, ruv, local_lod);
+    // The texture is cleared to transparent black, so it is premultiplied by
+    // coverage at every mip level.
+    let reflected = local.rgb + (1.0 - local.a) * sky_reflected;
 
     // Sun glint, shadowed by the scene.
     let l = frame.sun_dir.xyz;
