@@ -107,3 +107,62 @@ fn scenes_with_mesh_files_and_every_debug_view_render() {
         }
     }
 }
+
+fn write_png(path: &std::path::Path, w: u32, h: u32, color: png::ColorType, depth: png::BitDepth, data: &[u8]) {
+    let file = std::fs::File::create(path).unwrap();
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+    enc.set_color(color);
+    enc.set_depth(depth);
+    enc.write_header().unwrap().write_image_data(data).unwrap();
+}
+
+#[test]
+fn heightmap_terrain_and_textured_objects_render() {
+    let dir = scratch("assets");
+    // A 16-bit ramp heightmap (big-endian samples) and a red texture.
+    let mut ramp = Vec::new();
+    for _y in 0..8 {
+        for x in 0..8u16 {
+            ramp.extend_from_slice(&(x * 9362).to_be_bytes());
+        }
+    }
+    write_png(&dir.join("ramp.png"), 8, 8, png::ColorType::Grayscale, png::BitDepth::Sixteen, &ramp);
+    let red: Vec<u8> = (0..16).flat_map(|_| [220u8, 10, 10]).collect();
+    write_png(&dir.join("red.png"), 4, 4, png::ColorType::Rgb, png::BitDepth::Eight, &red);
+    let scene = r#"
+[camera]
+position = [0, 4, 12]
+look_at = [0, 3, 0]
+[sun]
+elevation_deg = 30
+azimuth_deg = 90
+[floor]
+terrain = "heightmap"
+heightmap = "ramp.png"
+depth = 6
+relief = 10
+size = 60
+resolution = 32
+[[objects]]
+primitive = "plane"
+position = [0, 3, 0]
+rotation_deg = [90, 0, 0]
+scale = [6, 1, 6]
+[objects.material]
+albedo = [1, 1, 1]
+texture = "red.png"
+"#;
+    std::fs::write(dir.join("assets.toml"), scene).unwrap();
+    let (code, err) = hydrolux(&["render", "--scene", "assets.toml", "--width", "48", "--height", "32", "--out", "a.png"], &dir);
+    assert_eq!(code, 0, "{err}");
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(dir.join("a.png")).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let bpp = info.line_size / info.width as usize;
+    let centre = &buf[16 * info.line_size + 24 * bpp..][..3];
+    assert!(centre[0] > 2 * centre[1] && centre[0] > 2 * centre[2], "the textured plane is not red: {centre:?}");
+    // Zero wind is a flat sea, not a crash.
+    let (code, err) = hydrolux(&["render", "--set", "ocean.wind_speed=0", "--width", "16", "--height", "16", "--out", "calm.png"], &dir);
+    assert_eq!(code, 0, "{err}");
+}

@@ -205,6 +205,15 @@ impl FlatWaterView<'_> {
     }
 }
 
+/// Seed 002 eq. 5–6, the `simple` water colour: what the refraction shows
+/// (`seen`), blended towards the water's colour by a = e^(−d·k) over the
+/// path length d. `water_colour` is the body colour's radiance (albedo ×
+/// downwelling irradiance / π).
+pub fn simple_water_colour(seen: Vec3, water_colour: Vec3, distance: f32, k: f32) -> Vec3 {
+    let a = (-distance * k).exp();
+    water_colour + a * (seen - water_colour)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
