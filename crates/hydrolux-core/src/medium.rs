@@ -94,8 +94,10 @@ impl Medium {
     }
 }
 
+/// (1 − e^(−k·s)) / k, continuous at k → 0; k may be negative (a path that
+/// rises towards the light gains light faster than it loses it).
 fn one_minus_exp_over(k: f32, s: f32) -> f32 {
-    if k * s < 1e-4 { s * (1.0 - 0.5 * k * s) } else { (1.0 - (-k * s).exp()) / k }
+    if (k * s).abs() < 1e-4 { s * (1.0 - 0.5 * k * s) } else { (1.0 - (-k * s).exp()) / k }
 }
 
 /// Isotropic phase function, 1/(4π) per steradian.
@@ -159,13 +161,24 @@ impl UnderwaterLight {
     /// direction `dir` (starting just under the surface), towards the viewer
     /// (who looks along `dir`): sun (phase `g`) and sky (isotropic) terms.
     pub fn path_in_scatter(&self, medium: &Medium, dir: Vec3, s: f32, g: f32) -> Vec3 {
-        let down = (-dir.y).max(0.0);
+        self.view_in_scatter(medium, 0.0, dir, s, g)
+    }
+
+    /// Seed 000 eq. 3.7–3.8 with the viewer inside the water: light scattered
+    /// once into the path of length `s` that starts `depth` metres under the
+    /// mean surface and runs along unit `dir` (up or down). The light at the
+    /// start has already lost e^(−σk·depth/cos θ); along the path the depth
+    /// changes by −dir.y per metre, so c = −dir.y / cos θ may be negative.
+    pub fn view_in_scatter(&self, medium: &Medium, depth: f32, dir: Vec3, s: f32, g: f32) -> Vec3 {
+        let depth = depth.max(0.0);
+        let down = -dir.y;
         let cos_w = (-self.sun_travel.y).max(1e-3);
         // Angle between the light's travel and the direction back to the eye.
         let phase = henyey_greenstein(self.sun_travel.dot(-dir), g);
-        let sun = medium.in_scatter(self.sun_irradiance, phase, down / cos_w, s);
+        let sun = medium.in_scatter(self.sun_irradiance * medium.transmittance(depth / cos_w), phase, down / cos_w, s);
         // Diffuse skylight: scalar irradiance E/μ̄, isotropic phase.
-        let sky = medium.in_scatter(self.sky_irradiance / DIFFUSE_MEAN_COSINE, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
+        let sky_start = self.sky_irradiance * medium.transmittance(depth / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
+        let sky = medium.in_scatter(sky_start, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
         sun + sky
     }
 }
@@ -248,6 +261,37 @@ mod tests {
         let limit = m.albedo() * phase * e0 / (1.0 + c);
         assert!(((deep - limit) / limit).abs().max_element() < 1e-5);
         assert_eq!(m.in_scatter(e0, phase, c, 0.0), Vec3::ZERO);
+    }
+
+    #[test]
+    fn in_scatter_seen_from_inside_the_water_matches_numerical_integral() {
+        let m = MediumPreset::Coastal.medium();
+        let light = UnderwaterLight::new(crate::sky::sun_direction(50.0, 30.0), Vec3::splat(80.0), Vec3::splat(15.0), 1.333);
+        for dir in [Vec3::new(0.3, 0.9, 0.1).normalize(), Vec3::new(0.8, -0.2, 0.1).normalize(), Vec3::NEG_Y, Vec3::X] {
+            // Paths that rise end before the surface.
+            let (depth, g) = (4.0f32, 0.3f32);
+            let s = if dir.y > 0.0 { (0.95 * depth / dir.y).min(9.0) } else { 9.0 };
+            let closed = light.view_in_scatter(&m, depth, dir, s, g);
+            // March the path: at each point, the sun and sky light arriving at
+            // that depth, scattered towards the eye, attenuated back to it.
+            let n = 20_000;
+            let dx = s / n as f32;
+            let cos_w = -light.sun_travel.y;
+            let phase = henyey_greenstein(light.sun_travel.dot(-dir), g);
+            let mut sum = Vec3::ZERO;
+            for i in 0..n {
+                let x = (i as f32 + 0.5) * dx;
+                let z = depth - dir.y * x;
+                let sun = light.sun_irradiance * m.transmittance(z / cos_w) * phase;
+                let sky = light.sky_irradiance / DIFFUSE_MEAN_COSINE * m.transmittance(z / DIFFUSE_MEAN_COSINE) * PHASE_ISOTROPIC;
+                sum += m.scattering * (sun + sky) * m.transmittance(x) * dx;
+            }
+            assert!(((closed - sum) / sum).abs().max_element() < 2e-3, "{dir}: {closed} vs {sum}");
+        }
+        // Deeper viewers see less light scattered towards them.
+        let shallow = light.view_in_scatter(&m, 1.0, Vec3::X, 1e4, 0.0);
+        let deep = light.view_in_scatter(&m, 10.0, Vec3::X, 1e4, 0.0);
+        assert!(deep.max_element() < 0.5 * shallow.max_element());
     }
 
     #[test]

@@ -19,12 +19,14 @@ fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
     return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
 }
 
-// σs·p·e0·(1 − e^(−σk(1+c)s)) / (σk(1+c)), continuous at σk → 0.
+// σs·p·e0·(1 − e^(−σk(1+c)s)) / (σk(1+c)), continuous at σk(1+c) → 0;
+// 1 + c is negative for paths rising towards the light faster than they lose it.
 fn in_scatter(e0: vec3<f32>, phase: f32, c: f32, s: f32) -> vec3<f32> {
     let k = extinction() * (1.0 + c);
     let ks = k * max(s, 0.0);
-    let small = ks < vec3<f32>(1e-4);
-    let integral = select((1.0 - exp(-ks)) / max(k, vec3<f32>(1e-12)), s * (1.0 - 0.5 * ks), small);
+    let small = abs(ks) < vec3<f32>(1e-4);
+    let safe_k = select(k, vec3<f32>(1.0), small);
+    let integral = select((1.0 - exp(-ks)) / safe_k, s * (1.0 - 0.5 * ks), small);
     return frame.scattering.rgb * phase * e0 * integral;
 }
 
@@ -37,13 +39,29 @@ fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<
     return sun + sky;
 }
 
-// Light scattered once into a downward path of length s along `dir` from
-// just under the surface, towards a viewer looking along `dir`.
-fn path_in_scatter(dir: vec3<f32>, s: f32) -> vec3<f32> {
-    let down = max(-dir.y, 0.0);
+// Light scattered once into a path of length s along `dir` that starts
+// `depth` m under the mean surface, towards a viewer looking along `dir`
+// (seed 000 eq. 3.7–3.8; the depth changes by −dir.y per metre).
+fn view_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
+    let d = max(depth, 0.0);
+    let down = -dir.y;
     let cos_w = max(frame.sun_travel.w, 1e-3);
     let phase = henyey_greenstein(dot(frame.sun_travel.xyz, -dir), frame.absorption.w);
-    let sun = in_scatter(frame.sun_underwater.rgb, phase, down / cos_w, s);
-    let sky = in_scatter(frame.sky_underwater.rgb / DIFFUSE_MEAN_COSINE, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
+    let sun = in_scatter(frame.sun_underwater.rgb * transmittance(d / cos_w), phase, down / cos_w, s);
+    let sky_start = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
+    let sky = in_scatter(sky_start, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
     return sun + sky;
+}
+
+// The same from just under the surface (a downward refracted ray).
+fn path_in_scatter(dir: vec3<f32>, s: f32) -> vec3<f32> {
+    return view_in_scatter(0.0, dir, s);
+}
+
+// What a viewer inside the water at `eye` sees of radiance `l` (in-medium)
+// leaving `p`: attenuated on the way, plus the light scattered into the path.
+fn through_water(eye: vec3<f32>, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let d = distance(eye, p);
+    let dir = (p - eye) / max(d, 1e-6);
+    return l * transmittance(d) + view_in_scatter(-eye.y, dir, d);
 }
