@@ -52,10 +52,11 @@ pub fn clip_to_uv(clip: Vec4) -> Option<Vec2> {
 
 /// Where the reflection texture (rendered with `view_proj` applied to the
 /// mirrored scene) is read for a surface point `p` whose reflected ray is `r`:
-/// the ray meets the plane y = `height` at Q, and Q's mirror image is
-/// projected. Rays that never reach the plane are followed `max_distance`.
+/// the ray meets the plane y = `height` at Q (above the surface for a viewer
+/// in air, below it for one in the water), and Q's mirror image is projected.
+/// Rays parallel to the plane are followed `max_distance`.
 pub fn reflection_uv(view_proj: &Mat4, p: Vec3, r: Vec3, height: f32, max_distance: f32) -> Option<Vec2> {
-    let t = if r.y > 1e-4 { ((height - p.y) / r.y).clamp(0.0, max_distance) } else { max_distance };
+    let t = if r.y.abs() > 1e-4 { ((height - p.y) / r.y).clamp(0.0, max_distance) } else { max_distance };
     let q = p + r * t;
     clip_to_uv(*view_proj * mirror_matrix() * q.extend(1.0))
 }
@@ -163,6 +164,23 @@ mod tests {
         let want = clip_to_uv(vp * image.extend(1.0)).unwrap();
         for h in [0.5, 3.0, 20.0] {
             let uv = reflection_uv(&vp, p, r, h, 1e4).unwrap();
+            assert!((uv - want).length() < 1e-4, "plane {h}: {uv} vs {want}");
+        }
+    }
+
+    #[test]
+    fn from_below_flat_water_mirrors_the_scene_under_it() {
+        // A viewer under the water sees an underwater point's mirror image
+        // (total internal reflection) where the mirrored point projects.
+        let cam = Camera { position: Vec3::new(0.0, -3.0, 6.0), look_at: Vec3::new(0.0, 0.0, -10.0), up: Vec3::Y, fov_y_deg: 60.0 };
+        let vp = cam.view_projection(1.5);
+        let x = Vec3::new(1.0, -2.0, -12.0);
+        let image = mirror_matrix().transform_point3(x);
+        let d = (image - cam.position).normalize();
+        let p = cam.position + d * (-cam.position.y / d.y);
+        let want = clip_to_uv(vp * image.extend(1.0)).unwrap();
+        for h in [-0.5, -2.0, -8.0] {
+            let uv = reflection_uv(&vp, p, reflect(d, Vec3::NEG_Y), h, 1e4).unwrap();
             assert!((uv - want).length() < 1e-4, "plane {h}: {uv} vs {want}");
         }
     }

@@ -25,7 +25,8 @@ pub struct GpuContext {
 
 /// Features Hydrolux turns on when the adapter has them.
 pub fn optional_features(adapter: &wgpu::Adapter) -> wgpu::Features {
-    adapter.features() & wgpu::Features::TIMESTAMP_QUERY
+    // Float depth with stencil keeps reversed-Z precision for the main view.
+    adapter.features() & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::DEPTH32FLOAT_STENCIL8)
 }
 
 /// Device limits: the adapter's own storage-buffer and texture limits, so

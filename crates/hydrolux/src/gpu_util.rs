@@ -120,6 +120,11 @@ pub fn map_and_read(device: &wgpu::Device, staging: &wgpu::Buffer) -> Vec<u8> {
 
 /// Copy a 2D texture (one layer, mip 0) to the CPU as tightly packed rows.
 pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32) -> Vec<u8> {
+    read_texture_aspect(device, queue, texture, bytes_per_pixel, wgpu::TextureAspect::All)
+}
+
+/// Copy level 0 of one aspect of a texture (e.g. the stencil) to the CPU.
+pub fn read_texture_aspect(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32, aspect: wgpu::TextureAspect) -> Vec<u8> {
     let (w, h) = (texture.width(), texture.height());
     let unpadded = w * bytes_per_pixel;
     let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -131,7 +136,7 @@ pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        wgpu::TexelCopyTextureInfo { aspect, ..texture.as_image_copy() },
         wgpu::TexelCopyBufferInfo {
             buffer: &staging,
             layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },

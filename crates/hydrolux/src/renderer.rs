@@ -47,6 +47,8 @@ struct ViewSlots {
     main: ViewSlot,
     reflection: ViewSlot,
     refraction: ViewSlot,
+    reflection_under: ViewSlot,
+    refraction_over: ViewSlot,
     shadow: ViewSlot,
 }
 
@@ -157,19 +159,22 @@ impl Renderer {
             layout: &frame_only_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() }],
         });
+        let main_depth_format = crate::targets::main_depth_format(device);
         let downsampler = Downsampler::new(device);
-        let sky = SkyPass::new(device, &downsampler, &globals_layout);
+        let sky = SkyPass::new(device, &downsampler, &globals_layout, main_depth_format);
         let shadow = Self::build_shadow(device, &globals_layout, &frame_buffer, &sky, &sky_sampler, &shadow_sampler, scene.render.shadow_resolution);
-        let geometry_pass = GeometryPass::new(device, queue, &globals_layout, &frame_only_layout);
+        let geometry_pass = GeometryPass::new(device, queue, &globals_layout, &frame_only_layout, main_depth_format);
         let geometry = geometry_pass.upload(device, queue, scene)?;
         let views = ViewSlots {
             main: geometry_pass.view_slot(device, "main view", Winding::Normal),
             reflection: geometry_pass.view_slot(device, "reflection view", Winding::Mirrored),
             refraction: geometry_pass.view_slot(device, "refraction view", Winding::Normal),
+            reflection_under: geometry_pass.view_slot(device, "reflection under view", Winding::Mirrored),
+            refraction_over: geometry_pass.view_slot(device, "refraction over view", Winding::Normal),
             shadow: geometry_pass.view_slot(device, "shadow view", Winding::Normal),
         };
         let water_inputs_layout = WaterPass::inputs_layout(device);
-        let water = WaterPass::new(device, &globals_layout, &surface_layout, &water_inputs_layout);
+        let water = WaterPass::new(device, &globals_layout, &surface_layout, &water_inputs_layout, main_depth_format);
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
         let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, scene)?;
@@ -455,6 +460,7 @@ impl Renderer {
                     DebugView::Depth => 3,
                     DebugView::Normals => 4,
                     DebugView::Shadow => 5,
+                    DebugView::Medium => 6,
                 },
             ],
             viewport: [size.0 as f32, size.1 as f32, 1.0 / size.0.max(1) as f32, 1.0 / size.1.max(1) as f32],
@@ -491,6 +497,8 @@ impl Renderer {
         self.views.main.write(&self.queue, view_proj, ClipPlane::none().0);
         self.views.reflection.write(&self.queue, refl_view_proj, ClipPlane::above(0.0).0);
         self.views.refraction.write(&self.queue, refr_view_proj, ClipPlane::below(0.0).0);
+        self.views.reflection_under.write(&self.queue, refl_view_proj, ClipPlane::below(0.0).0);
+        self.views.refraction_over.write(&self.queue, refr_view_proj, ClipPlane::above(0.0).0);
         if let Some(m) = shadow_view_proj {
             self.views.shadow.write(&self.queue, m, ClipPlane::none().0);
         }
@@ -574,71 +582,72 @@ impl Renderer {
         }
         // Reflection and refraction textures: cleared to "nothing here"
         // (alpha 0, depth at infinity) so the water falls back to the sky or
-        // to bottomless water where no geometry was drawn.
-        for (name, target, slot) in [("reflection", &targets.reflection, &self.views.reflection), ("refraction", &targets.refraction, &self.views.refraction)] {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(name),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target.color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes(name)),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            self.geometry_pass.record(&mut pass, globals, slot, &self.geometry);
+        // to endless water where no geometry was drawn. A camera in the air
+        // needs the first pair, one in the water the second; one within
+        // wave reach of the surface may see both media, so it gets both.
+        let reach = self.surface.bounds_margin;
+        let cam_y = input.camera.position.y;
+        let mut offscreen: Vec<(&'static str, &crate::targets::ColorDepth, &ViewSlot, bool)> = Vec::new();
+        if cam_y > -reach {
+            offscreen.push(("reflection", &targets.reflection, &self.views.reflection, true));
+            offscreen.push(("refraction", &targets.refraction, &self.views.refraction, false));
         }
-        if let Some(chain) = &targets.reflection.mips {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("reflection mips"),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.compute_writes("reflection mips")),
-            });
-            self.downsampler.record(&mut pass, chain);
+        if cam_y < reach {
+            offscreen.push(("reflection under", &targets.reflection_under, &self.views.reflection_under, true));
+            offscreen.push(("refraction over", &targets.refraction_over, &self.views.refraction_over, false));
+        }
+        for (name, target, slot, mipmapped) in offscreen {
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(name),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &target.color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &target.depth_view,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes(name)),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                self.geometry_pass.record(&mut pass, globals, slot, &self.geometry);
+            }
+            if let (true, Some(chain)) = (mipmapped, &target.mips) {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("reflection mips"), timestamp_writes: None });
+                self.downsampler.record(&mut pass, chain);
+            }
         }
         {
+            // One pass over the main view: classify each pixel's medium into
+            // the stencil (seed 000 §4.2), then draw the background, the
+            // geometry and the water, each per medium.
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("sky"),
+                label: Some("medium, sky, scene and water"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: &targets.hdr_view,
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
                 })],
-                depth_stencil_attachment: None,
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("sky")),
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.depth_stencil_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
+                }),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("main view")),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            self.water.record_medium(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera);
             if self.scene.render.view != DebugView::Normals {
                 self.sky.record_background(&mut pass, globals);
             }
-        }
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("scene and water"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &targets.hdr_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &targets.depth_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("scene+water")),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            self.geometry_pass.record(&mut pass, globals, &self.views.main, &self.geometry);
+            self.geometry_pass.record_main(&mut pass, globals, &self.views.main, &self.geometry);
             let aspect = input.size.0.max(1) as f32 / input.size.1.max(1) as f32;
             self.water.record(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera, aspect, self.surface.bounds_margin);
         }
@@ -646,6 +655,14 @@ impl Renderer {
         if let Some(t) = timer {
             t.resolve(encoder);
         }
+    }
+
+    /// Each pixel's medium in the last frame (0 air, 1 water: where its
+    /// near-plane point lies), rows top to bottom.
+    pub fn read_medium(&self) -> Option<(u32, u32, Vec<u8>)> {
+        let t = self.targets.as_ref()?;
+        let bytes = read_texture_aspect(&self.device, &self.queue, &t.depth_stencil, 1, wgpu::TextureAspect::StencilOnly);
+        Some((t.size.0, t.size.1, bytes))
     }
 
     /// Triangles of the scene's opaque geometry (objects, terrain, floor).

@@ -4,7 +4,36 @@
 //! groups that read them.
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Depth of the offscreen views (reflection, refraction).
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Depth + stencil of the main view: the stencil holds each pixel's medium
+/// (0 air, 1 water). Float depth where the device has it (reversed-Z keeps
+/// its precision to the horizon), 24-bit otherwise.
+pub fn main_depth_format(device: &wgpu::Device) -> wgpu::TextureFormat {
+    if device.features().contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
+        wgpu::TextureFormat::Depth32FloatStencil8
+    } else {
+        wgpu::TextureFormat::Depth24PlusStencil8
+    }
+}
+
+/// Stencil values of the two media.
+pub const STENCIL_AIR: u32 = 0;
+pub const STENCIL_WATER: u32 = 1;
+
+/// A depth-stencil state for the main view whose stencil only tests
+/// (`stencil_reference` picks the medium drawn).
+pub fn main_depth_state(format: wgpu::TextureFormat, write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    let face = wgpu::StencilFaceState { compare: wgpu::CompareFunction::Equal, ..Default::default() };
+    wgpu::DepthStencilState {
+        format,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: wgpu::StencilState { front: face, back: face, read_mask: 0xff, write_mask: 0 },
+        bias: Default::default(),
+    }
+}
 
 /// Field-of-view widening of the refraction texture: refracted rays bend
 /// towards the vertical, so they stray off screen much less than reflected ones.
@@ -36,9 +65,15 @@ pub struct Targets {
     pub settings: TargetSettings,
     pub hdr: wgpu::Texture,
     pub hdr_view: wgpu::TextureView,
-    pub depth_view: wgpu::TextureView,
+    /// The main view's depth + stencil (the pixel's medium).
+    pub depth_stencil: wgpu::Texture,
+    pub depth_stencil_view: wgpu::TextureView,
+    /// For viewers in air: the scene above the water mirrored, and below it.
     pub reflection: ColorDepth,
     pub refraction: ColorDepth,
+    /// For viewers in the water: the scene below mirrored, and above it.
+    pub reflection_under: ColorDepth,
+    pub refraction_over: ColorDepth,
     /// The water pass's inputs (reflection, refraction colour and depth).
     pub water_inputs: wgpu::BindGroup,
     /// The tone map's inputs (HDR image and the debug views' textures).
@@ -103,11 +138,15 @@ impl Targets {
     ) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
-        let depth = texture(device, "depth", size, DEPTH_FORMAT, usage);
+        let depth_stencil = texture(device, "depth stencil", size, main_depth_format(device), usage);
         let hdr_view = hdr.create_view(&Default::default());
-        let depth_view = depth.create_view(&Default::default());
+        let depth_stencil_view = depth_stencil.create_view(&Default::default());
+        let aspect = |aspect| depth_stencil.create_view(&wgpu::TextureViewDescriptor { aspect, ..Default::default() });
+        let (depth_view, stencil_view) = (aspect(wgpu::TextureAspect::DepthOnly), aspect(wgpu::TextureAspect::StencilOnly));
         let reflection = ColorDepth::new(device, "reflection", scaled(size, settings.reflection_resolution * (1.0 + settings.reflection_margin)), Some(downsampler));
         let refraction = ColorDepth::new(device, "refraction", scaled(size, 1.0 + REFRACTION_MARGIN), None);
+        let reflection_under = ColorDepth::new(device, "reflection under", reflection.size, Some(downsampler));
+        let refraction_over = ColorDepth::new(device, "refraction over", refraction.size, None);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("clamp"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -124,9 +163,25 @@ impl Targets {
                 wgpu::BindGroupEntry { binding: 1, resource: tv(&refraction.color_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: tv(&refraction.depth_view) },
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },
+                wgpu::BindGroupEntry { binding: 4, resource: tv(&reflection_under.sampled_view) },
+                wgpu::BindGroupEntry { binding: 5, resource: tv(&refraction_over.color_view) },
+                wgpu::BindGroupEntry { binding: 6, resource: tv(&refraction_over.depth_view) },
             ],
         });
-        let tonemap_input = tonemap.input_group(device, [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, shadow_view]);
-        Targets { size, settings, hdr, hdr_view, depth_view, reflection, refraction, water_inputs, tonemap_input }
+        let tonemap_input = tonemap.input_group(device, [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, shadow_view, &stencil_view]);
+        Targets {
+            size,
+            settings,
+            hdr,
+            hdr_view,
+            depth_stencil,
+            depth_stencil_view,
+            reflection,
+            refraction,
+            reflection_under,
+            refraction_over,
+            water_inputs,
+            tonemap_input,
+        }
     }
 }

@@ -310,10 +310,12 @@ pub enum DebugView {
     Depth,
     Normals,
     Shadow,
+    /// Each pixel's medium (air or water) from the stencil classification.
+    Medium,
 }
 
 impl DebugView {
-    pub const NAMES: [&'static str; 6] = ["final", "reflection", "refraction", "depth", "normals", "shadow"];
+    pub const NAMES: [&'static str; 7] = ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium"];
 }
 
 impl Default for Scene {

@@ -57,6 +57,7 @@ const VIEW_REFRACTION: u32 = 2u;
 const VIEW_DEPTH: u32 = 3u;
 const VIEW_NORMALS: u32 = 4u;
 const VIEW_SHADOW: u32 = 5u;
+const VIEW_MEDIUM: u32 = 6u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 

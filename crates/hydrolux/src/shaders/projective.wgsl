@@ -9,11 +9,12 @@ fn clip_to_uv(clip: vec4<f32>) -> vec2<f32> {
     return vec2<f32>(0.5 + 0.5 * clip.x / clip.w, 0.5 - 0.5 * clip.y / clip.w);
 }
 
-// Where the reflected ray r from p meets the plane y = height, mirrored and
+// Where the reflected ray r from p meets the plane y = height (above the
+// surface for a viewer in air, below it for one in the water), mirrored and
 // projected with `view_proj` (which already contains the mirror).
 fn reflection_uv(view_proj: mat4x4<f32>, p: vec3<f32>, r: vec3<f32>, height: f32, max_distance: f32) -> vec2<f32> {
     var t = max_distance;
-    if (r.y > 1e-4) {
+    if (abs(r.y) > 1e-4) {
         t = clamp((height - p.y) / r.y, 0.0, max_distance);
     }
     return clip_to_uv(view_proj * vec4<f32>(p + r * t, 1.0));

@@ -54,8 +54,25 @@ fn pattern_mix(world: vec3<f32>, n: vec3<f32>) -> f32 {
     return 0.0;
 }
 
+// Seen from inside the water: what fs_main gives, attenuated and
+// in-scattered along the way to the eye (seed 000 eq. 3.7–3.8).
+@fragment
+fn fs_underwater(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let c = shade(in, front);
+    if (frame.modes.w == VIEW_NORMALS) {
+        return c;
+    }
+    return vec4<f32>(through_water(frame.camera_pos.xyz, in.world, c.rgb), 1.0);
+}
+
 @fragment
 fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    return shade(in, front);
+}
+
+// The surface's own radiance: material, sun (shadow-mapped), sky, and below
+// the mean water level the light field under the surface.
+fn shade(in: VsOut, front: bool) -> vec4<f32> {
     if (dot(view.clip_plane.xyz, in.world) + view.clip_plane.w < 0.0) {
         discard;
     }

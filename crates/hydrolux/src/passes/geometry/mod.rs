@@ -78,8 +78,13 @@ struct Vertex {
 pub struct GeometryPass {
     view_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
-    main: wgpu::RenderPipeline,
-    mirrored: wgpu::RenderPipeline,
+    /// Offscreen views (reflection, refraction): plain depth.
+    offscreen: wgpu::RenderPipeline,
+    offscreen_mirrored: wgpu::RenderPipeline,
+    /// The main view, per medium (stencil reference): seen through air, or
+    /// from inside the water (attenuated and in-scattered on the way).
+    main_air: wgpu::RenderPipeline,
+    main_water: wgpu::RenderPipeline,
     shadow: wgpu::RenderPipeline,
     sampler: wgpu::Sampler,
     white: wgpu::TextureView,
@@ -91,7 +96,13 @@ fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
 }
 
 impl GeometryPass {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, globals: &wgpu::BindGroupLayout, frame_only: &wgpu::BindGroupLayout) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        globals: &wgpu::BindGroupLayout,
+        frame_only: &wgpu::BindGroupLayout,
+        main_depth_format: wgpu::TextureFormat,
+    ) -> Self {
         let (vs, fs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT);
         let view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("geometry view"),
@@ -103,23 +114,25 @@ impl GeometryPass {
         });
         let module = shader(device, "geometry", &source());
         let layout = pipeline_layout(device, "geometry", &[globals, &view_layout, &object_layout]);
-        let colour = |front_face| {
+        let offscreen_depth = wgpu::DepthStencilState {
+            format: crate::targets::DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Greater),
+            stencil: Default::default(),
+            bias: Default::default(),
+        };
+        let main_depth = crate::targets::main_depth_state(main_depth_format, true, wgpu::CompareFunction::Greater);
+        let colour = |front_face, depth_stencil: &wgpu::DepthStencilState, fs: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("geometry"),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[Some(vertex_layout())] },
                 primitive: wgpu::PrimitiveState { front_face, cull_mode: Some(wgpu::Face::Back), ..Default::default() },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: crate::targets::DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Greater),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: Some(depth_stencil.clone()),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
-                    entry_point: Some("fs_main"),
+                    entry_point: Some(fs),
                     compilation_options: Default::default(),
                     targets: &[Some(crate::targets::HDR_FORMAT.into())],
                 }),
@@ -160,8 +173,10 @@ impl GeometryPass {
         GeometryPass {
             view_layout,
             object_layout,
-            main: colour(wgpu::FrontFace::Ccw),
-            mirrored: colour(wgpu::FrontFace::Cw),
+            offscreen: colour(wgpu::FrontFace::Ccw, &offscreen_depth, "fs_main"),
+            offscreen_mirrored: colour(wgpu::FrontFace::Cw, &offscreen_depth, "fs_main"),
+            main_air: colour(wgpu::FrontFace::Ccw, &main_depth, "fs_main"),
+            main_water: colour(wgpu::FrontFace::Ccw, &main_depth, "fs_underwater"),
             shadow,
             sampler,
             white,
@@ -244,11 +259,22 @@ impl GeometryPass {
         })
     }
 
-    /// Draw every object into `pass` for `view` (colour + depth).
+    /// Draw every object into an offscreen `view` (reflection, refraction).
     pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry) {
-        pass.set_pipeline(if view.winding == Winding::Mirrored { &self.mirrored } else { &self.main });
+        pass.set_pipeline(if view.winding == Winding::Mirrored { &self.offscreen_mirrored } else { &self.offscreen });
         pass.set_bind_group(0, globals, &[]);
         self.draw_objects(pass, view, geometry);
+    }
+
+    /// Draw every object into the main view, once per medium: pixels whose
+    /// stencil says air, then those that look out from inside the water.
+    pub fn record_main(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry) {
+        for (pipeline, medium) in [(&self.main_air, crate::targets::STENCIL_AIR), (&self.main_water, crate::targets::STENCIL_WATER)] {
+            pass.set_pipeline(pipeline);
+            pass.set_stencil_reference(medium);
+            pass.set_bind_group(0, globals, &[]);
+            self.draw_objects(pass, view, geometry);
+        }
     }
 
     /// Draw every object into the sun's shadow map.

@@ -1,6 +1,8 @@
 // The sky behind everything: the analytic model per pixel (sharper than the
 // cube map) plus the sun's disk with limb darkening. Drawn at the far plane
-// (reversed Z: depth 0) so the water covers it.
+// (reversed Z: depth 0) so the water covers it. Pixels that look out from
+// inside the water get `fs_deep` instead: the water's own in-scattered light
+// along an endless path (seed 000 eq. 3.8 with nothing behind).
 
 
 struct VsOut {
@@ -43,4 +45,17 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         l += sun_disk(dir);
     }
     return vec4<f32>(min(l, vec3<f32>(60000.0)), 1.0);
+}
+
+@fragment
+fn fs_deep(in: VsOut) -> @location(0) vec4<f32> {
+    let dir = view_ray(in.ndc);
+    let eye = frame.camera_pos.xyz;
+    // Rays that rise end at the surface (which the water pass draws over
+    // this); those that do not go on for ever.
+    var s = 1e5;
+    if (dir.y > 1e-4 && eye.y < 0.0) {
+        s = -eye.y / dir.y;
+    }
+    return vec4<f32>(view_in_scatter(-eye.y, dir, s), 1.0);
 }

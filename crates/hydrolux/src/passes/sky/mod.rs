@@ -17,7 +17,7 @@ pub fn bake_source() -> String {
 }
 
 pub fn background_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::SKY_MODEL, shaders::SKY_BINDINGS, include_str!("background.wgsl")])
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::MEDIUM, include_str!("background.wgsl")])
 }
 
 pub struct SkyPass {
@@ -28,12 +28,13 @@ pub struct SkyPass {
     bake_group: wgpu::BindGroup,
     mips: MipChain,
     background: wgpu::RenderPipeline,
+    deep_water: wgpu::RenderPipeline,
     current: Option<SkyParams>,
     dirty: bool,
 }
 
 impl SkyPass {
-    pub fn new(device: &wgpu::Device, downsampler: &Downsampler, globals: &wgpu::BindGroupLayout) -> Self {
+    pub fn new(device: &wgpu::Device, downsampler: &Downsampler, globals: &wgpu::BindGroupLayout, main_depth_format: wgpu::TextureFormat) -> Self {
         let params = uniform_buffer(device, "sky params", &SkyParams::default());
         let cube = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("sky cube"),
@@ -68,8 +69,27 @@ impl SkyPass {
         let bake = compute_pipeline(device, "sky bake", &module, "bake", &[&layout]);
         let mips = downsampler.chain(device, &cube);
         let module = shader(device, "sky background", &background_source());
-        let background = fullscreen_pipeline(device, "sky background", &module, &[globals], crate::targets::HDR_FORMAT);
-        SkyPass { params, cube, cube_view, bake, bake_group, mips, background, current: None, dirty: true }
+        let layout = pipeline_layout(device, "sky background", &[globals]);
+        let pipeline = |fs: &str| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(fs),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(crate::targets::main_depth_state(main_depth_format, false, wgpu::CompareFunction::Always)),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(crate::targets::HDR_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let (background, deep_water) = (pipeline("fs_main"), pipeline("fs_deep"));
+        SkyPass { params, cube, cube_view, bake, bake_group, mips, background, deep_water, current: None, dirty: true }
     }
 
     /// Per-frame input: the sky for this sun. Re-bakes only when it changed.
@@ -96,9 +116,14 @@ impl SkyPass {
         self.dirty = false;
     }
 
+    /// The background of the main view: the sky where the pixel's medium is
+    /// air, endless water where it is water (stencil reference).
     pub fn record_background(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup) {
-        pass.set_pipeline(&self.background);
         pass.set_bind_group(0, globals, &[]);
-        pass.draw(0..3, 0..1);
+        for (pipeline, medium) in [(&self.background, crate::targets::STENCIL_AIR), (&self.deep_water, crate::targets::STENCIL_WATER)] {
+            pass.set_pipeline(pipeline);
+            pass.set_stencil_reference(medium);
+            pass.draw(0..3, 0..1);
+        }
     }
 }

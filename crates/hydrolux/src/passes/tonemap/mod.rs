@@ -32,6 +32,11 @@ impl TonemapPass {
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
                 depth,
                 wgpu::BindGroupLayoutEntry { binding: 4, ..depth },
+                layout_entry(5, fs, wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                }),
             ],
         });
         let module = shader(device, "tonemap", &source(target_format.is_srgb()));
@@ -40,8 +45,8 @@ impl TonemapPass {
     }
 
     /// The HDR image and the textures the debug views show, in binding order:
-    /// hdr, reflection, refraction, depth, shadow map.
-    pub fn input_group(&self, device: &wgpu::Device, views: [&wgpu::TextureView; 5]) -> wgpu::BindGroup {
+    /// hdr, reflection, refraction, depth, shadow map, medium (stencil).
+    pub fn input_group(&self, device: &wgpu::Device, views: [&wgpu::TextureView; 6]) -> wgpu::BindGroup {
         let entries: Vec<wgpu::BindGroupEntry> =
             views.iter().enumerate().map(|(i, v)| wgpu::BindGroupEntry { binding: i as u32, resource: wgpu::BindingResource::TextureView(v) }).collect();
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("tonemap input"), layout: &self.layout, entries: &entries })

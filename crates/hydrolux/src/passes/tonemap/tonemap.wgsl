@@ -1,8 +1,8 @@
 // Output: filmic tone map of the pre-exposed HDR image into the target, or
 // one of the debug views (frame.modes.w) instead: the reflection or
 // refraction texture (tone mapped), the depth buffer (log distance), world
-// normals (written raw by the geometry and water shaders), or the sun's
-// shadow map. modes.z: 0 ACES, 1 clamp. If the target is not an sRGB
+// normals (written raw by the geometry and water shaders), the sun's
+// shadow map, or each pixel's medium (the stencil). modes.z: 0 ACES, 1 clamp. If the target is not an sRGB
 // format the transfer curve is applied here (OUTPUT_SRGB_CURVE prepended).
 
 @group(1) @binding(0) var hdr: texture_2d<f32>;
@@ -10,6 +10,7 @@
 @group(1) @binding(2) var refraction_tex: texture_2d<f32>;
 @group(1) @binding(3) var depth_tex: texture_depth_2d;
 @group(1) @binding(4) var shadow_tex: texture_depth_2d;
+@group(1) @binding(5) var medium_tex: texture_2d<u32>;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -60,6 +61,12 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
                 let dims = vec2<f32>(textureDimensions(shadow_tex));
                 mapped = vec3<f32>(1.0 - textureLoad(shadow_tex, vec2<i32>(uv * dims), 0));
             }
+        }
+        case VIEW_MEDIUM: {
+            // The final image tinted by the pixel's medium: air warm, water blue.
+            let water = textureLoad(medium_tex, vec2<i32>(pos.xy), 0).r == 1u;
+            let tint = select(vec3<f32>(1.0, 0.85, 0.4), vec3<f32>(0.1, 0.4, 1.0), water);
+            mapped = mix(tone(textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb), tint, 0.5);
         }
         default: {
             mapped = tone(textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb);

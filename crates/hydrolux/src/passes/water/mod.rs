@@ -26,7 +26,7 @@ pub fn ring_count() -> u32 {
 pub fn source() -> String {
     let consts = format!(
         "const RING_HALF: f32 = {RING_HALF}.0;\nconst FAR_HALF: f32 = {FAR_HALF}.0;\nconst FAR_SCALE: f32 = {FAR_SCALE:?};\n\
-         const DISPLACED_RINGS: u32 = {DISPLACED_RINGS}u;\nconst SKY_CUBE_SIZE: f32 = {}.0;\n",
+         const DISPLACED_RINGS: u32 = {DISPLACED_RINGS}u;\nconst SKY_CUBE_SIZE: f32 = {}.0;\nconst VOLUME_DEPTH: f32 = {VOLUME_DEPTH:?};\n",
         super::sky::CUBE_SIZE
     );
     compose(&[
@@ -44,6 +44,9 @@ pub fn source() -> String {
         include_str!("water.wgsl"),
     ])
 }
+
+/// Depth of the closed water volume's floor (m): far below any scene floor.
+pub const VOLUME_DEPTH: f32 = 10_000.0;
 
 /// Tiles per side of a ring: rings are culled per tile against the frustum.
 pub const TILES: i32 = 4;
@@ -139,9 +142,15 @@ pub struct WaterPass {
     ring: GridMesh,
     far: GridMesh,
     depth_rings: wgpu::RenderPipeline,
-    shade_rings: wgpu::RenderPipeline,
     depth_far: wgpu::RenderPipeline,
-    shade_far: wgpu::RenderPipeline,
+    /// Shading per medium of the pixel (stencil reference): from the air
+    /// (`fs_main`) and from inside the water (`fs_below`).
+    shade_rings: [wgpu::RenderPipeline; 2],
+    shade_far: [wgpu::RenderPipeline; 2],
+    /// The closed water volume into the stencil (seed 000 §4.2).
+    volume_rings: wgpu::RenderPipeline,
+    volume_far: wgpu::RenderPipeline,
+    volume_box: wgpu::RenderPipeline,
 }
 
 /// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
@@ -205,7 +214,8 @@ mod tests {
 
 impl WaterPass {
     /// The layout of the water's inputs (group 2): reflection colour,
-    /// refraction colour and depth, and a clamping sampler.
+    /// refraction colour and depth, a clamping sampler; and for viewers in
+    /// the water the mirrored scene below, and the scene above with depth.
     pub fn inputs_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         let fs = wgpu::ShaderStages::FRAGMENT;
         device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -219,59 +229,113 @@ impl WaterPass {
                     multisampled: false,
                 }),
                 sampler_entry(3, fs),
+                texture_entry(4, fs, wgpu::TextureViewDimension::D2, true),
+                texture_entry(5, fs, wgpu::TextureViewDimension::D2, true),
+                layout_entry(6, fs, wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                }),
             ],
         })
     }
 
-    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, surface: &wgpu::BindGroupLayout, inputs: &wgpu::BindGroupLayout) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+        inputs: &wgpu::BindGroupLayout,
+        main_depth_format: wgpu::TextureFormat,
+    ) -> Self {
         let module = shader(device, "water", &source());
         let layout = pipeline_layout(device, "water", &[globals, surface, inputs]);
-        let pipeline = |label: &str, vs: &str, shade: bool| {
+        let grid_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 8,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Sint32x2],
+        })];
+        let pipeline = |label: &str, vs: &str, fs: Option<&'static str>, depth_stencil: wgpu::DepthStencilState, buffers: &[Option<wgpu::VertexBufferLayout>]| {
+            let targets = [Some(wgpu::ColorTargetState {
+                format: crate::targets::HDR_FORMAT,
+                blend: None,
+                write_mask: if fs == Some("fs_depth") { wgpu::ColorWrites::empty() } else { wgpu::ColorWrites::ALL },
+            })];
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: 8,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &wgpu::vertex_attr_array![0 => Sint32x2],
-                    })],
-                },
+                vertex: wgpu::VertexState { module: &module, entry_point: Some(vs), compilation_options: Default::default(), buffers },
                 primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: crate::targets::DEPTH_FORMAT,
-                    depth_write_enabled: Some(!shade),
-                    depth_compare: Some(if shade { wgpu::CompareFunction::GreaterEqual } else { wgpu::CompareFunction::Greater }),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: Some(depth_stencil),
                 multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
+                fragment: fs.map(|fs| wgpu::FragmentState {
                     module: &module,
-                    entry_point: Some(if shade { "fs_main" } else { "fs_depth" }),
+                    entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: crate::targets::HDR_FORMAT,
-                        blend: None,
-                        write_mask: if shade { wgpu::ColorWrites::ALL } else { wgpu::ColorWrites::empty() },
-                    })],
+                    targets: &targets,
                 }),
                 multiview_mask: None,
                 cache: None,
             })
         };
+        let mut depth_only = crate::targets::main_depth_state(main_depth_format, true, wgpu::CompareFunction::Greater);
+        depth_only.stencil = Default::default();
+        let shade = crate::targets::main_depth_state(main_depth_format, false, wgpu::CompareFunction::GreaterEqual);
+        // Two-sided stencil counting: +1 where a ray from the near plane leaves
+        // the volume, −1 where it enters; what is left is 1 exactly for
+        // pixels whose near-plane point lies inside (no depth test: every
+        // face counts, in front of objects or behind them).
+        let count = |compare_pass_op| wgpu::StencilFaceState { compare: wgpu::CompareFunction::Always, pass_op: compare_pass_op, ..Default::default() };
+        let volume = wgpu::DepthStencilState {
+            format: main_depth_format,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Always),
+            stencil: wgpu::StencilState {
+                front: count(wgpu::StencilOperation::DecrementWrap),
+                back: count(wgpu::StencilOperation::IncrementWrap),
+                read_mask: 0xff,
+                write_mask: 0xff,
+            },
+            bias: Default::default(),
+        };
         WaterPass {
             full: GridMesh::new(device, "water full grid", RING_HALF, &[None]),
             ring: GridMesh::new(device, "water ring", RING_HALF, &hole_offsets()),
             far: GridMesh::new(device, "water far field", FAR_HALF, &[Some((0, 0))]),
-            depth_rings: pipeline("water depth", "vs_main", false),
-            shade_rings: pipeline("water shade", "vs_main", true),
-            depth_far: pipeline("water far depth", "vs_far", false),
-            shade_far: pipeline("water far shade", "vs_far", true),
+            depth_rings: pipeline("water depth", "vs_main", Some("fs_depth"), depth_only.clone(), &grid_buffers),
+            depth_far: pipeline("water far depth", "vs_far", Some("fs_depth"), depth_only, &grid_buffers),
+            shade_rings: [
+                pipeline("water shade", "vs_main", Some("fs_main"), shade.clone(), &grid_buffers),
+                pipeline("water shade below", "vs_main", Some("fs_below"), shade.clone(), &grid_buffers),
+            ],
+            shade_far: [
+                pipeline("water far shade", "vs_far", Some("fs_main"), shade.clone(), &grid_buffers),
+                pipeline("water far shade below", "vs_far", Some("fs_below"), shade, &grid_buffers),
+            ],
+            volume_rings: pipeline("water volume", "vs_main", Some("fs_depth"), volume.clone(), &grid_buffers),
+            volume_far: pipeline("water volume far", "vs_far", Some("fs_depth"), volume.clone(), &grid_buffers),
+            volume_box: pipeline("water volume box", "vs_box", Some("fs_depth"), volume, &[]),
         }
+    }
+
+    /// Classify every pixel of the main view by the medium its near-plane
+    /// point lies in (seed 000 §4.2): the water volume (surface, walls, floor)
+    /// counted into the stencil, which must be cleared to 0 first.
+    pub fn record_medium(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, surface: &wgpu::BindGroup, inputs: &wgpu::BindGroup, camera: &Camera) {
+        let xz = [camera.position.x, camera.position.z];
+        pass.set_bind_group(0, globals, &[]);
+        pass.set_bind_group(1, surface, &[]);
+        pass.set_bind_group(2, inputs, &[]);
+        // All tiles: off-screen ones make no fragments anyway, so culling
+        // would only save vertex work.
+        pass.set_pipeline(&self.volume_rings);
+        self.full.draw(pass, 0, 0, |_| true);
+        for level in 1..DISPLACED_RINGS {
+            self.ring.draw(pass, hole_variant(xz, level), level, |_| true);
+        }
+        pass.set_pipeline(&self.volume_far);
+        self.far.draw(pass, 0, 0, |_| true);
+        pass.set_pipeline(&self.volume_box);
+        pass.draw(0..30, 0..1);
     }
 
     /// Depth pre-pass, then shading of what survived (depth Equal). Tiles
@@ -306,7 +370,7 @@ impl WaterPass {
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, surface, &[]);
         pass.set_bind_group(2, inputs, &[]);
-        for (rings, far) in [(&self.depth_rings, &self.depth_far), (&self.shade_rings, &self.shade_far)] {
+        let draw_surface = |pass: &mut wgpu::RenderPass<'_>, rings: &wgpu::RenderPipeline, far: &wgpu::RenderPipeline| {
             pass.set_pipeline(rings);
             self.full.draw(pass, 0, 0, visible(0));
             for level in 1..DISPLACED_RINGS {
@@ -314,6 +378,11 @@ impl WaterPass {
             }
             pass.set_pipeline(far);
             self.far.draw(pass, 0, 0, |_| true);
+        };
+        draw_surface(pass, &self.depth_rings, &self.depth_far);
+        for (i, medium) in [crate::targets::STENCIL_AIR, crate::targets::STENCIL_WATER].into_iter().enumerate() {
+            pass.set_stencil_reference(medium);
+            draw_surface(pass, &self.shade_rings[i], &self.shade_far[i]);
         }
     }
 }

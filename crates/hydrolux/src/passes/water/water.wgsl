@@ -17,11 +17,18 @@
 // RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
 // SKY_CUBE_SIZE are prepended by the pass.
 
-// Inputs of the water pass (group 2), rebuilt with the render targets.
+// Inputs of the water pass (group 2), rebuilt with the render targets. Seen
+// from the air: the scene above the water mirrored (reflection) and the
+// scene below it (refraction). Seen from inside the water: the scene below
+// mirrored (total internal reflection) and the scene above (through
+// Snell's window).
 @group(2) @binding(0) var reflection_tex: texture_2d<f32>;
 @group(2) @binding(1) var refraction_tex: texture_2d<f32>;
 @group(2) @binding(2) var refraction_depth: texture_depth_2d;
 @group(2) @binding(3) var clamp_sampler: sampler;
+@group(2) @binding(4) var reflection_under_tex: texture_2d<f32>;
+@group(2) @binding(5) var refraction_over_tex: texture_2d<f32>;
+@group(2) @binding(6) var refraction_over_depth: texture_depth_2d;
 
 struct VsOut {
     @invariant @builtin(position) clip: vec4<f32>,
@@ -80,6 +87,32 @@ fn vs_far(@location(0) cell: vec2<i32>) -> VsOut {
     return vs_out(vec3<f32>(g.x, 0.0, g.y), g);
 }
 
+// Closes the water into a volume for the per-pixel medium test (seed 000
+// §4.2): four walls from the far field's square outer edge down to
+// VOLUME_DEPTH, and a floor, facing outwards (counter-clockwise seen from
+// outside, like the surface seen from above). Draw 30 vertices.
+@vertex
+fn vs_box(@builtin(vertex_index) i: u32) -> VsOut {
+    let last = frame.surface_detail.z * exp2(f32(DISPLACED_RINGS - 1u));
+    let centre = round(frame.camera_pos.xz / (2.0 * last)) * 2.0 * last;
+    let r = RING_HALF * last * FAR_SCALE;
+    let half = vec3<f32>(r, 0.5 * VOLUME_DEPTH, r);
+    let mid = vec3<f32>(centre.x, -0.5 * VOLUME_DEPTH, centre.y);
+    var normals = array<vec3<f32>, 5>(
+        vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(-1.0, 0.0, 0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 0.0, -1.0), vec3<f32>(0.0, -1.0, 0.0));
+    var corners = array<vec2<f32>, 6>(vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0));
+    let n = normals[i / 6u];
+    // u × v = n, so the corners run counter-clockwise around n.
+    var u = vec3<f32>(0.0, 1.0, 0.0);
+    if (abs(n.y) > 0.5) {
+        u = vec3<f32>(1.0, 0.0, 0.0);
+    }
+    let v = cross(n, u);
+    let c = corners[i % 6u];
+    let world = mid + half * (n + c.x * u + c.y * v);
+    return vs_out(world, world.xz);
+}
+
 // Takes the same inputs as fs_main so both pipelines keep the same vertex
 // outputs and compute bit-identical positions.
 @fragment
@@ -93,12 +126,12 @@ fn slope_pdf(zeta: vec2<f32>, variance: vec2<f32>) -> f32 {
     return exp(-0.5 * (zeta.x * zeta.x / v.x + zeta.y * zeta.y / v.y)) / (TAU * sqrt(v.x * v.y));
 }
 
-// What the refraction texture shows at `uv`: its world position (w = 1), or
-// w = 0 where nothing was drawn (open water all the way down).
-fn refraction_world(uv: vec2<f32>) -> vec4<f32> {
-    let dims = vec2<f32>(textureDimensions(refraction_depth));
+// What a refraction texture shows at `uv`: its world position (w = 1), or
+// w = 0 where nothing was drawn.
+fn refraction_world(depth_tex: texture_depth_2d, uv: vec2<f32>) -> vec4<f32> {
+    let dims = vec2<f32>(textureDimensions(depth_tex));
     let texel = vec2<i32>(clamp(uv * dims, vec2<f32>(0.0), dims - 1.0));
-    let d = textureLoad(refraction_depth, texel, 0);
+    let d = textureLoad(depth_tex, texel, 0);
     if (d <= 0.0) {
         return vec4<f32>(0.0);
     }
@@ -107,9 +140,44 @@ fn refraction_world(uv: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(w.xyz / w.w, 1.0);
 }
 
+// Where the refracted ray t_dir from surface point p finds its colour in a
+// refraction texture (seed 000 §4.4, seed 002 eq. 1): xy the texture
+// coordinates, z the path length to what it shows (1e5: nothing). `below`:
+// the texture holds the scene under the water (and may use the plane
+// lookup); otherwise the scene above it. Never let what lies on the eye's
+// side of the surface leak in: the texture must show something beyond p on
+// the ray's side, or we fall back to p's own texel.
+fn refraction_lookup(depth_tex: texture_depth_2d, p: vec3<f32>, t_dir: vec3<f32>, below: bool) -> vec3<f32> {
+    let own_uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p, 1.0));
+    var uv: vec2<f32>;
+    if (below && frame.modes2.y == 1u) {
+        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(refraction_point_plane(p, t_dir, frame.water_params.y, 1000.0), 1.0));
+    } else {
+        // Seed 002 eq. 1: W = U + dv·R, dv = the distance to what lies behind p, clamped.
+        let behind = refraction_world(depth_tex, own_uv);
+        var dv = frame.water_params.z;
+        if (behind.w > 0.0) {
+            dv = min(distance(behind.xyz, p), dv);
+        }
+        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p + t_dir * dv, 1.0));
+    }
+    var hit = refraction_world(depth_tex, uv);
+    let cam = frame.camera_pos.xyz;
+    let wrong_side = select((hit.y < p.y - 0.05), (hit.y > p.y + 0.05), below);
+    if (hit.w > 0.0 && (distance(hit.xyz, cam) < distance(p, cam) || wrong_side)) {
+        uv = own_uv;
+        hit = refraction_world(depth_tex, uv);
+    }
+    var s = 1e5;
+    if (hit.w > 0.0) {
+        s = distance(hit.xyz, p);
+    }
+    return vec3<f32>(clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0)), s);
+}
+
 // The light that comes up through the surface at p along the refracted ray
-// t_dir (seed 000 §4.4, seed 002 §5): what the refraction texture shows where
-// that ray ends, attenuated on the way, plus the water's in-scattering.
+// t_dir: what the refraction texture shows where that ray ends, attenuated
+// on the way, plus the water's in-scattering.
 fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
     let ior = frame.water_body.w;
     if (frame.sky_underwater.w == 0.0) {
@@ -119,32 +187,9 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
         }
         return path_in_scatter(t_dir, 1e5) / (ior * ior);
     }
-    let own_uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p, 1.0));
-    var uv: vec2<f32>;
-    if (frame.modes2.y == 1u) {
-        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(refraction_point_plane(p, t_dir, frame.water_params.y, 1000.0), 1.0));
-    } else {
-        // Seed 002 eq. 1: W = U + dv·R, dv = the distance to what lies behind p, clamped.
-        let behind = refraction_world(own_uv);
-        var dv = frame.water_params.z;
-        if (behind.w > 0.0) {
-            dv = min(distance(behind.xyz, p), dv);
-        }
-        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p + t_dir * dv, 1.0));
-    }
-    var hit = refraction_world(uv);
-    // Never let what is in front of the water leak in: the texture must show
-    // something beyond p and below it, or we fall back to p's own texel.
-    let cam = frame.camera_pos.xyz;
-    if (hit.w > 0.0 && (distance(hit.xyz, cam) < distance(p, cam) || hit.y > p.y + 0.05)) {
-        uv = own_uv;
-        hit = refraction_world(uv);
-    }
-    let seen = textureSampleLevel(refraction_tex, clamp_sampler, clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
-    var s = 1e5;
-    if (hit.w > 0.0) {
-        s = distance(hit.xyz, p);
-    }
+    let found = refraction_lookup(refraction_depth, p, t_dir, true);
+    let seen = textureSampleLevel(refraction_tex, clamp_sampler, found.xy, 0.0).rgb;
+    let s = found.z;
     if (frame.modes2.x == 1u) {
         // Seed 002 eq. 5–6: blend towards the water colour by e^(−d·k).
         let c_water = frame.water_body.rgb * e_down / PI;
@@ -240,4 +285,57 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let haze = 1.0 - exp(-dist / 40000.0);
     color = mix(color, horizon, haze);
     return vec4<f32>(min(color, vec3<f32>(60000.0)), 1.0);
+}
+
+// The surface seen from inside the water (seed 000 §2.1.2, §3.3; seed 003
+// Fig. 17): Fresnel from water to air, so rays within the critical angle
+// (48.6°) leave through Snell's window and show the sky and what stands
+// above the water, bent; beyond it the surface is a mirror (total internal
+// reflection) showing the scene below or the water's own colour. Everything
+// then travels to the eye through the water.
+@fragment
+fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
+    let g = in.grid_pos;
+    let s = surface_sample_grad(g, dpdx(g), dpdy(g));
+    let eye = frame.camera_pos.xyz;
+    let v = normalize(eye - in.world);
+    // The normal on the water's side, facing the viewer.
+    var n = -surface_normal(s);
+    let nv = dot(n, v);
+    if (nv < 0.02) {
+        n = normalize(n + (0.02 - nv) * v);
+    }
+    if (frame.modes.w == VIEW_NORMALS) {
+        return vec4<f32>(n * 0.5 + 0.5, 1.0);
+    }
+    let ior = frame.water_body.w;
+    let cos_v = max(dot(n, v), 1e-3);
+    let f = fresnel(frame.modes.x, frame.scattering.w, cos_v, ior, 1.0);
+    let depth = max(-in.world.y, 0.0);
+
+    // Reflected back down: the mirrored scene under the water where the ray
+    // meets a plane `reflection_height` below, attenuated over that path;
+    // endless water where the texture is empty.
+    let r = reflect(-v, n);
+    let h = frame.water_params.x;
+    let t_r = clamp((-h - in.world.y) / min(r.y, -1e-3), 0.0, 200.0);
+    let unresolved = sqrt(frame.surface_detail.x + frame.surface_detail.y);
+    let lod = log2(max(0.5 * unresolved * frame.reflection_params.x, 1.0));
+    let ruv = clamp(reflection_uv(frame.refl_view_proj, in.world, r, -h, 200.0), vec2<f32>(0.001), vec2<f32>(0.999));
+    let local = textureSampleLevel(reflection_under_tex, clamp_sampler, ruv, lod);
+    let deep = view_in_scatter(depth, r, 1e5);
+    let reflected = local.rgb * transmittance(t_r) + local.a * view_in_scatter(depth, r, t_r) + (1.0 - local.a) * deep;
+
+    // Out through Snell's window: the scene above the water, or the sky; the
+    // radiance gains n² entering the denser medium.
+    var through = vec3<f32>(0.0);
+    if (f < 1.0) {
+        let t_dir = refract(-v, n, ior);
+        var sky_l = textureSampleLevel(sky_cube, sky_sampler, t_dir, 0.0).rgb * exposure();
+        let found = refraction_lookup(refraction_over_depth, in.world, t_dir, false);
+        let above = textureSampleLevel(refraction_over_tex, clamp_sampler, found.xy, 0.0);
+        through = (above.rgb + (1.0 - above.a) * sky_l) * ior * ior;
+    }
+    let l = f * reflected + (1.0 - f) * through;
+    return vec4<f32>(min(through_water(eye, in.world, l), vec3<f32>(60000.0)), 1.0);
 }
