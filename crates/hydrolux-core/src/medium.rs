@@ -118,6 +118,10 @@ pub const DIFFUSE_MEAN_COSINE: f32 = 0.85;
 /// (1 − the hemispherical Fresnel reflectance 0.066 of water).
 pub const DIFFUSE_TRANSMITTANCE: f32 = 0.934;
 
+/// Fraction of the downwelling irradiance that comes back up from below
+/// (floor and water) and lights undersides: a grey-world bounce.
+pub const UPWELLING_FRACTION: f32 = 0.15;
+
 /// The light field under a flat water surface at y = 0, lit by the sun and sky.
 #[derive(Clone, Copy, Debug)]
 pub struct UnderwaterLight {
@@ -148,13 +152,17 @@ impl UnderwaterLight {
 
     /// Irradiance on a surface with unit normal `n` at `depth` metres below the
     /// mean surface (`sun_visibility` ∈ [0, 1] from the shadow map). The sky
-    /// term is the cosine lobe (1 + n·y)/2 of a vertical diffuse field.
+    /// term is the cosine lobe (1 + n·y)/2 of a vertical diffuse field; the
+    /// undersides get [`UPWELLING_FRACTION`] of the downwelling light.
     pub fn irradiance(&self, medium: &Medium, depth: f32, n: Vec3, sun_visibility: f32) -> Vec3 {
         let d = depth.max(0.0);
         let cos_w = (-self.sun_travel.y).max(1e-3);
-        let sun = self.sun_irradiance * medium.transmittance(d / cos_w) * n.dot(-self.sun_travel).max(0.0) * sun_visibility;
-        let sky = self.sky_irradiance * medium.transmittance(d / DIFFUSE_MEAN_COSINE) * (0.5 + 0.5 * n.y);
-        sun + sky
+        let sun_down = self.sun_irradiance * medium.transmittance(d / cos_w);
+        let sky_down = self.sky_irradiance * medium.transmittance(d / DIFFUSE_MEAN_COSINE);
+        let sun = sun_down * n.dot(-self.sun_travel).max(0.0) * sun_visibility;
+        let sky = sky_down * (0.5 + 0.5 * n.y);
+        let up = UPWELLING_FRACTION * (sun_down * cos_w + sky_down) * (0.5 - 0.5 * n.y);
+        sun + sky + up
     }
 
     /// Light scattered once into a downward path of length `s` along unit

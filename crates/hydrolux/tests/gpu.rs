@@ -349,3 +349,120 @@ fn objects_shadow_the_floor_through_the_water_and_stay_out_of_the_refraction() {
     let reddish = px.chunks_exact(4).filter(|p| p[0] as i32 > 2 * p[1] as i32 + 20).count();
     assert_eq!(reddish, 0, "objects above the water leaked into the refraction texture");
 }
+
+/// The stencil classification of each pixel's medium (seed 000 §4.2) against
+/// a CPU test of the same question: is the pixel's near-plane point under the
+/// wavy surface? Cameras well above, well below, and exactly at the surface
+/// (where the waterline crosses the image).
+#[test]
+fn pixel_medium_matches_a_cpu_heightfield_test() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let t = 31.0;
+    let base = scene(SMALL_OCEAN);
+    let cpu = OceanFields::evaluate(&OceanSpectrum::new(&base.ocean_settings()), t);
+    let (x0, z0) = (3.0f32, -2.0f32);
+    let surface = cpu.height_at(x0 as f64, z0 as f64);
+    let size = (64, 48);
+    for (offset, expect) in [(0.4f32, "air"), (-0.4, "water"), (0.004, "both")] {
+        let mut s = base.clone();
+        s.camera.position = [x0, surface + offset, z0];
+        s.camera.look_at = [x0, surface + offset - 0.3, z0 - 10.0];
+        let mut r = renderer(&ctx, &s);
+        let target = HeadlessTarget::new(&ctx.device, size);
+        target.render(&mut r, s.camera(), t);
+        let (w, h, medium) = r.read_medium().expect("rendered");
+        let inv = s.camera().view_projection(w as f32 / h as f32).inverse();
+        let (mut water, mut mismatched_far_from_waterline) = (0, 0);
+        let mut cpu_water = vec![false; (w * h) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
+                // Reversed Z: the near plane is at depth 1.
+                let p = inv.project_point3(ndc.extend(1.0));
+                cpu_water[(y * w + x) as usize] = p.y < cpu.height_at(p.x as f64, p.z as f64);
+            }
+        }
+        for y in 0..h {
+            for x in 0..w {
+                let i = (y * w + x) as usize;
+                let gpu_water = medium[i] == 1;
+                water += gpu_water as usize;
+                if gpu_water != cpu_water[i] {
+                    // Allow disagreement only right at the waterline (half-float
+                    // heights, mesh interpolation): a CPU neighbour within 2 rows differs.
+                    let near_line = (y.saturating_sub(2)..(y + 3).min(h)).any(|yy| cpu_water[(yy * w + x) as usize] != cpu_water[i]);
+                    if !near_line {
+                        mismatched_far_from_waterline += 1;
+                    }
+                }
+            }
+        }
+        let all = (w * h) as usize;
+        match expect {
+            "air" => assert_eq!(water, 0, "camera {offset} m above the surface"),
+            "water" => assert_eq!(water, all, "camera {offset} m below the surface"),
+            _ => assert!(water > all / 10 && water < all * 9 / 10, "no waterline across the image: {water} of {all} in water"),
+        }
+        assert_eq!(mismatched_far_from_waterline, 0, "camera at {offset}: GPU and CPU disagree away from the waterline");
+    }
+}
+
+/// From under flat, clear water looking straight up, the sky shows through a
+/// disc of angular radius equal to the critical angle (48.6°, Snell's
+/// window); beyond it the surface reflects the dark deep water.
+#[test]
+fn snells_window_has_the_critical_angle_and_total_reflection_outside() {
+    use hydrolux::core::optics::{IOR_AIR, IOR_WATER, critical_angle};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let sets = [
+        "water.model=flat",
+        "ocean.wind_speed=0",
+        "water.medium=pure",
+        "sun.elevation_deg=89",
+        "camera.position=[0, -1, 0]",
+        "camera.look_at=[0, 10, 0]",
+        "camera.up=[0, 0, -1]",
+        "camera.fov_y_deg=130",
+    ];
+    let s = scene(&sets);
+    let mut r = renderer(&ctx, &s);
+    let n = 161u32;
+    let target = HeadlessTarget::new(&ctx.device, (n, n));
+    target.render(&mut r, s.camera(), 0.0);
+    let (w, _, hdr) = r.read_hdr().expect("rendered");
+    let half_tan = (65f32).to_radians().tan();
+    // Luminance against the angle from the zenith along the centre row.
+    let profile: Vec<(f32, f32)> = (n / 2..n)
+        .map(|x| {
+            let ndc = (x as f32 + 0.5) / n as f32 * 2.0 - 1.0;
+            let angle = (ndc * half_tan).atan().to_degrees();
+            let p = hdr[(n / 2 * w + x) as usize];
+            (angle, 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])
+        })
+        .collect();
+    let at = |deg: f32| profile.iter().min_by(|a, b| (a.0 - deg).abs().total_cmp(&(b.0 - deg).abs())).expect("profile").1;
+    let critical = critical_angle(IOR_WATER, IOR_AIR).expect("water is denser").to_degrees();
+    let inside = at(critical - 6.0);
+    let outside = at(critical + 3.0);
+    assert!(inside > 8.0 * outside, "window {inside} vs reflection {outside}");
+    // The edge: where the luminance first falls below a quarter of the window's.
+    let edge = profile.iter().find(|p| p.0 > 10.0 && p.1 < 0.25 * inside).expect("an edge").0;
+    assert!((edge - critical).abs() < 2.0, "window edge at {edge}°, critical angle {critical}°");
+}
+
+/// Golden images of the view from under the water, and of a camera whose
+/// lens sits exactly on the moving surface (the waterline across the image).
+#[test]
+fn golden_images_below_and_half_submerged() {
+    let s = Scene::load("underwater", &[]).expect("built-in");
+    let (px, _) = render(&s, (160, 90), 10.0);
+    golden::check("underwater", 160, 90, &px);
+
+    let mut s = Scene::load("ocean", &["ocean.resolution=128".into()]).expect("built-in");
+    let cpu = OceanFields::evaluate(&OceanSpectrum::new(&s.ocean_settings()), 10.0);
+    let y = cpu.height_at(0.0, 0.0);
+    s.camera.position = [0.0, y + 0.005, 0.0];
+    s.camera.look_at = [0.0, y - 1.0, -20.0];
+    let (px, _) = render(&s, (160, 90), 10.0);
+    golden::check("half-submerged", 160, 90, &px);
+}

@@ -14,4 +14,5 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     BuiltinScene { name: "pool", toml: include_str!("../../../../scenes/pool.toml") },
     BuiltinScene { name: "harbor", toml: include_str!("../../../../scenes/harbor.toml") },
     BuiltinScene { name: "coastal", toml: include_str!("../../../../scenes/coastal.toml") },
+    BuiltinScene { name: "underwater", toml: include_str!("../../../../scenes/underwater.toml") },
 ];

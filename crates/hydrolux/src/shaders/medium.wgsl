@@ -30,13 +30,20 @@ fn in_scatter(e0: vec3<f32>, phase: f32, c: f32, s: f32) -> vec3<f32> {
     return frame.scattering.rgb * phase * e0 * integral;
 }
 
+// Fraction of the downwelling light that comes back up from below (floor
+// and water), lighting undersides. Twin: medium::UPWELLING_FRACTION.
+const UPWELLING_FRACTION: f32 = 0.15;
+
 // Irradiance on a receiver with normal n, `depth` m under the mean surface.
 fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<f32> {
     let d = max(depth, 0.0);
     let cos_w = max(frame.sun_travel.w, 1e-3);
-    let sun = frame.sun_underwater.rgb * transmittance(d / cos_w) * max(dot(n, -frame.sun_travel.xyz), 0.0) * sun_visibility;
-    let sky = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE) * (0.5 + 0.5 * n.y);
-    return sun + sky;
+    let sun_down = frame.sun_underwater.rgb * transmittance(d / cos_w);
+    let sky_down = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE);
+    let sun = sun_down * max(dot(n, -frame.sun_travel.xyz), 0.0) * sun_visibility;
+    let sky = sky_down * (0.5 + 0.5 * n.y);
+    let up = UPWELLING_FRACTION * (sun_down * cos_w + sky_down) * (0.5 - 0.5 * n.y);
+    return sun + sky + up;
 }
 
 // Light scattered once into a path of length s along `dir` that starts
