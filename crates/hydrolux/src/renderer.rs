@@ -70,6 +70,9 @@ struct SurfaceState {
     unresolved_variance: [f32; 2],
     /// Conservative reach (m) of the displacement, vertically and sideways, for culling.
     bounds_margin: f32,
+    /// How far (m) the surface rises or falls from y = 0 in practice: crests
+    /// pass 1.2·Hs about once in a thousand waves; 1.5·Hs is the margin.
+    vertical_reach: f32,
 }
 
 pub struct Renderer {
@@ -311,7 +314,8 @@ impl Renderer {
             WaterModel::Flat => 0.0,
         };
         let bounds_margin = (3.0 * hs * (1.0 + scene.ocean.choppiness as f64 + scene.sines.gerstner as f64) + 1.0) as f32;
-        Ok(SurfaceState { ocean_settings, ocean, group, sines, unresolved_variance, bounds_margin })
+        let vertical_reach = (1.5 * hs * (1.0 + scene.sines.gerstner as f64 * (scene.water.model == WaterModel::Sines) as u8 as f64)) as f32 + 0.1;
+        Ok(SurfaceState { ocean_settings, ocean, group, sines, unresolved_variance, bounds_margin, vertical_reach })
     }
 
     pub fn device(&self) -> &wgpu::Device {
@@ -585,7 +589,7 @@ impl Renderer {
         // to endless water where no geometry was drawn. A camera in the air
         // needs the first pair, one in the water the second; one within
         // wave reach of the surface may see both media, so it gets both.
-        let reach = self.surface.bounds_margin;
+        let reach = self.surface.vertical_reach;
         let cam_y = input.camera.position.y;
         let mut offscreen: Vec<(&'static str, &crate::targets::ColorDepth, &ViewSlot, bool)> = Vec::new();
         if cam_y > -reach {
@@ -622,28 +626,36 @@ impl Renderer {
                 self.downsampler.record(&mut pass, chain);
             }
         }
+        // The main view. First classify each pixel's medium into the stencil
+        // (seed 000 §4.2; its own pass so that it is timed on its own), then
+        // draw the background, the geometry and the water, each per medium.
+        let main_pass = |encoder: &mut wgpu::CommandEncoder, label: &'static str, clear: bool, timer: Option<&mut GpuTimer>| {
+            encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(label),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &targets.hdr_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(wgpu::Color::BLACK) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &targets.depth_stencil_view,
+                        depth_ops: Some(wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(0.0) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }),
+                        stencil_ops: Some(wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }),
+                    }),
+                    timestamp_writes: timer.and_then(|t| t.render_writes(label)),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                })
+                .forget_lifetime()
+        };
         {
-            // One pass over the main view: classify each pixel's medium into
-            // the stencil (seed 000 §4.2), then draw the background, the
-            // geometry and the water, each per medium.
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("medium, sky, scene and water"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &targets.hdr_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &targets.depth_stencil_view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
-                }),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("main view")),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = main_pass(encoder, "medium", true, timer.as_deref_mut());
             self.water.record_medium(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera);
+        }
+        {
+            let mut pass = main_pass(encoder, "sky, scene and water", false, timer.as_deref_mut());
             if self.scene.render.view != DebugView::Normals {
                 self.sky.record_background(&mut pass, globals);
             }
