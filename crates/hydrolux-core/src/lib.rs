@@ -3,6 +3,7 @@
 //! ("twin") of every GPU algorithm, so each can be tested against the other.
 
 pub mod camera;
+pub mod caustics;
 pub mod geometry;
 pub mod medium;
 pub mod npy;
