@@ -18,9 +18,10 @@ pub enum DumpKind {
     Normals,
     Jacobian,
     Hdr,
+    Caustics,
 }
 
-pub const KINDS: &str = "height, displacement, normals, jacobian, hdr";
+pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics";
 
 #[derive(Clone, Debug)]
 pub struct Dump {
@@ -39,6 +40,7 @@ pub fn parse(text: &str) -> Result<Dump> {
         "normals" => DumpKind::Normals,
         "jacobian" => DumpKind::Jacobian,
         "hdr" => DumpKind::Hdr,
+        "caustics" => DumpKind::Caustics,
         other => bail!("--dump `{other}`: unknown buffer; choose one of {KINDS}"),
     };
     let path = PathBuf::from(file);
@@ -66,10 +68,24 @@ fn surface_grid(renderer: &Renderer) -> (usize, Vec<SurfaceSample>) {
     (n, samples)
 }
 
+/// What can be known before rendering: a caustics dump needs caustics.
+pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
+    use hydrolux::core::scene::CausticMethod;
+    if dump.kind == DumpKind::Caustics && !(scene.caustics.method == CausticMethod::Photons && scene.floor.depth > 0.0 && scene.sun_direction().y > 0.0) {
+        bail!("--dump caustics: the scene has no caustics (it needs caustics.method = \"photons\", a floor (floor.depth > 0) and the sun up)");
+    }
+    Ok(())
+}
+
 pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
     let (width, height, channels, data): (usize, usize, usize, Vec<f32>) = if dump.kind == DumpKind::Hdr {
         let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame has been rendered to dump") };
         (w as usize, h as usize, 3, px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
+    } else if dump.kind == DumpKind::Caustics {
+        let Some((m, map)) = renderer.read_caustics() else {
+            bail!("--dump caustics: the scene has no caustics (it needs caustics.method = \"photons\", a floor (floor.depth > 0) and the sun up)")
+        };
+        (m as usize, m as usize, 1, map)
     } else {
         let (n, samples) = surface_grid(renderer);
         let (c, data): (usize, Vec<f32>) = match dump.kind {
@@ -77,7 +93,7 @@ pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
             DumpKind::Displacement => (3, samples.iter().flat_map(|s| s.displacement).collect()),
             DumpKind::Normals => (3, samples.iter().flat_map(|s| s.normal().to_array()).collect()),
             DumpKind::Jacobian => (1, samples.iter().map(|s| s.jacobian()).collect()),
-            DumpKind::Hdr => unreachable!("handled above"),
+            DumpKind::Hdr | DumpKind::Caustics => unreachable!("handled above"),
         };
         (n, n, c, data)
     };

@@ -60,6 +60,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         output::check_writable(&d.path)?;
     }
     let scene = a.scene.load()?;
+    for d in &dumps {
+        dumps::check(d, &scene)?;
+    }
     let ctx = crate::headless_context()?;
     let max = ctx.device.limits().max_texture_dimension_2d;
     if a.size.width > max || a.size.height > max {

@@ -51,6 +51,8 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--scene", "no_texture.toml"], "cannot load texture nope.png: no such file"),
         (&["render", "--set", "water.medium=swamp"], "turbid_harbor"),
         (&["render", "--view", "xray"], "render.view"),
+        (&["render", "--dump", "caustics=c.npy"], "the scene has no caustics"),
+        (&["render", "--set", "caustics.photons=3"], "`caustics.photons` = 3 is out of range"),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);
@@ -165,4 +167,21 @@ texture = "red.png"
     // Zero wind is a flat sea, not a crash.
     let (code, err) = hydrolux(&["render", "--set", "ocean.wind_speed=0", "--width", "16", "--height", "16", "--out", "calm.png"], &dir);
     assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn caustics_dump_is_an_m_by_m_float_grid() {
+    let dir = scratch("caustics");
+    let (code, err) = hydrolux(
+        &["render", "--scene", "pool", "--set", "caustics.map_resolution=32", "--width", "16", "--height", "16", "--dump", "caustics=c.npy", "--out", "p.png"],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let npy = std::fs::read(dir.join("c.npy")).unwrap();
+    let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (32, 32)"));
+    let values: Vec<f32> = npy[10 + hlen..].chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+    let mean = values.iter().sum::<f32>() / values.len() as f32;
+    // The pool's sun is 58° up: flat water would give T·sin 58° ≈ 0.83 everywhere.
+    assert!((mean - 0.83).abs() < 0.02, "mean floor irradiance {mean}");
 }

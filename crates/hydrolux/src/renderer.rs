@@ -4,6 +4,7 @@
 //! scene → water → tonemap (or a debug view).
 
 use crate::gpu_util::*;
+use crate::passes::caustics::{CausticMap, CausticsPass};
 use crate::passes::geometry::{GeometryPass, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding};
 use crate::passes::mips::Downsampler;
 use crate::passes::ocean::{OceanPass, OceanTooLarge};
@@ -18,7 +19,8 @@ use hydrolux_core::camera::Camera;
 use hydrolux_core::geometry::load::AssetError;
 use hydrolux_core::medium::UnderwaterLight;
 use hydrolux_core::projective::{ClipPlane, mirror_matrix, shadow_space, sun_view_projection};
-use hydrolux_core::scene::{DebugView, Fresnel, RefractionLookup, Scene, Tonemap, WaterModel, WaterOptics};
+use hydrolux_core::caustics::flat_floor_irradiance;
+use hydrolux_core::scene::{CausticMethod, DebugView, Fresnel, RefractionLookup, Scene, Tonemap, WaterModel, WaterOptics};
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
 use hydrolux_core::tonemap::exposure_scale;
 use hydrolux_core::waves::SurfaceSample;
@@ -86,6 +88,9 @@ pub struct Renderer {
     frame_only: wgpu::BindGroup,
     shadow_sampler: wgpu::Sampler,
     sky_sampler: wgpu::Sampler,
+    caustic_sampler: wgpu::Sampler,
+    caustics: CausticsPass,
+    caustic_map: CausticMap,
     shadow: ShadowState,
     downsampler: Downsampler,
     sky: SkyPass,
@@ -123,6 +128,8 @@ impl Renderer {
                     multisampled: false,
                 }),
                 layout_entry(5, all, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
+                texture_entry(6, all, wgpu::TextureViewDimension::D2, true),
+                sampler_entry(7, all),
             ],
         });
         let frame_only_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -165,7 +172,27 @@ impl Renderer {
         let main_depth_format = crate::targets::main_depth_format(device);
         let downsampler = Downsampler::new(device);
         let sky = SkyPass::new(device, &downsampler, &globals_layout, main_depth_format);
-        let shadow = Self::build_shadow(device, &globals_layout, &frame_buffer, &sky, &sky_sampler, &shadow_sampler, scene.render.shadow_resolution);
+        let caustic_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("caustic map"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        // Group 0 of the caustics pass is the frame alone: the globals hold the
+        // caustic map it writes.
+        let caustics = CausticsPass::new(device, &frame_only_layout, &surface_layout);
+        let caustic_map = caustics.create_map(device, scene.caustics.photons, scene.caustics.map_resolution);
+        let shadow = Self::build_shadow(
+            device,
+            &globals_layout,
+            &frame_buffer,
+            &sky,
+            [&sky_sampler, &shadow_sampler, &caustic_sampler],
+            &caustic_map.view,
+            scene.render.shadow_resolution,
+        );
         let geometry_pass = GeometryPass::new(device, queue, &globals_layout, &frame_only_layout, main_depth_format);
         let geometry = geometry_pass.upload(device, queue, scene)?;
         let views = ViewSlots {
@@ -193,6 +220,9 @@ impl Renderer {
             frame_only,
             shadow_sampler,
             sky_sampler,
+            caustic_sampler,
+            caustics,
+            caustic_map,
             shadow,
             downsampler,
             sky,
@@ -220,8 +250,8 @@ impl Renderer {
         layout: &wgpu::BindGroupLayout,
         frame_buffer: &wgpu::Buffer,
         sky: &SkyPass,
-        sky_sampler: &wgpu::Sampler,
-        shadow_sampler: &wgpu::Sampler,
+        [sky_sampler, shadow_sampler, caustic_sampler]: [&wgpu::Sampler; 3],
+        caustic_view: &wgpu::TextureView,
         resolution: u32,
     ) -> ShadowState {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -245,6 +275,8 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(sky_sampler) },
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&view) },
                 wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(shadow_sampler) },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(caustic_view) },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(caustic_sampler) },
             ],
         });
         ShadowState { resolution, view, globals }
@@ -347,14 +379,18 @@ impl Renderer {
         if scene.floor != self.scene.floor || scene.objects != self.scene.objects || scene.base_dir != self.scene.base_dir {
             self.geometry = self.geometry_pass.upload(&self.device, &self.queue, scene)?;
         }
-        if scene.render.shadow_resolution != self.shadow.resolution {
+        let caustics_changed = scene.caustics.photons != self.caustic_map.photons_per_side || scene.caustics.map_resolution != self.caustic_map.resolution;
+        if caustics_changed {
+            self.caustic_map = self.caustics.create_map(&self.device, scene.caustics.photons, scene.caustics.map_resolution);
+        }
+        if scene.render.shadow_resolution != self.shadow.resolution || caustics_changed {
             self.shadow = Self::build_shadow(
                 &self.device,
                 &self.globals_layout,
                 &self.frame_buffer,
                 &self.sky,
-                &self.sky_sampler,
-                &self.shadow_sampler,
+                [&self.sky_sampler, &self.shadow_sampler, &self.caustic_sampler],
+                &self.caustic_map.view,
                 scene.render.shadow_resolution,
             );
             self.targets = None;
@@ -407,6 +443,14 @@ impl Renderer {
             bent = (bent.0.min(p), bent.1.max(p));
         }
         (sun.y > 0.0).then(|| sun_view_projection(sun, bent.0, bent.1))
+    }
+
+    /// The caustic map's patch (m) and floor depth (m) when caustics are on:
+    /// there is a floor to receive them and the sun is up.
+    fn caustic_setup(&self) -> Option<([f32; 2], f32)> {
+        let s = &self.scene;
+        let on = s.caustics.method == CausticMethod::Photons && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
+        on.then(|| ([s.ocean.patch_size, s.ocean.patch_size], s.floor.depth))
     }
 
     /// Texels of the reflection texture per radian of view angle (at its
@@ -485,6 +529,10 @@ impl Renderer {
             sun_travel: under.sun_travel.extend(-under.sun_travel.y).into(),
             sun_underwater: under.sun_irradiance.extend(0.0).into(),
             sky_underwater: under.sky_irradiance.extend(if self.geometry.triangle_count > 0 { 1.0 } else { 0.0 }).into(),
+            caustic_params: match self.caustic_setup() {
+                Some((patch, depth)) => [patch[0], patch[1], depth, 1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4)],
+                None => [0.0; 4],
+            },
             modes2: [
                 match s.water.optics {
                     WaterOptics::Physical => 0,
@@ -541,7 +589,24 @@ impl Renderer {
         if self.scene.water.model == WaterModel::Fft {
             self.surface.ocean.record(&mut encoder, &self.downsampler, None);
         }
+        if let Some((patch, depth)) = self.caustic_setup() {
+            self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
+            self.caustics.record(&mut encoder, &self.frame_only, &self.surface.group, &self.caustic_map, None);
+        }
         self.queue.submit([encoder.finish()]);
+    }
+
+    /// The floor caustic map after the last frame or simulation step: M×M
+    /// cells over the patch around the origin (row = z, col = x), in floor
+    /// irradiance relative to the sun's irradiance on a plane facing it,
+    /// without absorption (hydrolux_core::caustics); `None` when caustics are
+    /// off or there is no floor.
+    pub fn read_caustics(&self) -> Option<(u32, Vec<f32>)> {
+        self.caustic_setup()?;
+        let m = self.caustic_map.resolution;
+        let bytes = read_texture(&self.device, &self.queue, &self.caustic_map.texture, 8);
+        let halves: &[u16] = bytemuck::cast_slice(&bytes);
+        Some((m, halves.chunks_exact(4).map(|c| f16_to_f32(c[0])).collect()))
     }
 
     fn target_settings(&self) -> TargetSettings {
@@ -556,6 +621,7 @@ impl Renderer {
         }
         self.write_frame_uniforms(&input.camera, input.size, input.time);
         self.surface.ocean.prepare(&self.queue, input.time);
+        let caustic_setup = self.caustic_setup();
         let mut timer = if self.timing { self.timer.as_mut() } else { None };
         if let Some(t) = timer.as_deref_mut() {
             t.begin_frame();
@@ -563,6 +629,10 @@ impl Renderer {
         self.sky.record_bake(encoder, &self.downsampler, timer.as_deref_mut());
         if self.scene.water.model == WaterModel::Fft {
             self.surface.ocean.record(encoder, &self.downsampler, timer.as_deref_mut());
+        }
+        if let Some((patch, depth)) = caustic_setup {
+            self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
+            self.caustics.record(encoder, &self.frame_only, &self.surface.group, &self.caustic_map, timer.as_deref_mut());
         }
         let targets = self.targets.as_ref().expect("targets were just created");
         let globals = &self.shadow.globals;

@@ -17,6 +17,7 @@ pub const MEDIUM: &str = include_str!("shaders/medium.wgsl");
 pub const PROJECTIVE: &str = include_str!("shaders/projective.wgsl");
 pub const SHADOW_SPACE: &str = include_str!("shaders/shadow_space.wgsl");
 pub const SHADOW_LOOKUP: &str = include_str!("shaders/shadow_lookup.wgsl");
+pub const CAUSTICS_LOOKUP: &str = include_str!("shaders/caustics_lookup.wgsl");
 
 /// Join shader parts, each introduced by a comment naming its position.
 pub fn compose(parts: &[&str]) -> String {
@@ -43,6 +44,7 @@ pub fn all_for_validation() -> Vec<(String, String)> {
         ("probe".to_string(), crate::passes::probe::source()),
         ("geometry".to_string(), crate::passes::geometry::source()),
         ("geometry/shadow".to_string(), crate::passes::geometry::shadow_source()),
+        ("caustics".to_string(), crate::passes::caustics::source()),
     ];
     for n in [64u32, 256, 1024] {
         v.push((format!("ocean/fft N={n}"), crate::passes::ocean::fft_source(n)));

@@ -30,6 +30,7 @@ pub struct FrameUniforms {
     pub sun_underwater: [f32; 4],
     pub sky_underwater: [f32; 4],
     pub modes2: [u32; 4],
+    pub caustic_params: [f32; 4],
 }
 
 /// WGSL `View` (passes/geometry/geometry_common.wgsl).
@@ -88,6 +89,7 @@ pub fn layouts() -> Vec<(&'static str, String, usize)> {
         ("EvolveParams", crate::passes::ocean::spectrum_source(), size_of::<EvolveUniforms>()),
         ("SpectrumMode", crate::passes::ocean::spectrum_source(), size_of::<hydrolux_core::waves::ocean::SpectrumMode>()),
         ("View", crate::passes::geometry::source(), size_of::<ViewUniforms>()),
+        ("CausticParams", crate::passes::caustics::source(), size_of::<crate::passes::caustics::CausticUniforms>()),
         ("Object", crate::passes::geometry::source(), size_of::<ObjectUniforms>()),
         ("AssembleParams", crate::passes::ocean::assemble_source(), size_of::<AssembleUniforms>()),
     ]

@@ -466,3 +466,46 @@ fn golden_images_below_and_half_submerged() {
     let (px, _) = render(&s, (160, 90), 10.0);
     golden::check("half-submerged", 160, 90, &px);
 }
+
+/// The GPU photon splatting against the CPU tracer (hydrolux_core::caustics)
+/// on the same surface: flat water gives T(θ)·cos θ in every cell; under FFT
+/// waves the maps agree in pattern (correlation) and in mean (energy).
+#[test]
+fn floor_caustics_match_the_cpu_photon_tracer() {
+    use hydrolux::core::caustics::{PhotonSettings, flat_floor_irradiance, trace_floor_caustics};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let common = ["caustics.photons=256", "caustics.map_resolution=64", "floor.depth=5", "sun.elevation_deg=55", "ocean.patch_size=16"];
+
+    let mut flat = common.to_vec();
+    flat.push("water.model=flat");
+    let s = scene(&flat);
+    let mut r = renderer(&ctx, &s);
+    r.simulate(&s.camera(), (16, 16), 0.0);
+    let (m, map) = r.read_caustics().expect("caustics are on");
+    assert_eq!(m, 64);
+    let want = flat_floor_irradiance(s.sun_direction(), s.water.ior);
+    for v in &map {
+        assert!((v - want).abs() < 2e-3, "flat water: {v} vs {want}");
+    }
+
+    let mut waves = common.to_vec();
+    waves.extend(["ocean.resolution=64", "ocean.cascades=1", "ocean.wind_speed=6", "ocean.fetch_km=20", "ocean.choppiness=0.5"]);
+    let s = scene(&waves);
+    let mut r = renderer(&ctx, &s);
+    let t = 12.0;
+    r.simulate(&s.camera(), (16, 16), t);
+    let (_, gpu_map) = r.read_caustics().expect("caustics are on");
+    let fields = OceanFields::evaluate(&OceanSpectrum::new(&s.ocean_settings()), t);
+    let p = PhotonSettings { photons_per_side: 256, map_resolution: 64, patch: [16.0, 16.0], floor_depth: 5.0, ior: s.water.ior, sun_dir: s.sun_direction() };
+    let (cpu_map, _) = trace_floor_caustics(|x, z| fields.sample(x as f64, z as f64), &p);
+    let cpu_map = cpu_map.blurred().irradiance;
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    let (mg, mc) = (mean(&gpu_map), mean(&cpu_map));
+    assert!((mg - mc).abs() < 0.02 * mc, "energy: GPU mean {mg}, CPU mean {mc}");
+    let cov: f32 = gpu_map.iter().zip(&cpu_map).map(|(a, b)| (a - mg) * (b - mc)).sum();
+    let var = |v: &[f32], m: f32| v.iter().map(|a| (a - m) * (a - m)).sum::<f32>();
+    let corr = cov / (var(&gpu_map, mg) * var(&cpu_map, mc)).sqrt();
+    assert!(corr > 0.95, "GPU and CPU caustic patterns correlate only {corr}");
+    let max = gpu_map.iter().cloned().fold(0.0, f32::max);
+    assert!(max > 1.4 * mg, "the waves should focus light: max {max}, mean {mg}");
+}

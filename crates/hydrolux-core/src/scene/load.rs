@@ -381,6 +381,17 @@ impl Scene {
             });
         }
         validate_material("floor.material", &f.material)?;
+        let c = &self.caustics;
+        if !(16..=4096).contains(&c.photons) {
+            return Err(SceneError::OutOfRange { key: "caustics.photons".into(), value: c.photons.to_string(), allowed: "must be 16 to 4096 (per side)".into() });
+        }
+        if !(16..=2048).contains(&c.map_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "caustics.map_resolution".into(),
+                value: c.map_resolution.to_string(),
+                allowed: "must be 16 to 2048".into(),
+            });
+        }
         if self.objects.len() > 1024 {
             return Err(SceneError::OutOfRange { key: "objects".into(), value: self.objects.len().to_string(), allowed: "at most 1024 objects".into() });
         }

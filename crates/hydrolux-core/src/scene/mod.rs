@@ -30,6 +30,7 @@ pub struct Scene {
     pub sines: SinesDesc,
     pub render: RenderDesc,
     pub floor: FloorDesc,
+    pub caustics: CausticsDesc,
     /// `[[objects]]` entries: meshes and primitives with a transform and material.
     pub objects: Vec<ObjectDesc>,
     /// Folder that relative mesh, texture and heightmap paths start from (the
@@ -241,6 +242,30 @@ pub struct FloorDesc {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+pub enum CausticMethod {
+    /// Photon splatting from the light (seed 000 §4.5).
+    Photons,
+    Off,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CausticsDesc {
+    pub method: CausticMethod,
+    /// Photons per side of the surface patch (photons² in all).
+    pub photons: u32,
+    /// Cells per side of the floor caustic map over the patch.
+    pub map_resolution: u32,
+}
+
+impl Default for CausticsDesc {
+    fn default() -> Self {
+        CausticsDesc { method: CausticMethod::Photons, photons: 512, map_resolution: 256 }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Primitive {
     Box,
     Sphere,
@@ -330,6 +355,7 @@ impl Default for Scene {
             sines: SinesDesc::default(),
             render: RenderDesc::default(),
             floor: FloorDesc::default(),
+            caustics: CausticsDesc::default(),
             objects: Vec::new(),
             base_dir: std::path::PathBuf::new(),
         }

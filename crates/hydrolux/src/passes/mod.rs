@@ -3,6 +3,7 @@
 //! behind it) → water → tonemap (or a debug view); probe answers queries
 //! outside the frame.
 
+pub mod caustics;
 pub mod geometry;
 pub mod mips;
 pub mod ocean;

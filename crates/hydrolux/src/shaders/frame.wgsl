@@ -49,6 +49,9 @@ struct Frame {
     // x optics (0 physical, 1 simple), y refraction lookup (0 depth, 1 plane),
     // z shadow map in use (0/1), w shadow map size (texels).
     modes2: vec4<u32>,
+    // Floor caustics: xy patch (m; x = 0 when off), z the floor depth the map
+    // is for, w 1 / (the flat-water value of the map).
+    caustic_params: vec4<f32>,
 }
 
 const VIEW_FINAL: u32 = 0u;

@@ -88,7 +88,7 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     let visibility = sun_visibility(in.world, n);
     var irradiance: vec3<f32>;
     if (in.world.y < 0.0) {
-        irradiance = underwater_irradiance(-in.world.y, n, visibility);
+        irradiance = underwater_irradiance(-in.world.y, n, visibility * caustic_factor(in.world));
     } else {
         // Sun, sky from above, and light bounced off the ground and water
         // below (a grey world of albedo GROUND_ALBEDO), so the undersides

@@ -19,6 +19,7 @@ pub fn source() -> String {
         shaders::MEDIUM,
         shaders::SHADOW_SPACE,
         shaders::SHADOW_LOOKUP,
+        shaders::CAUSTICS_LOOKUP,
         include_str!("geometry_common.wgsl"),
         include_str!("geometry.wgsl"),
     ])

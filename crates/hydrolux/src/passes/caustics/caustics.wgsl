@@ -1,0 +1,99 @@
+// Surface caustics on the floor by photon splatting (seed 000 §4.5, after
+// Papadopoulos & Papaioannou 2009). One thread per photon of a regular grid
+// over the periodic surface patch: refract at the displaced surface (Snell),
+// weight by the Fresnel transmittance and by the sunlight its cell
+// intercepts, follow the ray to the floor plane, and add its energy to the
+// four nearest cells in fixed point (WebGPU has no float atomics). Then a
+// periodic 3×3 binomial filter into the map texture. CPU twin:
+// hydrolux_core::caustics (the unit and the formulas are documented there).
+
+struct CausticParams {
+    // x photons per side, y map cells per side (M).
+    counts: vec4<u32>,
+    // xy patch size (m), z floor depth (m), w fixed-point scale.
+    extent: vec4<f32>,
+}
+
+@group(2) @binding(0) var<uniform> params: CausticParams;
+@group(2) @binding(1) var<storage, read_write> accum: array<atomic<u32>>;
+@group(2) @binding(2) var map_out: texture_storage_2d<rgba16float, write>;
+
+@compute @workgroup_size(8, 8, 1)
+fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
+    let m = params.counts.y;
+    if (id.x < m && id.y < m) {
+        atomicStore(&accum[id.y * m + id.x], 0u);
+    }
+}
+
+fn deposit(i: i32, j: i32, value: f32) {
+    let m = i32(params.counts.y);
+    let cell = u32(((j % m) + m) % m) * u32(m) + u32(((i % m) + m) % m);
+    atomicAdd(&accum[cell], u32(value * params.extent.w + 0.5));
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = params.counts.x;
+    if (id.x >= n || id.y >= n) {
+        return;
+    }
+    let size = params.extent.xy;
+    let x0 = ((f32(id.x) + 0.5) / f32(n) - 0.5) * size.x;
+    let z0 = ((f32(id.y) + 0.5) / f32(n) - 0.5) * size.y;
+    let s = surface_sample_footprint(vec2<f32>(x0, z0), 0.0);
+    let tx = vec3<f32>(1.0 + s.dxx, s.slope.x, s.dxz);
+    let tz = vec3<f32>(s.dxz, s.slope.y, 1.0 + s.dzz);
+    let area_normal = cross(tz, tx);
+    let l = frame.sun_dir.xyz;
+    let shown = dot(area_normal, l);
+    if (shown <= 0.0) {
+        return;
+    }
+    let nrm = normalize(area_normal);
+    let ior = frame.water_body.w;
+    let t = 1.0 - fresnel_exact(dot(nrm, l), 1.0, ior);
+    let dir = refract(-l, nrm, 1.0 / ior);
+    if (dir.y > -1e-4) {
+        return;
+    }
+    let pos = vec3<f32>(x0 + s.disp.x, s.disp.y, z0 + s.disp.z);
+    let hit = pos + dir * ((pos.y + params.extent.z) / -dir.y);
+    let m = f32(params.counts.y);
+    let cell_area = size.x * size.y / (m * m);
+    let energy = shown * t * (size.x * size.y / f32(n * n)) / cell_area;
+    // Bilinear (tent) weights over the four nearest cell centres.
+    let f = (hit.xz / size + 0.5) * m - 0.5;
+    let base = floor(f);
+    let a = f - base;
+    let i = i32(base.x);
+    let j = i32(base.y);
+    deposit(i, j, energy * (1.0 - a.x) * (1.0 - a.y));
+    deposit(i + 1, j, energy * a.x * (1.0 - a.y));
+    deposit(i, j + 1, energy * (1.0 - a.x) * a.y);
+    deposit(i + 1, j + 1, energy * a.x * a.y);
+}
+
+fn accumulated(i: i32, j: i32) -> f32 {
+    let m = i32(params.counts.y);
+    return f32(atomicLoad(&accum[u32(((j % m) + m) % m) * u32(m) + u32(((i % m) + m) % m)])) / params.extent.w;
+}
+
+// Periodic [1 2 1]/4 × [1 2 1]/4 filter (seed 000 uses a 3×3 Gaussian).
+@compute @workgroup_size(8, 8, 1)
+fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let m = params.counts.y;
+    if (id.x >= m || id.y >= m) {
+        return;
+    }
+    let i = i32(id.x);
+    let j = i32(id.y);
+    var sum = 0.0;
+    for (var dj = -1; dj <= 1; dj++) {
+        for (var di = -1; di <= 1; di++) {
+            let w = (2.0 - f32(abs(di))) * (2.0 - f32(abs(dj))) / 16.0;
+            sum += w * accumulated(i + di, j + dj);
+        }
+    }
+    textureStore(map_out, vec2<i32>(i, j), vec4<f32>(sum, 0.0, 0.0, 1.0));
+}

@@ -1,0 +1,112 @@
+//! Surface caustics on the floor by photon splatting (`caustics.wgsl`; CPU
+//! twin `hydrolux_core::caustics`): clear the fixed-point accumulator, splat
+//! one photon per thread, resolve with a 3×3 filter into the map texture
+//! that receivers read (`shaders/caustics_lookup.wgsl`).
+
+use crate::gpu_util::*;
+use crate::shaders::{self, compose};
+use crate::timing::GpuTimer;
+
+pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Fixed-point scale of the accumulator: 2¹⁶ per unit of relative irradiance.
+pub const FIXED_POINT_SCALE: f32 = 65536.0;
+
+pub fn source() -> String {
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SURFACE, include_str!("caustics.wgsl")])
+}
+
+/// WGSL `CausticParams`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CausticUniforms {
+    pub counts: [u32; 4],
+    pub extent: [f32; 4],
+}
+
+/// The map and its accumulator for one photon count and map size.
+pub struct CausticMap {
+    pub photons_per_side: u32,
+    pub resolution: u32,
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    params: wgpu::Buffer,
+    group: wgpu::BindGroup,
+}
+
+pub struct CausticsPass {
+    layout: wgpu::BindGroupLayout,
+    clear: wgpu::ComputePipeline,
+    splat: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+}
+
+impl CausticsPass {
+    pub fn new(device: &wgpu::Device, frame_only: &wgpu::BindGroupLayout, surface: &wgpu::BindGroupLayout) -> Self {
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustics"),
+            entries: &[uniform_entry(0, cs), storage_entry(1, cs, false), storage_texture_entry(2, MAP_FORMAT, wgpu::TextureViewDimension::D2)],
+        });
+        let module = shader(device, "caustics", &source());
+        let p = |entry| compute_pipeline(device, entry, &module, entry, &[frame_only, surface, &layout]);
+        CausticsPass { clear: p("clear"), splat: p("splat"), resolve: p("resolve"), layout }
+    }
+
+    pub fn create_map(&self, device: &wgpu::Device, photons_per_side: u32, resolution: u32) -> CausticMap {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("caustic map"),
+            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: MAP_FORMAT,
+            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let accum = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("caustic accumulator"),
+            size: (resolution * resolution * 4) as u64,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let params = uniform_buffer(device, "caustic params", &CausticUniforms::default());
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("caustics"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: accum.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&view) },
+            ],
+        });
+        CausticMap { photons_per_side, resolution, texture, view, params, group }
+    }
+
+    /// Set the patch (m) and the floor depth (m) the photons land on.
+    pub fn prepare(&self, queue: &wgpu::Queue, map: &CausticMap, patch: [f32; 2], floor_depth: f32) {
+        let u = CausticUniforms {
+            counts: [map.photons_per_side, map.resolution, 0, 0],
+            extent: [patch[0], patch[1], floor_depth, FIXED_POINT_SCALE],
+        };
+        queue.write_buffer(&map.params, 0, bytemuck::bytes_of(&u));
+    }
+
+    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, frame_only: &wgpu::BindGroup, surface: &wgpu::BindGroup, map: &CausticMap, timer: Option<&mut GpuTimer>) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("caustics"),
+            timestamp_writes: timer.and_then(|t| t.compute_writes("caustics")),
+        });
+        pass.set_bind_group(0, frame_only, &[]);
+        pass.set_bind_group(1, surface, &[]);
+        pass.set_bind_group(2, &map.group, &[]);
+        let m = map.resolution.div_ceil(8);
+        let n = map.photons_per_side.div_ceil(8);
+        pass.set_pipeline(&self.clear);
+        pass.dispatch_workgroups(m, m, 1);
+        pass.set_pipeline(&self.splat);
+        pass.dispatch_workgroups(n, n, 1);
+        pass.set_pipeline(&self.resolve);
+        pass.dispatch_workgroups(m, m, 1);
+    }
+}
