@@ -71,8 +71,8 @@ fn surface_grid(renderer: &Renderer) -> (usize, Vec<SurfaceSample>) {
 /// What can be known before rendering: a caustics dump needs caustics.
 pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
     use hydrolux::core::scene::CausticMethod;
-    if dump.kind == DumpKind::Caustics && !(scene.caustics.method == CausticMethod::Photons && scene.floor.depth > 0.0 && scene.sun_direction().y > 0.0) {
-        bail!("--dump caustics: the scene has no caustics (it needs caustics.method = \"photons\", a floor (floor.depth > 0) and the sun up)");
+    if dump.kind == DumpKind::Caustics && !(scene.caustics.method != CausticMethod::Off && scene.floor.depth > 0.0 && scene.sun_direction().y > 0.0) {
+        bail!("--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)");
     }
     Ok(())
 }
@@ -83,7 +83,7 @@ pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
         (w as usize, h as usize, 3, px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
     } else if dump.kind == DumpKind::Caustics {
         let Some((m, map)) = renderer.read_caustics() else {
-            bail!("--dump caustics: the scene has no caustics (it needs caustics.method = \"photons\", a floor (floor.depth > 0) and the sun up)")
+            bail!("--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)")
         };
         (m as usize, m as usize, 1, map)
     } else {

@@ -449,7 +449,7 @@ impl Renderer {
     /// there is a floor to receive them and the sun is up.
     fn caustic_setup(&self) -> Option<([f32; 2], f32)> {
         let s = &self.scene;
-        let on = s.caustics.method == CausticMethod::Photons && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
+        let on = s.caustics.method != CausticMethod::Off && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
         on.then(|| ([s.ocean.patch_size, s.ocean.patch_size], s.floor.depth))
     }
 
@@ -591,7 +591,7 @@ impl Renderer {
         }
         if let Some((patch, depth)) = self.caustic_setup() {
             self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
-            self.caustics.record(&mut encoder, &self.frame_only, &self.surface.group, &self.caustic_map, None);
+            self.caustics.record(&mut encoder, &self.frame_only, &self.surface.group, &self.caustic_map, self.scene.caustics.method, None);
         }
         self.queue.submit([encoder.finish()]);
     }
@@ -632,7 +632,7 @@ impl Renderer {
         }
         if let Some((patch, depth)) = caustic_setup {
             self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
-            self.caustics.record(encoder, &self.frame_only, &self.surface.group, &self.caustic_map, timer.as_deref_mut());
+            self.caustics.record(encoder, &self.frame_only, &self.surface.group, &self.caustic_map, self.scene.caustics.method, timer.as_deref_mut());
         }
         let targets = self.targets.as_ref().expect("targets were just created");
         let globals = &self.shadow.globals;

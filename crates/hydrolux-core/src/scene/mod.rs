@@ -245,6 +245,9 @@ pub struct FloorDesc {
 pub enum CausticMethod {
     /// Photon splatting from the light (seed 000 §4.5).
     Photons,
+    /// Seed 001's backward lookup through the wave normal: cheap, not
+    /// energy-conserving.
+    Procedural,
     Off,
 }
 

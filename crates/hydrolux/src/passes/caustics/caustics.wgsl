@@ -97,3 +97,34 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     textureStore(map_out, vec2<i32>(i, j), vec4<f32>(sum, 0.0, 0.0, 1.0));
 }
+
+// Seed 001's backward method (procedural, cheap): from each map cell on the
+// floor, go back up the flat-refracted sunbeam to the surface, take the
+// wave's normal there (analytic derivatives), refract the sunlight through
+// it, and light the cell by how closely the bent ray points at the cell —
+// a soft sun map of angular radius SUN_MAP_RADIUS. Flat water gives the same
+// value as the photons (T·cos θ); it does not conserve energy under waves.
+const SUN_MAP_RADIUS: f32 = 0.04;
+
+@compute @workgroup_size(8, 8, 1)
+fn procedural(@builtin(global_invocation_id) id: vec3<u32>) {
+    let m = params.counts.y;
+    if (id.x >= m || id.y >= m) {
+        return;
+    }
+    let size = params.extent.xy;
+    let on_floor = (vec2<f32>(id.xy) + 0.5) / f32(m) - 0.5;
+    let floor_point = vec3<f32>(on_floor.x * size.x, -params.extent.z, on_floor.y * size.y);
+    let travel = frame.sun_travel.xyz;
+    let entry = floor_point - travel * (params.extent.z / max(frame.sun_travel.w, 1e-3));
+    let s = surface_sample_footprint(entry.xz, 0.0);
+    let nrm = surface_normal(s);
+    let l = frame.sun_dir.xyz;
+    let ior = frame.water_body.w;
+    let bent = refract(-l, nrm, 1.0 / ior);
+    let cos_angle = clamp(dot(bent, travel), -1.0, 1.0);
+    let angle2 = 2.0 * (1.0 - cos_angle);
+    let flat_value = (1.0 - fresnel_exact(l.y, 1.0, ior)) * max(l.y, 0.0);
+    let value = flat_value * exp(-0.5 * angle2 / (SUN_MAP_RADIUS * SUN_MAP_RADIUS));
+    textureStore(map_out, vec2<i32>(id.xy), vec4<f32>(value, 0.0, 0.0, 1.0));
+}

@@ -1,11 +1,13 @@
-//! Surface caustics on the floor by photon splatting (`caustics.wgsl`; CPU
-//! twin `hydrolux_core::caustics`): clear the fixed-point accumulator, splat
-//! one photon per thread, resolve with a 3×3 filter into the map texture
-//! that receivers read (`shaders/caustics_lookup.wgsl`).
+//! Surface caustics on the floor (`caustics.wgsl`): by photon splatting (CPU
+//! twin `hydrolux_core::caustics`) — clear the fixed-point accumulator, splat
+//! one photon per thread, resolve with a 3×3 filter — or by seed 001's
+//! procedural backward lookup, into the map texture that receivers read
+//! (`shaders/caustics_lookup.wgsl`).
 
 use crate::gpu_util::*;
 use crate::shaders::{self, compose};
 use crate::timing::GpuTimer;
+use hydrolux_core::scene::CausticMethod;
 
 pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Fixed-point scale of the accumulator: 2¹⁶ per unit of relative irradiance.
@@ -38,6 +40,7 @@ pub struct CausticsPass {
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
+    procedural: wgpu::ComputePipeline,
 }
 
 impl CausticsPass {
@@ -49,7 +52,7 @@ impl CausticsPass {
         });
         let module = shader(device, "caustics", &source());
         let p = |entry| compute_pipeline(device, entry, &module, entry, &[frame_only, surface, &layout]);
-        CausticsPass { clear: p("clear"), splat: p("splat"), resolve: p("resolve"), layout }
+        CausticsPass { clear: p("clear"), splat: p("splat"), resolve: p("resolve"), procedural: p("procedural"), layout }
     }
 
     pub fn create_map(&self, device: &wgpu::Device, photons_per_side: u32, resolution: u32) -> CausticMap {
@@ -92,7 +95,17 @@ impl CausticsPass {
         queue.write_buffer(&map.params, 0, bytemuck::bytes_of(&u));
     }
 
-    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, frame_only: &wgpu::BindGroup, surface: &wgpu::BindGroup, map: &CausticMap, timer: Option<&mut GpuTimer>) {
+    /// Fill the map with `method`'s caustics (photons: clear, splat, filter;
+    /// procedural: one backward lookup per cell).
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame_only: &wgpu::BindGroup,
+        surface: &wgpu::BindGroup,
+        map: &CausticMap,
+        method: CausticMethod,
+        timer: Option<&mut GpuTimer>,
+    ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("caustics"),
             timestamp_writes: timer.and_then(|t| t.compute_writes("caustics")),
@@ -102,6 +115,11 @@ impl CausticsPass {
         pass.set_bind_group(2, &map.group, &[]);
         let m = map.resolution.div_ceil(8);
         let n = map.photons_per_side.div_ceil(8);
+        if method == CausticMethod::Procedural {
+            pass.set_pipeline(&self.procedural);
+            pass.dispatch_workgroups(m, m, 1);
+            return;
+        }
         pass.set_pipeline(&self.clear);
         pass.dispatch_workgroups(m, m, 1);
         pass.set_pipeline(&self.splat);
