@@ -47,7 +47,7 @@ const ENUMS: &[(&str, &[&str])] = &[
     ("objects.primitive", &["box", "sphere", "cylinder", "plane"]),
     ("render.tonemap", &["aces", "clamp"]),
     ("render.view", &DebugView::NAMES),
-    ("caustics.method", &["photons", "procedural", "off"]),
+    ("caustics.method", &["photons", "beam", "procedural", "off"]),
 ];
 
 struct FlyCamera {

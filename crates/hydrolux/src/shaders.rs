@@ -45,6 +45,7 @@ pub fn all_for_validation() -> Vec<(String, String)> {
         ("geometry".to_string(), crate::passes::geometry::source()),
         ("geometry/shadow".to_string(), crate::passes::geometry::shadow_source()),
         ("caustics".to_string(), crate::passes::caustics::source()),
+        ("caustics/beam".to_string(), crate::passes::caustics::beam_source()),
     ];
     for n in [64u32, 256, 1024] {
         v.push((format!("ocean/fft N={n}"), crate::passes::ocean::fft_source(n)));

@@ -90,6 +90,7 @@ pub fn layouts() -> Vec<(&'static str, String, usize)> {
         ("SpectrumMode", crate::passes::ocean::spectrum_source(), size_of::<hydrolux_core::waves::ocean::SpectrumMode>()),
         ("View", crate::passes::geometry::source(), size_of::<ViewUniforms>()),
         ("CausticParams", crate::passes::caustics::source(), size_of::<crate::passes::caustics::CausticUniforms>()),
+        ("BeamParams", crate::passes::caustics::beam_source(), size_of::<crate::passes::caustics::CausticUniforms>()),
         ("Object", crate::passes::geometry::source(), size_of::<ObjectUniforms>()),
         ("AssembleParams", crate::passes::ocean::assemble_source(), size_of::<AssembleUniforms>()),
     ]

@@ -476,16 +476,20 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let common = ["caustics.photons=256", "caustics.map_resolution=64", "floor.depth=5", "sun.elevation_deg=55", "ocean.patch_size=16"];
 
-    let mut flat = common.to_vec();
-    flat.push("water.model=flat");
-    let s = scene(&flat);
-    let mut r = renderer(&ctx, &s);
-    r.simulate(&s.camera(), (16, 16), 0.0);
-    let (m, map) = r.read_caustics().expect("caustics are on");
-    assert_eq!(m, 64);
-    let want = flat_floor_irradiance(s.sun_direction(), s.water.ior);
-    for v in &map {
-        assert!((v - want).abs() < 2e-3, "flat water: {v} vs {want}");
+    // Every method is calibrated on flat water.
+    for method in ["photons", "beam", "procedural"] {
+        let mut flat = common.to_vec();
+        let m = format!("caustics.method={method}");
+        flat.extend(["water.model=flat", m.as_str()]);
+        let s = scene(&flat);
+        let mut r = renderer(&ctx, &s);
+        r.simulate(&s.camera(), (16, 16), 0.0);
+        let (m, map) = r.read_caustics().expect("caustics are on");
+        assert_eq!(m, 64);
+        let want = flat_floor_irradiance(s.sun_direction(), s.water.ior);
+        for v in &map {
+            assert!((v - want).abs() < 2e-3, "{method}, flat water: {v} vs {want}");
+        }
     }
 
     let mut waves = common.to_vec();
@@ -508,4 +512,14 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     assert!(corr > 0.95, "GPU and CPU caustic patterns correlate only {corr}");
     let max = gpu_map.iter().cloned().fold(0.0, f32::max);
     assert!(max > 1.4 * mg, "the waves should focus light: max {max}, mean {mg}");
+
+    // Beams conserve energy too: the same mean as the photons.
+    let mut beam = waves.clone();
+    beam.push("caustics.method=beam");
+    let s = scene(&beam);
+    let mut r = renderer(&ctx, &s);
+    r.simulate(&s.camera(), (16, 16), t);
+    let (_, beam_map) = r.read_caustics().expect("caustics are on");
+    let mb = mean(&beam_map);
+    assert!((mb - mc).abs() < 0.02 * mc, "beam mean {mb}, photon mean {mc}");
 }

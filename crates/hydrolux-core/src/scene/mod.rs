@@ -245,6 +245,9 @@ pub struct FloorDesc {
 pub enum CausticMethod {
     /// Photon splatting from the light (seed 000 §4.5).
     Photons,
+    /// Each surface triangle projected along its refracted rays onto the
+    /// floor, irradiance from the area ratio (seed 003 §4.2, eq. 28).
+    Beam,
     /// Seed 001's backward lookup through the wave normal: cheap, not
     /// energy-conserving.
     Procedural,

@@ -8,7 +8,7 @@
 // hydrolux_core::caustics (the unit and the formulas are documented there).
 
 struct CausticParams {
-    // x photons per side, y map cells per side (M).
+    // x photons per side, y map cells per side (M), z beam grid cells per side.
     counts: vec4<u32>,
     // xy patch size (m), z floor depth (m), w fixed-point scale.
     extent: vec4<f32>,

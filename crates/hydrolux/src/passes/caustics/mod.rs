@@ -1,7 +1,8 @@
 //! Surface caustics on the floor (`caustics.wgsl`): by photon splatting (CPU
 //! twin `hydrolux_core::caustics`) — clear the fixed-point accumulator, splat
 //! one photon per thread, resolve with a 3×3 filter — or by seed 001's
-//! procedural backward lookup, into the map texture that receivers read
+//! procedural backward lookup, or by projecting surface triangles onto the
+//! floor (`beam.wgsl`), into the map texture that receivers read
 //! (`shaders/caustics_lookup.wgsl`).
 
 use crate::gpu_util::*;
@@ -13,11 +14,15 @@ pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Fixed-point scale of the accumulator: 2¹⁶ per unit of relative irradiance.
 pub const FIXED_POINT_SCALE: f32 = 65536.0;
 
+pub fn beam_source() -> String {
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SURFACE, include_str!("beam.wgsl")])
+}
+
 pub fn source() -> String {
     compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SURFACE, include_str!("caustics.wgsl")])
 }
 
-/// WGSL `CausticParams`.
+/// WGSL `CausticParams` (and `BeamParams`, the same layout).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct CausticUniforms {
@@ -33,6 +38,8 @@ pub struct CausticMap {
     pub view: wgpu::TextureView,
     params: wgpu::Buffer,
     group: wgpu::BindGroup,
+    /// The beam method's inputs (the map is its render target, so not bound).
+    beam_group: wgpu::BindGroup,
 }
 
 pub struct CausticsPass {
@@ -41,6 +48,8 @@ pub struct CausticsPass {
     splat: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
     procedural: wgpu::ComputePipeline,
+    beam_layout: wgpu::BindGroupLayout,
+    beam: wgpu::RenderPipeline,
 }
 
 impl CausticsPass {
@@ -52,7 +61,29 @@ impl CausticsPass {
         });
         let module = shader(device, "caustics", &source());
         let p = |entry| compute_pipeline(device, entry, &module, entry, &[frame_only, surface, &layout]);
-        CausticsPass { clear: p("clear"), splat: p("splat"), resolve: p("resolve"), procedural: p("procedural"), layout }
+        let beam_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustics beam"),
+            entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT)],
+        });
+        let beam_module = shader(device, "caustics beam", &beam_source());
+        let add = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+        let beam = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("caustics beam"),
+            layout: Some(&pipeline_layout(device, "caustics beam", &[frame_only, surface, &beam_layout])),
+            vertex: wgpu::VertexState { module: &beam_module, entry_point: Some("vs_beam"), compilation_options: Default::default(), buffers: &[] },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &beam_module,
+                entry_point: Some("fs_beam"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState { format: MAP_FORMAT, blend: Some(wgpu::BlendState { color: add, alpha: add }), write_mask: wgpu::ColorWrites::ALL })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        CausticsPass { clear: p("clear"), splat: p("splat"), resolve: p("resolve"), procedural: p("procedural"), layout, beam_layout, beam }
     }
 
     pub fn create_map(&self, device: &wgpu::Device, photons_per_side: u32, resolution: u32) -> CausticMap {
@@ -63,7 +94,7 @@ impl CausticsPass {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: MAP_FORMAT,
-            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::RENDER_ATTACHMENT,
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
@@ -83,16 +114,28 @@ impl CausticsPass {
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&view) },
             ],
         });
-        CausticMap { photons_per_side, resolution, texture, view, params, group }
+        let beam_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("caustics beam"),
+            layout: &self.beam_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() }],
+        });
+        CausticMap { photons_per_side, resolution, texture, view, params, group, beam_group }
     }
 
-    /// Set the patch (m) and the floor depth (m) the photons land on.
+    /// Set the patch (m) and the floor depth (m) the light lands on.
     pub fn prepare(&self, queue: &wgpu::Queue, map: &CausticMap, patch: [f32; 2], floor_depth: f32) {
         let u = CausticUniforms {
-            counts: [map.photons_per_side, map.resolution, 0, 0],
+            counts: [map.photons_per_side, map.resolution, Self::beam_cells(map), 0],
             extent: [patch[0], patch[1], floor_depth, FIXED_POINT_SCALE],
         };
         queue.write_buffer(&map.params, 0, bytemuck::bytes_of(&u));
+    }
+
+    /// Grid cells per side of the beam method: half the map's, so that each
+    /// projected triangle covers a few texels (smaller ones would fall
+    /// between texel centres and make noise).
+    pub fn beam_cells(map: &CausticMap) -> u32 {
+        (map.resolution / 2).max(8)
     }
 
     /// Fill the map with `method`'s caustics (photons: clear, splat, filter;
@@ -106,6 +149,29 @@ impl CausticsPass {
         method: CausticMethod,
         timer: Option<&mut GpuTimer>,
     ) {
+        if method == CausticMethod::Beam {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("caustics beam"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &map.view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: timer.and_then(|t| t.render_writes("caustics")),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.beam);
+            pass.set_bind_group(0, frame_only, &[]);
+            pass.set_bind_group(1, surface, &[]);
+            pass.set_bind_group(2, &map.beam_group, &[]);
+            // The beam grid; 9 instances for the periodic neighbours.
+            let cells = Self::beam_cells(map) * Self::beam_cells(map);
+            pass.draw(0..cells * 6, 0..9);
+            return;
+        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("caustics"),
             timestamp_writes: timer.and_then(|t| t.compute_writes("caustics")),
