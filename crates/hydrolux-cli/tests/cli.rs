@@ -97,7 +97,7 @@ fn scenes_with_mesh_files_and_every_debug_view_render() {
     let scene = "[floor]\ndepth = 3\n[[objects]]\nmesh = \"tetra.obj\"\nposition = [0, -0.5, -8]\nscale = [2, 2, 2]\n";
     std::fs::write(dir.join("mesh.toml"), scene).unwrap();
     let mut images = Vec::new();
-    for view in ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium"] {
+    for view in ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"] {
         let out = format!("{view}.png");
         let (code, err) = hydrolux(&["render", "--scene", "mesh.toml", "--view", view, "--width", "64", "--height", "36", "--out", &out], &dir);
         assert_eq!(code, 0, "{view}: {err}");

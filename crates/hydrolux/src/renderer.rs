@@ -509,6 +509,7 @@ impl Renderer {
                     DebugView::Normals => 4,
                     DebugView::Shadow => 5,
                     DebugView::Medium => 6,
+                    DebugView::Caustics => 7,
                 },
             ],
             viewport: [size.0 as f32, size.1 as f32, 1.0 / size.0.max(1) as f32, 1.0 / size.1.max(1) as f32],

@@ -343,10 +343,12 @@ pub enum DebugView {
     Shadow,
     /// Each pixel's medium (air or water) from the stencil classification.
     Medium,
+    /// The floor caustic map (over the patch, letterboxed).
+    Caustics,
 }
 
 impl DebugView {
-    pub const NAMES: [&'static str; 7] = ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium"];
+    pub const NAMES: [&'static str; 8] = ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"];
 }
 
 impl Default for Scene {

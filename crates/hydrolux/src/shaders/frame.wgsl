@@ -61,6 +61,7 @@ const VIEW_DEPTH: u32 = 3u;
 const VIEW_NORMALS: u32 = 4u;
 const VIEW_SHADOW: u32 = 5u;
 const VIEW_MEDIUM: u32 = 6u;
+const VIEW_CAUSTICS: u32 = 7u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 

@@ -8,7 +8,7 @@ use crate::timing::GpuTimer;
 
 pub fn source(srgb_target: bool) -> String {
     let c = format!("const OUTPUT_SRGB_CURVE: bool = {};\n", !srgb_target);
-    compose(&[&c, shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::TONEMAP_CURVE, include_str!("tonemap.wgsl")])
+    compose(&[&c, shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::TONEMAP_CURVE, shaders::CAUSTICS_LOOKUP, include_str!("tonemap.wgsl")])
 }
 
 pub struct TonemapPass {

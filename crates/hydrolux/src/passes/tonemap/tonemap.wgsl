@@ -2,7 +2,7 @@
 // one of the debug views (frame.modes.w) instead: the reflection or
 // refraction texture (tone mapped), the depth buffer (log distance), world
 // normals (written raw by the geometry and water shaders), the sun's
-// shadow map, or each pixel's medium (the stencil). modes.z: 0 ACES, 1 clamp. If the target is not an sRGB
+// shadow map, each pixel's medium (the stencil), or the floor caustic map. modes.z: 0 ACES, 1 clamp. If the target is not an sRGB
 // format the transfer curve is applied here (OUTPUT_SRGB_CURVE prepended).
 
 @group(1) @binding(0) var hdr: texture_2d<f32>;
@@ -22,6 +22,12 @@ fn tone(c: vec3<f32>) -> vec3<f32> {
         return aces_filmic(c);
     }
     return clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// A square texture letterboxed into the output: its coordinates here.
+fn letterbox(pos: vec2<f32>) -> vec2<f32> {
+    let side = min(frame.viewport.x, frame.viewport.y);
+    return (pos - 0.5 * (frame.viewport.xy - side)) / side;
 }
 
 // The texel of a texture of another size under this output pixel.
@@ -53,13 +59,21 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             mapped = vec3<f32>(g);
         }
         case VIEW_SHADOW: {
-            // The square map, letterboxed into the output.
-            let side = min(frame.viewport.x, frame.viewport.y);
-            let uv = (pos.xy - 0.5 * (frame.viewport.xy - side)) / side;
             mapped = vec3<f32>(0.0, 0.0, 0.15);
+            let uv = letterbox(pos.xy);
             if (all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0))) {
                 let dims = vec2<f32>(textureDimensions(shadow_tex));
                 mapped = vec3<f32>(1.0 - textureLoad(shadow_tex, vec2<i32>(uv * dims), 0));
+            }
+        }
+        case VIEW_CAUSTICS: {
+            // Relative floor irradiance: the flat-water value is mid grey.
+            mapped = vec3<f32>(0.0, 0.0, 0.15);
+            let uv = letterbox(pos.xy);
+            if (all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0))) {
+                let dims = vec2<f32>(textureDimensions(caustic_map));
+                let c = textureLoad(caustic_map, vec2<i32>(uv * dims), 0).r * frame.caustic_params.w;
+                mapped = vec3<f32>(0.5 * c);
             }
         }
         case VIEW_MEDIUM: {
