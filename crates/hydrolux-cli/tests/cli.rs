@@ -53,6 +53,9 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--view", "xray"], "render.view"),
         (&["render", "--dump", "caustics=c.npy"], "the scene has no caustics"),
         (&["render", "--set", "caustics.photons=3"], "`caustics.photons` = 3 is out of range"),
+        (&["render", "--set", "water.model=heightfield"], "water.heightfield"),
+        (&["render", "--set", "water.model=heightfield", "--set", "water.heightfield=nope.npy"], "cannot load heightfield nope.npy: no such file"),
+        (&["render", "--set", "water.model=heightfield", "--set", "water.heightfield=broken.toml"], "cannot load heightfield broken.toml: not a .npy file"),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);

@@ -1,4 +1,5 @@
-//! NumPy `.npy` (format 1.0) writer for float32 buffers: the `--dump` format.
+//! NumPy `.npy` float32 buffers: the writer of the `--dump` format, and a
+//! reader for 2-D inputs (user heightfields).
 
 /// Encode a C-ordered little-endian float32 array of `shape`.
 pub fn encode_f32(shape: &[usize], data: &[f32]) -> Vec<u8> {
@@ -20,8 +21,74 @@ pub fn encode_f32(shape: &[usize], data: &[f32]) -> Vec<u8> {
     out
 }
 
+/// Decode a 2-D C-ordered float32 (`<f4`, or `<f8` converted) array:
+/// (rows, cols, data). Errors are short reasons, for the caller to put the
+/// file's name on.
+pub fn decode_f32_2d(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
+    if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
+        return Err("not a .npy file".into());
+    }
+    let (header_len, start) = match bytes[6] {
+        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
+        2 | 3 if bytes.len() >= 12 => (u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize, 12),
+        v => return Err(format!("unsupported .npy version {v}")),
+    };
+    let header = std::str::from_utf8(bytes.get(start..start + header_len).ok_or("truncated header")?).map_err(|_| "header is not text")?;
+    let wide = if header.contains("'<f4'") {
+        false
+    } else if header.contains("'<f8'") {
+        true
+    } else {
+        return Err("the array must be float32 ('<f4') or float64 ('<f8'), little-endian".into());
+    };
+    if header.contains("'fortran_order': True") {
+        return Err("the array must be C-ordered (fortran_order False)".into());
+    }
+    let shape_txt = header.split("'shape':").nth(1).and_then(|r| r.split(')').next()).ok_or("no shape in the header")?;
+    let dims: Vec<usize> = shape_txt
+        .trim()
+        .trim_start_matches('(')
+        .split(',')
+        .map(str::trim)
+        .filter(|d| !d.is_empty())
+        .map(|d| d.parse::<usize>().map_err(|_| format!("bad shape entry `{d}`")))
+        .collect::<Result<_, _>>()?;
+    let [rows, cols] = dims[..] else {
+        return Err(format!("the array must be 2-D (rows = z, cols = x), not {}-D", dims.len()));
+    };
+    let body = &bytes[start + header_len..];
+    let size = if wide { 8 } else { 4 };
+    if body.len() < rows * cols * size {
+        return Err(format!("the data is shorter than the shape ({rows}, {cols}) needs"));
+    }
+    let data: Vec<f32> = if wide {
+        body.chunks_exact(8).take(rows * cols).map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")) as f32).collect()
+    } else {
+        body.chunks_exact(4).take(rows * cols).map(|b| f32::from_le_bytes(b.try_into().expect("4 bytes"))).collect()
+    };
+    if data.iter().any(|v| !v.is_finite()) {
+        return Err("it contains NaN or infinite heights".into());
+    }
+    Ok((rows, cols, data))
+}
+
 #[cfg(test)]
 mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_bad_inputs() {
+        let data: Vec<f32> = (0..6).map(|i| i as f32 * 0.5).collect();
+        let (r, c, back) = decode_f32_2d(&encode_f32(&[2, 3], &data)).unwrap();
+        assert_eq!((r, c), (2, 3));
+        assert_eq!(back, data);
+        assert!(decode_f32_2d(b"garbage").unwrap_err().contains("not a .npy"));
+        assert!(decode_f32_2d(&encode_f32(&[6], &data)).unwrap_err().contains("2-D"));
+        let mut short = encode_f32(&[2, 3], &data);
+        short.truncate(short.len() - 4);
+        assert!(decode_f32_2d(&short).unwrap_err().contains("shorter"));
+    }
+
     #[test]
     fn header_is_aligned_and_data_follows() {
         let b = super::encode_f32(&[2, 3], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);

@@ -4,6 +4,7 @@
 //! scene → water → tonemap (or a debug view).
 
 use crate::gpu_util::*;
+use wgpu::util::DeviceExt;
 use crate::passes::caustics::{CausticMap, CausticsPass};
 use crate::passes::geometry::{GeometryPass, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding};
 use crate::passes::mips::Downsampler;
@@ -145,6 +146,7 @@ impl Renderer {
                 texture_entry(3, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(4, all),
                 sampler_entry(5, all),
+                texture_entry(6, all, wgpu::TextureViewDimension::D2, false),
             ],
         });
         let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
@@ -207,7 +209,7 @@ impl Renderer {
         let water = WaterPass::new(device, &globals_layout, &surface_layout, &water_inputs_layout, main_depth_format);
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
-        let surface = Self::build_surface(device, &downsampler, &surface_layout, &surface_buffer, scene)?;
+        let surface = Self::build_surface(device, queue, &downsampler, &surface_layout, &surface_buffer, scene)?;
         let timer = GpuTimer::new(device, queue);
         let mut r = Renderer {
             device: device.clone(),
@@ -284,6 +286,7 @@ impl Renderer {
 
     fn build_surface(
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         downsampler: &Downsampler,
         layout: &wgpu::BindGroupLayout,
         buffer: &wgpu::Buffer,
@@ -313,6 +316,29 @@ impl Renderer {
         let ocean = OceanPass::new(device, &spectrum, downsampler)?;
         let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
         let (v1, v2, v3) = (view(&ocean.textures.displacement), view(&ocean.textures.derivative), view(&ocean.textures.moments));
+        let heightfield = match scene.water.model {
+            WaterModel::Heightfield => Some(scene.load_heightfield()?),
+            _ => None,
+        };
+        let heightfield_view = {
+            let (w, h, data) = heightfield.as_ref().map_or((1, 1, vec![0.0f32]), |f| (f.nx as u32, f.nz as u32, f.heights.clone()));
+            let texture = device.create_texture_with_data(
+                queue,
+                &wgpu::TextureDescriptor {
+                    label: Some("heightfield"),
+                    size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::R32Float,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                },
+                wgpu::util::TextureDataOrder::LayerMajor,
+                bytemuck::cast_slice(&data),
+            );
+            texture.create_view(&Default::default())
+        };
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("surface"),
             layout,
@@ -323,6 +349,7 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&v3) },
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&samplers[0]) },
                 wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&samplers[1]) },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&heightfield_view) },
             ],
         });
         let sea = scene.sea_state();
@@ -333,6 +360,19 @@ impl Renderer {
             WaterModel::Fft => spectrum.expected_slope_variance(),
             WaterModel::Sines => sines.slope_variance(),
             WaterModel::Flat => [0.0, 0.0],
+            WaterModel::Heightfield => heightfield.as_ref().map_or([0.0, 0.0], |f| {
+                let n = (f.nx * f.nz) as f64;
+                let mut v = [0.0f64; 2];
+                for j in 0..f.nz {
+                    for i in 0..f.nx {
+                        let (x, z) = ((i as f32 / f.nx as f32 - 0.5) * f.size[0], (j as f32 / f.nz as f32 - 0.5) * f.size[1]);
+                        let s = f.sample(x, z);
+                        v[0] += (s.slope[0] as f64).powi(2) / n;
+                        v[1] += (s.slope[1] as f64).powi(2) / n;
+                    }
+                }
+                v
+            }),
         };
         // What the geometry and textures do not carry. At least a quarter of the
         // Cox–Munk total stays sub-pixel: capillary ripples are never resolved,
@@ -344,6 +384,8 @@ impl Renderer {
             WaterModel::Fft => 4.0 * spectrum.expected_variance().sqrt(),
             WaterModel::Sines => 4.0 * sines.waves.iter().map(|w| w.amplitude * w.amplitude / 2.0).sum::<f64>().sqrt(),
             WaterModel::Flat => 0.0,
+            // Hs = 4σ would undercount a user's steep single waves: use the peak.
+            WaterModel::Heightfield => heightfield.as_ref().map_or(0.0, |f| 2.0 * f.max_abs() as f64),
         };
         let bounds_margin = (3.0 * hs * (1.0 + scene.ocean.choppiness as f64 + scene.sines.gerstner as f64) + 1.0) as f32;
         let vertical_reach = (1.5 * hs * (1.0 + scene.sines.gerstner as f64 * (scene.water.model == WaterModel::Sines) as u8 as f64)) as f32 + 0.1;
@@ -372,9 +414,12 @@ impl Renderer {
             || scene.sines != self.scene.sines
             || scene.water.model != self.scene.water.model
             || scene.water.roughness_scale != self.scene.water.roughness_scale
+            || scene.water.heightfield != self.scene.water.heightfield
+            || scene.water.size != self.scene.water.size
+            || scene.base_dir != self.scene.base_dir
             || scene.render.anisotropy != self.scene.render.anisotropy;
         if surface_changed || scene.ocean_settings() != self.surface.ocean_settings {
-            self.surface = Self::build_surface(&self.device, &self.downsampler, &self.surface_layout, &self.surface_buffer, scene)?;
+            self.surface = Self::build_surface(&self.device, &self.queue, &self.downsampler, &self.surface_layout, &self.surface_buffer, scene)?;
         }
         if scene.floor != self.scene.floor || scene.objects != self.scene.objects || scene.base_dir != self.scene.base_dir {
             self.geometry = self.geometry_pass.upload(&self.device, &self.queue, scene)?;
@@ -450,7 +495,7 @@ impl Renderer {
     fn caustic_setup(&self) -> Option<([f32; 2], f32)> {
         let s = &self.scene;
         let on = s.caustics.method != CausticMethod::Off && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
-        on.then(|| ([s.ocean.patch_size, s.ocean.patch_size], s.floor.depth))
+        on.then(|| (s.surface_patch(), s.floor.depth))
     }
 
     /// Texels of the reflection texture per radian of view angle (at its
@@ -480,6 +525,7 @@ impl Renderer {
             WaterModel::Fft => 0,
             WaterModel::Sines => 1,
             WaterModel::Flat => 2,
+            WaterModel::Heightfield => 3,
         };
         let u = FrameUniforms {
             view_proj: view_proj.to_cols_array_2d(),
@@ -565,10 +611,15 @@ impl Renderer {
         for (i, c) in self.surface.ocean_settings.cascades().iter().enumerate().take(4) {
             u.cascade_sizes[i] = c.patch_size as f32;
         }
+        if s.water.model == WaterModel::Heightfield {
+            u.cascade_sizes[0] = s.water.size[0];
+            u.cascade_sizes[1] = s.water.size[1];
+        }
         let model = match s.water.model {
             WaterModel::Fft => 0,
             WaterModel::Sines => 1,
             WaterModel::Flat => 2,
+            WaterModel::Heightfield => 3,
         };
         let waves = &self.surface.sines.waves;
         u.counts = [self.surface.ocean.cascades, model, waves.len().min(MAX_SINE_WAVES) as u32, self.surface.ocean.n];

@@ -523,3 +523,44 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     let mb = mean(&beam_map);
     assert!((mb - mc).abs() < 0.02 * mc, "beam mean {mb}, photon mean {mc}");
 }
+
+/// A user's surface (`water.model = "heightfield"`, a .npy), from a scene
+/// file with only [water], [floor], [sun] and [caustics]: the GPU photon map
+/// matches the CPU tracer on the very same surface.
+#[test]
+fn caustics_under_a_given_heightfield_match_the_cpu_tracer() {
+    use hydrolux::core::caustics::{PhotonSettings, trace_floor_caustics};
+    use hydrolux::core::waves::heightfield::Heightfield;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let (n, l) = (64usize, 8.0f32);
+    let k = std::f32::consts::TAU / l;
+    let heights: Vec<f32> = (0..n * n)
+        .map(|idx| {
+            let (x, z) = ((idx % n) as f32 / n as f32 * l, (idx / n) as f32 / n as f32 * l);
+            0.04 * (2.0 * k * x).sin() + 0.03 * (3.0 * k * z + 1.0).sin() + 0.02 * (k * (x + 2.0 * z)).cos()
+        })
+        .collect();
+    let path = std::env::temp_dir().join(format!("hydrolux-heightfield-{}.npy", std::process::id()));
+    std::fs::write(&path, hydrolux::core::npy::encode_f32(&[n, n], &heights)).unwrap();
+    let text = format!(
+        "[water]\nmodel = \"heightfield\"\nheightfield = \"{}\"\nsize = [{l}, {l}]\n[floor]\ndepth = 3.0\n[sun]\nelevation_deg = 60.0\n[caustics]\nphotons = 256\nmap_resolution = 64\n",
+        path.display()
+    );
+    let s = Scene::from_toml(&text, "test", &[]).expect("valid scene");
+    let mut r = renderer(&ctx, &s);
+    r.simulate(&s.camera(), (16, 16), 0.0);
+    let (_, gpu_map) = r.read_caustics().expect("caustics are on");
+    let field = Heightfield { nx: n, nz: n, size: [l, l], heights };
+    let p = PhotonSettings { photons_per_side: 256, map_resolution: 64, patch: [l, l], floor_depth: 3.0, ior: s.water.ior, sun_dir: s.sun_direction() };
+    let cpu_map = trace_floor_caustics(|x, z| field.sample(x, z), &p).0.blurred().irradiance;
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    let (mg, mc) = (mean(&gpu_map), mean(&cpu_map));
+    assert!((mg - mc).abs() < 0.02 * mc, "GPU mean {mg}, CPU mean {mc}");
+    let cov: f32 = gpu_map.iter().zip(&cpu_map).map(|(a, b)| (a - mg) * (b - mc)).sum();
+    let var = |v: &[f32], m: f32| v.iter().map(|a| (a - m) * (a - m)).sum::<f32>();
+    let corr = cov / (var(&gpu_map, mg) * var(&cpu_map, mc)).sqrt();
+    assert!(corr > 0.97, "correlation {corr}");
+    let max = cpu_map.iter().cloned().fold(0.0, f32::max);
+    assert!(max > 1.3 * mc, "this surface focuses light: max {max}, mean {mc}");
+    let _ = std::fs::remove_file(&path);
+}

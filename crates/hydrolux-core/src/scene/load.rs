@@ -169,7 +169,7 @@ fn check_value(v: &mut Value, expected: &Value, path: &str, origin: &str, root: 
     }
 }
 
-/// Parse `section.key=value` (value is TOML; a bare word is a string).
+/// Parse `section.key=value` (value is TOML; a bare word or path is a string).
 pub fn parse_override(text: &str) -> Result<(Vec<String>, Value), SceneError> {
     let bad = |reason: &str| SceneError::BadOverride { text: text.into(), reason: reason.into() };
     let (key, raw) = text.split_once('=').ok_or_else(|| bad("expected section.key=value"))?;
@@ -180,7 +180,8 @@ pub fn parse_override(text: &str) -> Result<(Vec<String>, Value), SceneError> {
     let raw = raw.trim();
     let value = match format!("v = {raw}").parse::<Table>() {
         Ok(mut t) => t.remove("v").ok_or_else(|| bad("no value"))?,
-        Err(_) if !raw.is_empty() && raw.chars().all(|c| c.is_alphanumeric() || c == '-' || c == '_') => {
+        // Bare words (names, file paths) are strings.
+        Err(_) if !raw.is_empty() && raw.chars().all(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | '.' | '/')) => {
             Value::String(raw.to_string())
         }
         Err(_) => return Err(bad(&format!("`{raw}` is not a TOML value (quote strings, arrays look like [1, 2, 3])"))),
@@ -345,6 +346,16 @@ impl Scene {
         }
         range("render.reflection_resolution", r.reflection_resolution, r.reflection_resolution > 0.05 && r.reflection_resolution <= 1.0, "must be in (0.05, 1]")?;
         range("render.fov_margin", r.fov_margin, (0.0..=2.0).contains(&r.fov_margin), "must be in [0, 2]")?;
+        if w.model == WaterModel::Heightfield && w.heightfield.is_empty() {
+            return Err(SceneError::OutOfRange {
+                key: "water.heightfield".into(),
+                value: "\"\"".into(),
+                allowed: "must name a float32 .npy file when water.model = \"heightfield\"".into(),
+            });
+        }
+        for (i, v) in w.size.iter().enumerate() {
+            range(&format!("water.size[{i}]"), *v, *v > 0.0 && *v <= 100_000.0, "must be in (0, 100000] m")?;
+        }
         range("water.fresnel_power", w.fresnel_power, w.fresnel_power > 0.0 && w.fresnel_power <= 50.0, "must be in (0, 50]")?;
         for (name, v) in [("absorption", w.absorption), ("scattering", w.scattering)] {
             for (i, c) in v.iter().enumerate() {

@@ -104,6 +104,8 @@ pub enum WaterModel {
     Fft,
     Sines,
     Flat,
+    /// A user-given surface: `water.heightfield` (.npy) over `water.size`.
+    Heightfield,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -150,6 +152,11 @@ pub enum RefractionLookup {
 #[serde(default, deny_unknown_fields)]
 pub struct WaterDesc {
     pub model: WaterModel,
+    /// `model = "heightfield"`: a float32 .npy, row = z, col = x, a
+    /// corner-sampled periodic grid over `size` = [Lx, Lz] m centred at the
+    /// origin, mean level y = 0, tiling the plane.
+    pub heightfield: String,
+    pub size: [f32; 2],
     pub ior: f32,
     pub fresnel: Fresnel,
     /// Exponent q of `fresnel = "power"`: R = (1 − E·N)^q (seed 002 eq. 3).
@@ -411,6 +418,8 @@ impl Default for WaterDesc {
     fn default() -> Self {
         WaterDesc {
             model: WaterModel::Fft,
+            heightfield: String::new(),
+            size: [10.0, 10.0],
             ior: crate::optics::IOR_WATER,
             fresnel: Fresnel::Exact,
             fresnel_power: 5.0,
@@ -552,6 +561,24 @@ impl Scene {
             }
         };
         preset.medium()
+    }
+
+    /// Load `water.heightfield` (for `water.model = "heightfield"`).
+    pub fn load_heightfield(&self) -> Result<crate::waves::heightfield::Heightfield, crate::geometry::load::AssetError> {
+        let path = self.resolve_path(&self.water.heightfield);
+        let fail = |reason: String| crate::geometry::load::AssetError { what: "heightfield", path: path.display().to_string(), reason };
+        let bytes = std::fs::read(&path).map_err(|e| fail(if e.kind() == std::io::ErrorKind::NotFound { "no such file".into() } else { e.to_string() }))?;
+        let (rows, cols, heights) = crate::npy::decode_f32_2d(&bytes).map_err(fail)?;
+        if rows < 2 || cols < 2 {
+            return Err(fail(format!("it must be at least 2×2, not {rows}×{cols}")));
+        }
+        Ok(crate::waves::heightfield::Heightfield { nx: cols, nz: rows, size: self.water.size, heights })
+    }
+
+    /// The periodic patch the caustic map covers (m): the heightfield's, or
+    /// the largest FFT cascade's.
+    pub fn surface_patch(&self) -> [f32; 2] {
+        if self.water.model == WaterModel::Heightfield { self.water.size } else { [self.ocean.patch_size; 2] }
     }
 
     /// A path from the scene, relative to the scene file's folder.

@@ -2,6 +2,7 @@
 //! 001's analytic-derivative wave function, Gerstner optional), and flat water.
 
 pub mod dispersion;
+pub mod heightfield;
 pub mod ocean;
 pub mod sines;
 pub mod spectrum;

@@ -1,11 +1,12 @@
 // The water surface, whichever model makes it (group 1): FFT cascades read
 // from textures, or a sum of directional (Gerstner) waves with analytic
-// derivatives (seed 001), or flat water. Twins: hydrolux_core::waves.
+// derivatives (seed 001), flat water, or a user's heightfield. Twins:
+// hydrolux_core::waves.
 
 struct SurfaceParams {
-    // Patch size (m) of each FFT cascade.
+    // Patch size (m) of each FFT cascade; for a heightfield, xy its [Lx, Lz].
     cascade_sizes: vec4<f32>,
-    // x cascades, y model (0 fft, 1 sines, 2 flat), z sine count, w FFT resolution N.
+    // x cascades, y model (0 fft, 1 sines, 2 flat, 3 heightfield), z sine count, w FFT resolution N.
     counts: vec4<u32>,
     // kx, kz, amplitude, phase (rad) of each sine wave.
     waves: array<vec4<f32>, 64>,
@@ -25,6 +26,8 @@ struct SurfaceParams {
 // Anisotropic, for gradient reads in fragments (explicit-LOD reads must not
 // use it: some drivers then filter anisotropically anyway, i.e. blur).
 @group(1) @binding(5) var surface_sampler_aniso: sampler;
+// A user's heights (model 3): row = z, col = x, corner-sampled, periodic.
+@group(1) @binding(6) var heightfield_tex: texture_2d<f32>;
 
 struct SurfaceSample {
     disp: vec3<f32>,
@@ -115,10 +118,42 @@ fn fft_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSam
     return s;
 }
 
+fn heightfield_texel(i: i32, j: i32) -> f32 {
+    let dims = vec2<i32>(textureDimensions(heightfield_tex));
+    return textureLoad(heightfield_tex, vec2<i32>(((i % dims.x) + dims.x) % dims.x, ((j % dims.y) + dims.y) % dims.y), 0).r;
+}
+
+// Bilinear height; sample (0, 0) sits at (−Lx/2, −Lz/2).
+fn heightfield_height(p: vec2<f32>) -> f32 {
+    let dims = vec2<f32>(textureDimensions(heightfield_tex));
+    let f = (p / surface.cascade_sizes.xy + 0.5) * dims;
+    let base = floor(f);
+    let a = f - base;
+    let i = i32(base.x);
+    let j = i32(base.y);
+    let top = mix(heightfield_texel(i, j), heightfield_texel(i + 1, j), a.x);
+    let bottom = mix(heightfield_texel(i, j + 1), heightfield_texel(i + 1, j + 1), a.x);
+    return mix(top, bottom, a.y);
+}
+
+// Heights and central-difference slopes one cell apart (twin:
+// hydrolux_core::waves::heightfield::Heightfield::sample).
+fn heightfield_sample(p: vec2<f32>) -> SurfaceSample {
+    var s = zero_sample();
+    let cell = surface.cascade_sizes.xy / vec2<f32>(textureDimensions(heightfield_tex));
+    s.disp.y = heightfield_height(p);
+    s.slope = vec2<f32>(
+        (heightfield_height(p + vec2<f32>(cell.x, 0.0)) - heightfield_height(p - vec2<f32>(cell.x, 0.0))) / (2.0 * cell.x),
+        (heightfield_height(p + vec2<f32>(0.0, cell.y)) - heightfield_height(p - vec2<f32>(0.0, cell.y))) / (2.0 * cell.y),
+    );
+    return s;
+}
+
 fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
     switch surface.counts.y {
         case 0u: { return fft_sample_footprint(p, footprint); }
         case 1u: { return sines_sample(p, footprint); }
+        case 3u: { return heightfield_sample(p); }
         default: { return zero_sample(); }
     }
 }
@@ -127,6 +162,7 @@ fn surface_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> Surfac
     switch surface.counts.y {
         case 0u: { return fft_sample_grad(p, dpdx, dpdy); }
         case 1u: { return sines_sample(p, max(length(dpdx), length(dpdy))); }
+        case 3u: { return heightfield_sample(p); }
         default: { return zero_sample(); }
     }
 }
