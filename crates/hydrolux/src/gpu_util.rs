@@ -125,6 +125,15 @@ pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::
 
 /// Copy level 0 of one aspect of a texture (e.g. the stencil) to the CPU.
 pub fn read_texture_aspect(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32, aspect: wgpu::TextureAspect) -> Vec<u8> {
+    read_texture_region(device, queue, texture, bytes_per_pixel, aspect, 0)
+}
+
+/// Copy level 0 of one layer of an array texture to the CPU.
+pub fn read_texture_layer(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32, layer: u32) -> Vec<u8> {
+    read_texture_region(device, queue, texture, bytes_per_pixel, wgpu::TextureAspect::All, layer)
+}
+
+fn read_texture_region(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32, aspect: wgpu::TextureAspect, layer: u32) -> Vec<u8> {
     let (w, h) = (texture.width(), texture.height());
     let unpadded = w * bytes_per_pixel;
     let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -136,7 +145,7 @@ pub fn read_texture_aspect(device: &wgpu::Device, queue: &wgpu::Queue, texture: 
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { aspect, ..texture.as_image_copy() },
+        wgpu::TexelCopyTextureInfo { aspect, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, ..texture.as_image_copy() },
         wgpu::TexelCopyBufferInfo {
             buffer: &staging,
             layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },

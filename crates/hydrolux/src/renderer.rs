@@ -129,7 +129,7 @@ impl Renderer {
                     multisampled: false,
                 }),
                 layout_entry(5, all, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
-                texture_entry(6, all, wgpu::TextureViewDimension::D2, true),
+                texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(7, all),
             ],
         });
@@ -185,7 +185,7 @@ impl Renderer {
         // Group 0 of the caustics pass is the frame alone: the globals hold the
         // caustic map it writes.
         let caustics = CausticsPass::new(device, &frame_only_layout, &surface_layout);
-        let caustic_map = caustics.create_map(device, scene.caustics.photons, scene.caustics.map_resolution);
+        let caustic_map = caustics.create_map(device, scene.caustics.photons, scene.caustics.map_resolution, scene.caustics.layers);
         let shadow = Self::build_shadow(
             device,
             &globals_layout,
@@ -424,9 +424,11 @@ impl Renderer {
         if scene.floor != self.scene.floor || scene.objects != self.scene.objects || scene.base_dir != self.scene.base_dir {
             self.geometry = self.geometry_pass.upload(&self.device, &self.queue, scene)?;
         }
-        let caustics_changed = scene.caustics.photons != self.caustic_map.photons_per_side || scene.caustics.map_resolution != self.caustic_map.resolution;
+        let caustics_changed = scene.caustics.photons != self.caustic_map.photons_per_side
+            || scene.caustics.map_resolution != self.caustic_map.resolution
+            || scene.caustics.layers != self.caustic_map.layers;
         if caustics_changed {
-            self.caustic_map = self.caustics.create_map(&self.device, scene.caustics.photons, scene.caustics.map_resolution);
+            self.caustic_map = self.caustics.create_map(&self.device, scene.caustics.photons, scene.caustics.map_resolution, scene.caustics.layers);
         }
         if scene.render.shadow_resolution != self.shadow.resolution || caustics_changed {
             self.shadow = Self::build_shadow(
@@ -656,7 +658,7 @@ impl Renderer {
     pub fn read_caustics(&self) -> Option<(u32, Vec<f32>)> {
         self.caustic_setup()?;
         let m = self.caustic_map.resolution;
-        let bytes = read_texture(&self.device, &self.queue, &self.caustic_map.texture, 8);
+        let bytes = read_texture_layer(&self.device, &self.queue, &self.caustic_map.texture, 8, self.caustic_map.layers - 1);
         let halves: &[u16] = bytemuck::cast_slice(&bytes);
         Some((m, halves.chunks_exact(4).map(|c| f16_to_f32(c[0])).collect()))
     }

@@ -564,3 +564,68 @@ fn caustics_under_a_given_heightfield_match_the_cpu_tracer() {
     assert!(max > 1.3 * mc, "this surface focuses light: max {max}, mean {mc}");
     let _ = std::fs::remove_file(&path);
 }
+
+/// An object above the water casts a caustic shadow: on the floor in its
+/// shadow there is neither sunlight nor its caustic network, beside it both.
+#[test]
+fn objects_cast_caustic_shadows() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let shadow_x = -(1.5 / 60f32.to_radians().tan()) - 4.0 * (30f32.to_radians().sin() / 1.333).asin().tan();
+    let text = format!(
+        r#"
+        [camera]
+        position = [{x}, -0.5, 3.0]
+        look_at = [{x}, -4.0, 0.0]
+        fov_y_deg = 80.0
+        [sun]
+        elevation_deg = 60.0
+        azimuth_deg = 0.0
+        [water]
+        medium = "pure"
+        [ocean]
+        wind_speed = 6.0
+        fetch_km = 20.0
+        patch_size = 16.0
+        resolution = 64
+        cascades = 1
+        [floor]
+        depth = 4.0
+        [floor.material]
+        albedo = [1.0, 1.0, 1.0]
+        [caustics]
+        photons = 256
+        map_resolution = 128
+        [[objects]]
+        primitive = "box"
+        position = [0.0, 1.5, 0.0]
+        scale = [2.0, 0.3, 2.0]
+    "#,
+        x = shadow_x + 1.25
+    );
+    let s = Scene::from_toml(&text, "test", &[]).expect("valid scene");
+    let mut r = renderer(&ctx, &s);
+    let size = (128, 96);
+    let target = HeadlessTarget::new(&ctx.device, size);
+    target.render(&mut r, s.camera(), 5.0);
+    let (w, _, hdr) = r.read_hdr().expect("rendered");
+    let vp = s.camera().view_projection(size.0 as f32 / size.1 as f32);
+    // Statistics of the floor's green channel over a 0.8 m square around (x, z).
+    let patch = |x: f32, z: f32| {
+        let mut v = Vec::new();
+        for i in 0..9 {
+            for j in 0..9 {
+                let p = glam::Vec3::new(x + (i as f32 - 4.0) * 0.1, -4.0, z + (j as f32 - 4.0) * 0.1);
+                let uv = hydrolux::core::projective::clip_to_uv(vp * p.extend(1.0)).expect("in front");
+                let (px, py) = ((uv.x * size.0 as f32) as usize, (uv.y * size.1 as f32) as usize);
+                v.push(hdr[py * w as usize + px][1]);
+            }
+        }
+        let mean = v.iter().sum::<f32>() / v.len() as f32;
+        let sd = (v.iter().map(|a| (a - mean) * (a - mean)).sum::<f32>() / v.len() as f32).sqrt();
+        (mean, sd)
+    };
+    let (shaded, shaded_sd) = patch(shadow_x, 0.0);
+    let (lit, lit_sd) = patch(shadow_x + 2.5, 0.0);
+    assert!(shaded < 0.5 * lit, "the shadow is not darker: {shaded} vs {lit}");
+    assert!(lit_sd > 3.0 * shaded_sd, "caustics should ripple in the light ({lit_sd}) and not in the shadow ({shaded_sd})");
+}

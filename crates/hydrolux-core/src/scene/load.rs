@@ -396,6 +396,9 @@ impl Scene {
         if !(16..=4096).contains(&c.photons) {
             return Err(SceneError::OutOfRange { key: "caustics.photons".into(), value: c.photons.to_string(), allowed: "must be 16 to 4096 (per side)".into() });
         }
+        if !(1..=32).contains(&c.layers) {
+            return Err(SceneError::OutOfRange { key: "caustics.layers".into(), value: c.layers.to_string(), allowed: "must be 1 to 32".into() });
+        }
         if !(16..=2048).contains(&c.map_resolution) {
             return Err(SceneError::OutOfRange {
                 key: "caustics.map_resolution".into(),

@@ -269,11 +269,15 @@ pub struct CausticsDesc {
     pub photons: u32,
     /// Cells per side of the floor caustic map over the patch.
     pub map_resolution: u32,
+    /// Horizontal layers from the surface down to the floor, each with its
+    /// own caustic map: receivers between them (objects, terrain) see the
+    /// caustics focused for their depth. The last layer is the floor.
+    pub layers: u32,
 }
 
 impl Default for CausticsDesc {
     fn default() -> Self {
-        CausticsDesc { method: CausticMethod::Photons, photons: 512, map_resolution: 256 }
+        CausticsDesc { method: CausticMethod::Photons, photons: 512, map_resolution: 256, layers: 8 }
     }
 }
 

@@ -5,10 +5,11 @@
 // area: (A·l)·T / A_floor, relative to the sun on a plane facing it. Each
 // vertex computes its whole triangle (WebGPU has no geometry shaders), so the
 // draw is non-indexed: 6 vertices per grid cell, 9 instances for the
-// periodic neighbours of the patch.
+// periodic neighbours of the patch; one pass per layer (instance / 9).
 
 struct BeamParams {
-    // x photons per side (unused here), y map cells per side, z beam grid cells per side.
+    // x photons per side (unused here), y map cells per side, z beam grid
+    // cells per side, w layers.
     counts: vec4<u32>,
     // xy patch size (m), z floor depth (m).
     extent: vec4<f32>,
@@ -23,7 +24,7 @@ struct BeamOut {
 
 // The displaced surface point of grid vertex (i, j) and where its refracted
 // sunlight meets the floor; w = 0 when no light gets through there.
-fn project(i: u32, j: u32) -> array<vec4<f32>, 2> {
+fn project(i: u32, j: u32, depth: f32) -> array<vec4<f32>, 2> {
     let n = beam.counts.z;
     let size = beam.extent.xy;
     let x0 = (f32(i) / f32(n) - 0.5) * size.x;
@@ -36,7 +37,7 @@ fn project(i: u32, j: u32) -> array<vec4<f32>, 2> {
     if (dir.y > -1e-4) {
         ok = 0.0;
     }
-    let hit = pos + dir * ((pos.y + beam.extent.z) / max(-dir.y, 1e-4));
+    let hit = pos + dir * (max(pos.y + depth, 0.0) / max(-dir.y, 1e-4));
     return array<vec4<f32>, 2>(vec4<f32>(pos, ok), vec4<f32>(hit, ok));
 }
 
@@ -49,11 +50,13 @@ fn vs_beam(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32
     // Two counter-clockwise (from above) triangles per cell.
     var corners = array<vec2<u32>, 6>(vec2<u32>(0u, 0u), vec2<u32>(0u, 1u), vec2<u32>(1u, 0u), vec2<u32>(1u, 0u), vec2<u32>(0u, 1u), vec2<u32>(1u, 1u));
     let first = (v % 6u) / 3u * 3u;
-    let a = project(ci + corners[first].x, cj + corners[first].y);
-    let b = project(ci + corners[first + 1u].x, cj + corners[first + 1u].y);
-    let c = project(ci + corners[first + 2u].x, cj + corners[first + 2u].y);
+    let layer = instance / 9u;
+    let depth = beam.extent.z * f32(layer + 1u) / f32(beam.counts.w);
+    let a = project(ci + corners[first].x, cj + corners[first].y, depth);
+    let b = project(ci + corners[first + 1u].x, cj + corners[first + 1u].y, depth);
+    let c = project(ci + corners[first + 2u].x, cj + corners[first + 2u].y, depth);
     let me = corners[v % 6u];
-    let own = project(ci + me.x, cj + me.y);
+    let own = project(ci + me.x, cj + me.y, depth);
     let l = frame.sun_dir.xyz;
     let area_vector = 0.5 * cross(b[0].xyz - a[0].xyz, c[0].xyz - a[0].xyz);
     let shown = max(dot(area_vector, l), 0.0);
@@ -63,7 +66,8 @@ fn vs_beam(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32
     var out: BeamOut;
     // Folds make the projected area vanish: cap the focus.
     out.irradiance = min(shown * t / max(floor_area, 1e-9), 64.0) * a[1].w * b[1].w * c[1].w;
-    let shift = vec2<f32>(f32(instance % 3u) - 1.0, f32(instance / 3u) - 1.0) * beam.extent.xy;
+    let periodic = instance % 9u;
+    let shift = vec2<f32>(f32(periodic % 3u) - 1.0, f32(periodic / 3u) - 1.0) * beam.extent.xy;
     let p = (own[1].xz + shift) / beam.extent.xy * 2.0;
     out.clip = vec4<f32>(p.x, -p.y, 0.0, 1.0);
     return out;

@@ -1,14 +1,17 @@
-// Surface caustics on the floor by photon splatting (seed 000 §4.5, after
-// Papadopoulos & Papaioannou 2009). One thread per photon of a regular grid
+// Surface caustics by photon splatting (seed 000 §4.5, after Papadopoulos &
+// Papaioannou 2009), into a stack of horizontal layers down to the floor so
+// that receivers at any depth find the caustic focused for their depth (the
+// slices idea of seed 003 §4.3). One thread per photon of a regular grid
 // over the periodic surface patch: refract at the displaced surface (Snell),
 // weight by the Fresnel transmittance and by the sunlight its cell
-// intercepts, follow the ray to the floor plane, and add its energy to the
-// four nearest cells in fixed point (WebGPU has no float atomics). Then a
-// periodic 3×3 binomial filter into the map texture. CPU twin:
-// hydrolux_core::caustics (the unit and the formulas are documented there).
+// intercepts, follow the ray to each layer, and add its energy to the four
+// nearest cells in fixed point (WebGPU has no float atomics). Then a
+// periodic 3×3 binomial filter into the map texture array. CPU twin (one
+// plane): hydrolux_core::caustics (the unit and the formulas are there).
 
 struct CausticParams {
-    // x photons per side, y map cells per side (M), z beam grid cells per side.
+    // x photons per side, y map cells per side (M), z beam grid cells per
+    // side, w layers (layer k lies at depth (k + 1)/layers × the floor depth).
     counts: vec4<u32>,
     // xy patch size (m), z floor depth (m), w fixed-point scale.
     extent: vec4<f32>,
@@ -16,20 +19,27 @@ struct CausticParams {
 
 @group(2) @binding(0) var<uniform> params: CausticParams;
 @group(2) @binding(1) var<storage, read_write> accum: array<atomic<u32>>;
-@group(2) @binding(2) var map_out: texture_storage_2d<rgba16float, write>;
+@group(2) @binding(2) var map_out: texture_storage_2d_array<rgba16float, write>;
+
+fn layer_depth(layer: u32) -> f32 {
+    return params.extent.z * f32(layer + 1u) / f32(params.counts.w);
+}
 
 @compute @workgroup_size(8, 8, 1)
 fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = params.counts.y;
-    if (id.x < m && id.y < m) {
-        atomicStore(&accum[id.y * m + id.x], 0u);
+    if (id.x < m && id.y < m && id.z < params.counts.w) {
+        atomicStore(&accum[(id.z * m + id.y) * m + id.x], 0u);
     }
 }
 
-fn deposit(i: i32, j: i32, value: f32) {
+fn cell_index(layer: u32, i: i32, j: i32) -> u32 {
     let m = i32(params.counts.y);
-    let cell = u32(((j % m) + m) % m) * u32(m) + u32(((i % m) + m) % m);
-    atomicAdd(&accum[cell], u32(value * params.extent.w + 0.5));
+    return (layer * u32(m) + u32(((j % m) + m) % m)) * u32(m) + u32(((i % m) + m) % m);
+}
+
+fn deposit(layer: u32, i: i32, j: i32, value: f32) {
+    atomicAdd(&accum[cell_index(layer, i, j)], u32(value * params.extent.w + 0.5));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -58,32 +68,33 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pos = vec3<f32>(x0 + s.disp.x, s.disp.y, z0 + s.disp.z);
-    let hit = pos + dir * ((pos.y + params.extent.z) / -dir.y);
     let m = f32(params.counts.y);
     let cell_area = size.x * size.y / (m * m);
     let energy = shown * t * (size.x * size.y / f32(n * n)) / cell_area;
-    // Bilinear (tent) weights over the four nearest cell centres.
-    let f = (hit.xz / size + 0.5) * m - 0.5;
-    let base = floor(f);
-    let a = f - base;
-    let i = i32(base.x);
-    let j = i32(base.y);
-    deposit(i, j, energy * (1.0 - a.x) * (1.0 - a.y));
-    deposit(i + 1, j, energy * a.x * (1.0 - a.y));
-    deposit(i, j + 1, energy * (1.0 - a.x) * a.y);
-    deposit(i + 1, j + 1, energy * a.x * a.y);
+    for (var layer = 0u; layer < params.counts.w; layer++) {
+        let hit = pos + dir * (max(pos.y + layer_depth(layer), 0.0) / -dir.y);
+        // Bilinear (tent) weights over the four nearest cell centres.
+        let f = (hit.xz / size + 0.5) * m - 0.5;
+        let base = floor(f);
+        let a = f - base;
+        let i = i32(base.x);
+        let j = i32(base.y);
+        deposit(layer, i, j, energy * (1.0 - a.x) * (1.0 - a.y));
+        deposit(layer, i + 1, j, energy * a.x * (1.0 - a.y));
+        deposit(layer, i, j + 1, energy * (1.0 - a.x) * a.y);
+        deposit(layer, i + 1, j + 1, energy * a.x * a.y);
+    }
 }
 
-fn accumulated(i: i32, j: i32) -> f32 {
-    let m = i32(params.counts.y);
-    return f32(atomicLoad(&accum[u32(((j % m) + m) % m) * u32(m) + u32(((i % m) + m) % m)])) / params.extent.w;
+fn accumulated(layer: u32, i: i32, j: i32) -> f32 {
+    return f32(atomicLoad(&accum[cell_index(layer, i, j)])) / params.extent.w;
 }
 
 // Periodic [1 2 1]/4 × [1 2 1]/4 filter (seed 000 uses a 3×3 Gaussian).
 @compute @workgroup_size(8, 8, 1)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = params.counts.y;
-    if (id.x >= m || id.y >= m) {
+    if (id.x >= m || id.y >= m || id.z >= params.counts.w) {
         return;
     }
     let i = i32(id.x);
@@ -92,10 +103,10 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var dj = -1; dj <= 1; dj++) {
         for (var di = -1; di <= 1; di++) {
             let w = (2.0 - f32(abs(di))) * (2.0 - f32(abs(dj))) / 16.0;
-            sum += w * accumulated(i + di, j + dj);
+            sum += w * accumulated(id.z, i + di, j + dj);
         }
     }
-    textureStore(map_out, vec2<i32>(i, j), vec4<f32>(sum, 0.0, 0.0, 1.0));
+    textureStore(map_out, vec2<i32>(i, j), id.z, vec4<f32>(sum, 0.0, 0.0, 1.0));
 }
 
 // Seed 001's backward method (procedural, cheap): from each map cell on the
@@ -109,14 +120,15 @@ const SUN_MAP_RADIUS: f32 = 0.04;
 @compute @workgroup_size(8, 8, 1)
 fn procedural(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = params.counts.y;
-    if (id.x >= m || id.y >= m) {
+    if (id.x >= m || id.y >= m || id.z >= params.counts.w) {
         return;
     }
     let size = params.extent.xy;
+    let depth = layer_depth(id.z);
     let on_floor = (vec2<f32>(id.xy) + 0.5) / f32(m) - 0.5;
-    let floor_point = vec3<f32>(on_floor.x * size.x, -params.extent.z, on_floor.y * size.y);
+    let floor_point = vec3<f32>(on_floor.x * size.x, -depth, on_floor.y * size.y);
     let travel = frame.sun_travel.xyz;
-    let entry = floor_point - travel * (params.extent.z / max(frame.sun_travel.w, 1e-3));
+    let entry = floor_point - travel * (depth / max(frame.sun_travel.w, 1e-3));
     let s = surface_sample_footprint(entry.xz, 0.0);
     let nrm = surface_normal(s);
     let l = frame.sun_dir.xyz;
@@ -126,5 +138,5 @@ fn procedural(@builtin(global_invocation_id) id: vec3<u32>) {
     let angle2 = 2.0 * (1.0 - cos_angle);
     let flat_value = (1.0 - fresnel_exact(l.y, 1.0, ior)) * max(l.y, 0.0);
     let value = flat_value * exp(-0.5 * angle2 / (SUN_MAP_RADIUS * SUN_MAP_RADIUS));
-    textureStore(map_out, vec2<i32>(id.xy), vec4<f32>(value, 0.0, 0.0, 1.0));
+    textureStore(map_out, vec2<i32>(id.xy), id.z, vec4<f32>(value, 0.0, 0.0, 1.0));
 }

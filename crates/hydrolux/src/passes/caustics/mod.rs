@@ -34,6 +34,8 @@ pub struct CausticUniforms {
 pub struct CausticMap {
     pub photons_per_side: u32,
     pub resolution: u32,
+    /// Horizontal layers down to the floor (the last one is the floor).
+    pub layers: u32,
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,
     params: wgpu::Buffer,
@@ -57,7 +59,7 @@ impl CausticsPass {
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("caustics"),
-            entries: &[uniform_entry(0, cs), storage_entry(1, cs, false), storage_texture_entry(2, MAP_FORMAT, wgpu::TextureViewDimension::D2)],
+            entries: &[uniform_entry(0, cs), storage_entry(1, cs, false), storage_texture_entry(2, MAP_FORMAT, wgpu::TextureViewDimension::D2Array)],
         });
         let module = shader(device, "caustics", &source());
         let p = |entry| compute_pipeline(device, entry, &module, entry, &[frame_only, surface, &layout]);
@@ -86,10 +88,10 @@ impl CausticsPass {
         CausticsPass { clear: p("clear"), splat: p("splat"), resolve: p("resolve"), procedural: p("procedural"), layout, beam_layout, beam }
     }
 
-    pub fn create_map(&self, device: &wgpu::Device, photons_per_side: u32, resolution: u32) -> CausticMap {
+    pub fn create_map(&self, device: &wgpu::Device, photons_per_side: u32, resolution: u32, layers: u32) -> CausticMap {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("caustic map"),
-            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: layers },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -97,10 +99,10 @@ impl CausticsPass {
             usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::RENDER_ATTACHMENT,
             view_formats: &[],
         });
-        let view = texture.create_view(&Default::default());
+        let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
         let accum = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("caustic accumulator"),
-            size: (resolution * resolution * 4) as u64,
+            size: (resolution * resolution * layers * 4) as u64,
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
@@ -119,13 +121,13 @@ impl CausticsPass {
             layout: &self.beam_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() }],
         });
-        CausticMap { photons_per_side, resolution, texture, view, params, group, beam_group }
+        CausticMap { photons_per_side, resolution, layers, texture, view, params, group, beam_group }
     }
 
     /// Set the patch (m) and the floor depth (m) the light lands on.
     pub fn prepare(&self, queue: &wgpu::Queue, map: &CausticMap, patch: [f32; 2], floor_depth: f32) {
         let u = CausticUniforms {
-            counts: [map.photons_per_side, map.resolution, Self::beam_cells(map), 0],
+            counts: [map.photons_per_side, map.resolution, Self::beam_cells(map), map.layers],
             extent: [patch[0], patch[1], floor_depth, FIXED_POINT_SCALE],
         };
         queue.write_buffer(&map.params, 0, bytemuck::bytes_of(&u));
@@ -150,26 +152,35 @@ impl CausticsPass {
         timer: Option<&mut GpuTimer>,
     ) {
         if method == CausticMethod::Beam {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("caustics beam"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &map.view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: timer.and_then(|t| t.render_writes("caustics")),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.beam);
-            pass.set_bind_group(0, frame_only, &[]);
-            pass.set_bind_group(1, surface, &[]);
-            pass.set_bind_group(2, &map.beam_group, &[]);
-            // The beam grid; 9 instances for the periodic neighbours.
-            let cells = Self::beam_cells(map) * Self::beam_cells(map);
-            pass.draw(0..cells * 6, 0..9);
+            let mut timer = timer;
+            for layer in 0..map.layers {
+                let view = map.texture.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                });
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("caustics beam"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: if layer == 0 { timer.take().and_then(|t| t.render_writes("caustics")) } else { None },
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&self.beam);
+                pass.set_bind_group(0, frame_only, &[]);
+                pass.set_bind_group(1, surface, &[]);
+                pass.set_bind_group(2, &map.beam_group, &[]);
+                // The beam grid; 9 instances (periodic neighbours) per layer.
+                let cells = Self::beam_cells(map) * Self::beam_cells(map);
+                pass.draw(0..cells * 6, layer * 9..layer * 9 + 9);
+            }
             return;
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -181,16 +192,17 @@ impl CausticsPass {
         pass.set_bind_group(2, &map.group, &[]);
         let m = map.resolution.div_ceil(8);
         let n = map.photons_per_side.div_ceil(8);
+        let k = map.layers;
         if method == CausticMethod::Procedural {
             pass.set_pipeline(&self.procedural);
-            pass.dispatch_workgroups(m, m, 1);
+            pass.dispatch_workgroups(m, m, k);
             return;
         }
         pass.set_pipeline(&self.clear);
-        pass.dispatch_workgroups(m, m, 1);
+        pass.dispatch_workgroups(m, m, k);
         pass.set_pipeline(&self.splat);
         pass.dispatch_workgroups(n, n, 1);
         pass.set_pipeline(&self.resolve);
-        pass.dispatch_workgroups(m, m, 1);
+        pass.dispatch_workgroups(m, m, k);
     }
 }

@@ -71,8 +71,10 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             mapped = vec3<f32>(0.0, 0.0, 0.15);
             let uv = letterbox(pos.xy);
             if (all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0))) {
+                // The floor layer (the deepest).
                 let dims = vec2<f32>(textureDimensions(caustic_map));
-                let c = textureLoad(caustic_map, vec2<i32>(uv * dims), 0).r * frame.caustic_params.w;
+                let floor_layer = i32(textureNumLayers(caustic_map)) - 1;
+                let c = textureLoad(caustic_map, vec2<i32>(uv * dims), floor_layer, 0).r * frame.caustic_params.w;
                 mapped = vec3<f32>(0.5 * c);
             }
         }
