@@ -522,6 +522,18 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     let (_, beam_map) = r.read_caustics().expect("caustics are on");
     let mb = mean(&beam_map);
     assert!((mb - mc).abs() < 0.02 * mc, "beam mean {mb}, photon mean {mc}");
+
+    // Switching the method live (what the viewer's panel does) takes effect
+    // on the next frame, and `off` removes the map.
+    let mut live = s.clone();
+    live.caustics.method = hydrolux::core::scene::CausticMethod::Procedural;
+    r.set_scene(&live).expect("same scene, other method");
+    r.simulate(&live.camera(), (16, 16), t);
+    let (_, procedural_map) = r.read_caustics().expect("caustics are on");
+    assert_ne!(procedural_map, beam_map);
+    live.caustics.method = hydrolux::core::scene::CausticMethod::Off;
+    r.set_scene(&live).expect("same scene, caustics off");
+    assert!(r.read_caustics().is_none());
 }
 
 /// A user's surface (`water.model = "heightfield"`, a .npy), from a scene
