@@ -1,7 +1,8 @@
 //! One module per pass, in frame order: ocean (simulate) → sky (bake) →
-//! geometry (shadow map, reflection, refraction, main view; sky background
-//! behind it) → water → tonemap (or a debug view); probe answers queries
-//! outside the frame.
+//! caustics → geometry (shadow map, offscreen reflection/refraction views) →
+//! water (medium classification) → sky background, geometry and water in the
+//! main view → tonemap (or a debug view); probe answers queries outside the
+//! frame.
 
 pub mod caustics;
 pub mod geometry;
