@@ -149,6 +149,28 @@ fn render(scene: &Scene, size: (u32, u32), time: f64) -> (Vec<u8>, Vec<[f32; 4]>
     (px, hdr)
 }
 
+/// Render `s` at `size` and time `t` with `r`, and return a lookup of the
+/// linear HDR pixel under the projection of a world point.
+fn render_and_project(ctx: &GpuContext, r: &mut Renderer, s: &Scene, size: (u32, u32), t: f64) -> impl Fn(glam::Vec3) -> [f32; 4] + use<> {
+    let target = HeadlessTarget::new(&ctx.device, size);
+    target.render(r, s.camera(), t);
+    let (w, _, hdr) = r.read_hdr().expect("rendered");
+    let vp = s.camera().view_projection(size.0 as f32 / size.1 as f32);
+    move |p: glam::Vec3| {
+        let uv = hydrolux::core::projective::clip_to_uv(vp * p.extend(1.0)).expect("in front");
+        hdr[(uv.y * size.1 as f32) as usize * w as usize + (uv.x * size.0 as f32) as usize]
+    }
+}
+
+/// Means of two maps and their correlation coefficient.
+fn means_and_correlation(a: &[f32], b: &[f32]) -> (f32, f32, f32) {
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    let (ma, mb) = (mean(a), mean(b));
+    let cov: f32 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let var = |v: &[f32], m: f32| v.iter().map(|x| (x - m) * (x - m)).sum::<f32>();
+    (ma, mb, cov / (var(a, ma) * var(b, mb)).sqrt())
+}
+
 #[test]
 fn same_inputs_give_the_same_image_and_the_tone_map_matches_cpu() {
     let s = scene(SMALL_OCEAN);
@@ -272,15 +294,7 @@ fn local_reflection_shows_objects_above_the_water() {
     "#;
     let s = Scene::from_toml(text, "test", &[]).expect("valid scene");
     let mut r = renderer(&ctx, &s);
-    let size = (96, 64);
-    let target = HeadlessTarget::new(&ctx.device, size);
-    target.render(&mut r, s.camera(), 0.0);
-    let (w, _, hdr) = r.read_hdr().expect("rendered");
-    let vp = s.camera().view_projection(size.0 as f32 / size.1 as f32);
-    let pixel = |p: glam::Vec3| {
-        let uv = hydrolux::core::projective::clip_to_uv(vp * p.extend(1.0)).expect("in front");
-        hdr[(uv.y * size.1 as f32) as usize * w as usize + (uv.x * size.0 as f32) as usize]
-    };
+    let pixel = render_and_project(&ctx, &mut r, &s, (96, 64), 0.0);
     let face = pixel(glam::Vec3::new(0.0, 1.2, 0.75));
     assert!(face[0] > 3.0 * face[1], "the box's face is not red: {face:?}");
     let image = pixel(glam::Vec3::new(0.0, -1.2, 0.75));
@@ -326,14 +340,7 @@ fn objects_shadow_the_floor_through_the_water_and_stay_out_of_the_refraction() {
     let s = Scene::from_toml(&text, "test", &[]).expect("valid scene");
     let mut r = renderer(&ctx, &s);
     let size = (96, 64);
-    let target = HeadlessTarget::new(&ctx.device, size);
-    target.render(&mut r, s.camera(), 0.0);
-    let (w, _, hdr) = r.read_hdr().expect("rendered");
-    let vp = s.camera().view_projection(size.0 as f32 / size.1 as f32);
-    let pixel = |p: glam::Vec3| {
-        let uv = hydrolux::core::projective::clip_to_uv(vp * p.extend(1.0)).expect("in front");
-        hdr[(uv.y * size.1 as f32) as usize * w as usize + (uv.x * size.0 as f32) as usize]
-    };
+    let pixel = render_and_project(&ctx, &mut r, &s, size, 0.0);
     // Floor points seen through flat water appear where their refracted rays
     // leave the surface; compare two floor points at equal distance instead
     // of predicting pixels: the one in the shadow is much darker.
@@ -345,7 +352,7 @@ fn objects_shadow_the_floor_through_the_water_and_stay_out_of_the_refraction() {
     let mut sr = s.clone();
     sr.render.view = hydrolux::core::scene::DebugView::Refraction;
     r.set_scene(&sr).expect("same scene");
-    let px = target.render(&mut r, s.camera(), 0.0);
+    let px = HeadlessTarget::new(&ctx.device, size).render(&mut r, s.camera(), 0.0);
     let reddish = px.chunks_exact(4).filter(|p| p[0] as i32 > 2 * p[1] as i32 + 20).count();
     assert_eq!(reddish, 0, "objects above the water leaked into the refraction texture");
 }
@@ -503,12 +510,8 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     let p = PhotonSettings { photons_per_side: 256, map_resolution: 64, patch: [16.0, 16.0], floor_depth: 5.0, ior: s.water.ior, sun_dir: s.sun_direction() };
     let (cpu_map, _) = trace_floor_caustics(|x, z| fields.sample(x as f64, z as f64), &p);
     let cpu_map = cpu_map.blurred().irradiance;
-    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
-    let (mg, mc) = (mean(&gpu_map), mean(&cpu_map));
+    let (mg, mc, corr) = means_and_correlation(&gpu_map, &cpu_map);
     assert!((mg - mc).abs() < 0.02 * mc, "energy: GPU mean {mg}, CPU mean {mc}");
-    let cov: f32 = gpu_map.iter().zip(&cpu_map).map(|(a, b)| (a - mg) * (b - mc)).sum();
-    let var = |v: &[f32], m: f32| v.iter().map(|a| (a - m) * (a - m)).sum::<f32>();
-    let corr = cov / (var(&gpu_map, mg) * var(&cpu_map, mc)).sqrt();
     assert!(corr > 0.95, "GPU and CPU caustic patterns correlate only {corr}");
     let max = gpu_map.iter().cloned().fold(0.0, f32::max);
     assert!(max > 1.4 * mg, "the waves should focus light: max {max}, mean {mg}");
@@ -520,7 +523,7 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     let mut r = renderer(&ctx, &s);
     r.simulate(&s.camera(), (16, 16), t);
     let (_, beam_map) = r.read_caustics().expect("caustics are on");
-    let mb = mean(&beam_map);
+    let mb = beam_map.iter().sum::<f32>() / beam_map.len() as f32;
     assert!((mb - mc).abs() < 0.02 * mc, "beam mean {mb}, photon mean {mc}");
 
     // Switching the method live (what the viewer's panel does) takes effect
@@ -565,12 +568,8 @@ fn caustics_under_a_given_heightfield_match_the_cpu_tracer() {
     let field = Heightfield { nx: n, nz: n, size: [l, l], heights };
     let p = PhotonSettings { photons_per_side: 256, map_resolution: 64, patch: [l, l], floor_depth: 3.0, ior: s.water.ior, sun_dir: s.sun_direction() };
     let cpu_map = trace_floor_caustics(|x, z| field.sample(x, z), &p).0.blurred().irradiance;
-    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
-    let (mg, mc) = (mean(&gpu_map), mean(&cpu_map));
+    let (mg, mc, corr) = means_and_correlation(&gpu_map, &cpu_map);
     assert!((mg - mc).abs() < 0.02 * mc, "GPU mean {mg}, CPU mean {mc}");
-    let cov: f32 = gpu_map.iter().zip(&cpu_map).map(|(a, b)| (a - mg) * (b - mc)).sum();
-    let var = |v: &[f32], m: f32| v.iter().map(|a| (a - m) * (a - m)).sum::<f32>();
-    let corr = cov / (var(&gpu_map, mg) * var(&cpu_map, mc)).sqrt();
     assert!(corr > 0.97, "correlation {corr}");
     let max = cpu_map.iter().cloned().fold(0.0, f32::max);
     assert!(max > 1.3 * mc, "this surface focuses light: max {max}, mean {mc}");
@@ -616,20 +615,13 @@ fn objects_cast_caustic_shadows() {
     );
     let s = Scene::from_toml(&text, "test", &[]).expect("valid scene");
     let mut r = renderer(&ctx, &s);
-    let size = (128, 96);
-    let target = HeadlessTarget::new(&ctx.device, size);
-    target.render(&mut r, s.camera(), 5.0);
-    let (w, _, hdr) = r.read_hdr().expect("rendered");
-    let vp = s.camera().view_projection(size.0 as f32 / size.1 as f32);
+    let pixel = render_and_project(&ctx, &mut r, &s, (128, 96), 5.0);
     // Statistics of the floor's green channel over a 0.8 m square around (x, z).
     let patch = |x: f32, z: f32| {
         let mut v = Vec::new();
         for i in 0..9 {
             for j in 0..9 {
-                let p = glam::Vec3::new(x + (i as f32 - 4.0) * 0.1, -4.0, z + (j as f32 - 4.0) * 0.1);
-                let uv = hydrolux::core::projective::clip_to_uv(vp * p.extend(1.0)).expect("in front");
-                let (px, py) = ((uv.x * size.0 as f32) as usize, (uv.y * size.1 as f32) as usize);
-                v.push(hdr[py * w as usize + px][1]);
+                v.push(pixel(glam::Vec3::new(x + (i as f32 - 4.0) * 0.1, -4.0, z + (j as f32 - 4.0) * 0.1))[1]);
             }
         }
         let mean = v.iter().sum::<f32>() / v.len() as f32;

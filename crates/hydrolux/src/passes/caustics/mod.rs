@@ -38,6 +38,8 @@ pub struct CausticMap {
     pub layers: u32,
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,
+    /// One view per layer: the beam method's render targets.
+    layer_views: Vec<wgpu::TextureView>,
     params: wgpu::Buffer,
     group: wgpu::BindGroup,
     /// The beam method's inputs (the map is its render target, so not bound).
@@ -121,7 +123,17 @@ impl CausticsPass {
             layout: &self.beam_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() }],
         });
-        CausticMap { photons_per_side, resolution, layers, texture, view, params, group, beam_group }
+        let layer_views = (0..layers)
+            .map(|layer| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        CausticMap { photons_per_side, resolution, layers, texture, view, layer_views, params, group, beam_group }
     }
 
     /// Set the patch (m) and the floor depth (m) the light lands on.
@@ -153,17 +165,11 @@ impl CausticsPass {
     ) {
         if method == CausticMethod::Beam {
             let mut timer = timer;
-            for layer in 0..map.layers {
-                let view = map.texture.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                });
+            for (layer, view) in (0..).zip(&map.layer_views) {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("caustics beam"),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &view,
+                        view,
                         depth_slice: None,
                         resolve_target: None,
                         ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
