@@ -109,6 +109,9 @@ pub struct Renderer {
     timer: Option<GpuTimer>,
     timing: bool,
     last_timings: Vec<(&'static str, f64)>,
+    /// The caustic map matches the scene; only a still surface (flat water,
+    /// a heightfield) lets it be reused from frame to frame.
+    caustics_current: bool,
 }
 
 impl Renderer {
@@ -242,6 +245,7 @@ impl Renderer {
             timer,
             timing: false,
             last_timings: Vec::new(),
+            caustics_current: false,
         };
         r.update_sky();
         Ok(r)
@@ -443,6 +447,7 @@ impl Renderer {
             self.targets = None;
         }
         self.scene = scene.clone();
+        self.caustics_current = false;
         self.update_sky();
         Ok(())
     }
@@ -498,6 +503,13 @@ impl Renderer {
         let s = &self.scene;
         let on = s.caustics.method != CausticMethod::Off && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
         on.then(|| (s.surface_patch(), s.floor.depth))
+    }
+
+    /// The caustic setup when the map must be (re)computed this frame: the
+    /// waves move, or the scene changed since it was made.
+    fn caustics_due(&self) -> Option<([f32; 2], f32)> {
+        let moving = matches!(self.scene.water.model, WaterModel::Fft | WaterModel::Sines);
+        self.caustic_setup().filter(|_| moving || !self.caustics_current)
     }
 
     /// Texels of the reflection texture per radian of view angle (at its
@@ -643,9 +655,10 @@ impl Renderer {
         if self.scene.water.model == WaterModel::Fft {
             self.surface.ocean.record(&mut encoder, &self.downsampler, None);
         }
-        if let Some((patch, depth)) = self.caustic_setup() {
+        if let Some((patch, depth)) = self.caustics_due() {
             self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
             self.caustics.record(&mut encoder, &self.frame_only, &self.surface.group, &self.caustic_map, self.scene.caustics.method, None);
+            self.caustics_current = true;
         }
         self.queue.submit([encoder.finish()]);
     }
@@ -675,7 +688,7 @@ impl Renderer {
         }
         self.write_frame_uniforms(&input.camera, input.size, input.time);
         self.surface.ocean.prepare(&self.queue, input.time);
-        let caustic_setup = self.caustic_setup();
+        let caustics_due = self.caustics_due();
         let mut timer = if self.timing { self.timer.as_mut() } else { None };
         if let Some(t) = timer.as_deref_mut() {
             t.begin_frame();
@@ -684,9 +697,10 @@ impl Renderer {
         if self.scene.water.model == WaterModel::Fft {
             self.surface.ocean.record(encoder, &self.downsampler, timer.as_deref_mut());
         }
-        if let Some((patch, depth)) = caustic_setup {
+        if let Some((patch, depth)) = caustics_due {
             self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
             self.caustics.record(encoder, &self.frame_only, &self.surface.group, &self.caustic_map, self.scene.caustics.method, timer.as_deref_mut());
+            self.caustics_current = true;
         }
         let targets = self.targets.as_ref().expect("targets were just created");
         let globals = &self.shadow.globals;
