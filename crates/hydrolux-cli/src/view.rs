@@ -48,6 +48,7 @@ const ENUMS: &[(&str, &[&str])] = &[
     ("render.tonemap", &["aces", "clamp"]),
     ("render.view", &DebugView::NAMES),
     ("caustics.method", &["photons", "beam", "procedural", "off"]),
+    ("godrays.method", &["lines", "march", "off"]),
 ];
 
 struct FlyCamera {

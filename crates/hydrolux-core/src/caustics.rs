@@ -37,28 +37,38 @@ pub struct FloorCaustics {
     pub irradiance: Vec<f32>,
 }
 
-/// What one photon brings to the floor: where it lands (x, z) and its
-/// contribution in irradiance × cell area, or `None` (back-facing cell,
-/// total reflection, a ray that never goes down).
-pub fn photon(s: &SurfaceSample, x0: f32, z0: f32, cell_area: f32, p: &PhotonSettings) -> Option<(Vec2, f32)> {
+/// A photon just under the surface: where it enters the water (displaced),
+/// the unit direction it travels, and the fraction of the sun's irradiance
+/// × area it carries per unit of undisplaced surface area (the area the
+/// displaced cell shows the sun, times the Fresnel transmittance). `None`
+/// for a back-facing cell or a ray that does not go down.
+pub fn refracted_photon(s: &SurfaceSample, x0: f32, z0: f32, sun_dir: Vec3, ior: f32) -> Option<(Vec3, Vec3, f32)> {
     let tx = Vec3::new(1.0 + s.dxx, s.slope[0], s.dxz);
     let tz = Vec3::new(s.dxz, s.slope[1], 1.0 + s.dzz);
     // Unnormalised normal: its length is the displaced cell's area scale,
     // so its dot with the light is the area the cell shows the sun.
     let area_normal = tz.cross(tx);
-    let shown = area_normal.dot(p.sun_dir);
+    let shown = area_normal.dot(sun_dir);
     if shown <= 0.0 {
         return None;
     }
     let n = area_normal.normalize();
-    let t = 1.0 - fresnel_exact(n.dot(p.sun_dir), IOR_AIR, p.ior);
-    let dir = refract(-p.sun_dir, n, IOR_AIR, p.ior)?;
+    let t = 1.0 - fresnel_exact(n.dot(sun_dir), IOR_AIR, ior);
+    let dir = refract(-sun_dir, n, IOR_AIR, ior)?;
     if dir.y > -1e-4 {
         return None;
     }
     let pos = Vec3::new(x0 + s.displacement[0], s.displacement[1], z0 + s.displacement[2]);
+    Some((pos, dir, shown * t))
+}
+
+/// What one photon brings to the floor: where it lands (x, z) and its
+/// contribution in irradiance × cell area, or `None` (back-facing cell,
+/// total reflection, a ray that never goes down).
+pub fn photon(s: &SurfaceSample, x0: f32, z0: f32, cell_area: f32, p: &PhotonSettings) -> Option<(Vec2, f32)> {
+    let (pos, dir, weight) = refracted_photon(s, x0, z0, p.sun_dir, p.ior)?;
     let hit = pos + dir * ((pos.y + p.floor_depth) / -dir.y);
-    Some((Vec2::new(hit.x, hit.z), shown * t * cell_area))
+    Some((Vec2::new(hit.x, hit.z), weight * cell_area))
 }
 
 impl FloorCaustics {

@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod caustics;
 pub mod geometry;
+pub mod godrays;
 pub mod medium;
 pub mod npy;
 pub mod optics;

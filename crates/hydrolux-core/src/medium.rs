@@ -172,6 +172,16 @@ impl UnderwaterLight {
         self.view_in_scatter(medium, 0.0, dir, s, g)
     }
 
+    /// The sun's part of [`UnderwaterLight::view_in_scatter`], from distance
+    /// `s0` to `s1` along the view ray only: the uniform (unfocused) beam that
+    /// god rays replace near the eye (`crate::godrays`).
+    pub fn sun_in_scatter(&self, medium: &Medium, depth: f32, dir: Vec3, s0: f32, s1: f32, g: f32) -> Vec3 {
+        let cos_w = (-self.sun_travel.y).max(1e-3);
+        let d0 = (depth - dir.y * s0).max(0.0);
+        let phase = henyey_greenstein(self.sun_travel.dot(-dir), g);
+        medium.transmittance(s0) * medium.in_scatter(self.sun_irradiance * medium.transmittance(d0 / cos_w), phase, -dir.y / cos_w, s1 - s0)
+    }
+
     /// Seed 000 eq. 3.7–3.8 with the viewer inside the water: light scattered
     /// once into the path of length `s` that starts `depth` metres under the
     /// mean surface and runs along unit `dir` (up or down). The light at the

@@ -6,6 +6,7 @@
 use crate::gpu_util::*;
 use wgpu::util::DeviceExt;
 use crate::passes::caustics::{CausticMap, CausticsPass};
+use crate::passes::godrays::{GodRayTubes, GodRayUniforms, GodRaysPass};
 use crate::passes::geometry::{GeometryPass, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding};
 use crate::passes::mips::Downsampler;
 use crate::passes::ocean::{OceanPass, OceanTooLarge};
@@ -21,7 +22,8 @@ use hydrolux_core::geometry::load::AssetError;
 use hydrolux_core::medium::UnderwaterLight;
 use hydrolux_core::projective::{ClipPlane, mirror_matrix, shadow_space, sun_view_projection};
 use hydrolux_core::caustics::flat_floor_irradiance;
-use hydrolux_core::scene::{CausticMethod, DebugView, Fresnel, RefractionLookup, Scene, Tonemap, WaterModel, WaterOptics};
+use hydrolux_core::godrays::{TubeRegion, deepest_needed};
+use hydrolux_core::scene::{CausticMethod, DebugView, GodRayMethod, Fresnel, RefractionLookup, Scene, Tonemap, WaterModel, WaterOptics};
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
 use hydrolux_core::tonemap::exposure_scale;
 use hydrolux_core::waves::SurfaceSample;
@@ -92,6 +94,8 @@ pub struct Renderer {
     caustic_sampler: wgpu::Sampler,
     caustics: CausticsPass,
     caustic_map: CausticMap,
+    godrays: GodRaysPass,
+    godray_tubes: GodRayTubes,
     shadow: ShadowState,
     downsampler: Downsampler,
     sky: SkyPass,
@@ -213,6 +217,8 @@ impl Renderer {
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
         let surface = Self::build_surface(device, queue, &downsampler, &surface_layout, &surface_buffer, scene)?;
+        let godrays = GodRaysPass::new(device, &globals_layout, &frame_only_layout, &surface_layout, crate::targets::HDR_FORMAT);
+        let godray_tubes = godrays.create_tubes(device, scene.godrays.photons);
         let timer = GpuTimer::new(device, queue);
         let mut r = Renderer {
             device: device.clone(),
@@ -228,6 +234,8 @@ impl Renderer {
             caustic_sampler,
             caustics,
             caustic_map,
+            godrays,
+            godray_tubes,
             shadow,
             downsampler,
             sky,
@@ -446,6 +454,9 @@ impl Renderer {
             );
             self.targets = None;
         }
+        if scene.godrays.photons != self.godray_tubes.per_side {
+            self.godray_tubes = self.godrays.create_tubes(&self.device, scene.godrays.photons);
+        }
         self.scene = scene.clone();
         self.caustics_current = false;
         self.update_sky();
@@ -510,6 +521,27 @@ impl Renderer {
     fn caustics_due(&self) -> Option<([f32; 2], f32)> {
         let moving = matches!(self.scene.water.model, WaterModel::Fft | WaterModel::Sines);
         self.caustic_setup().filter(|_| moving || !self.caustics_current)
+    }
+
+    /// The god rays' parameters when they are drawn this frame: a method is
+    /// chosen, the sun is up and the camera may be in the water.
+    fn godray_frame(&self, camera: &Camera, size: (u32, u32)) -> Option<GodRayUniforms> {
+        let s = &self.scene;
+        let g = &s.godrays;
+        let sun = s.sun_direction();
+        if g.method == GodRayMethod::Off || sun.y <= 0.0 || camera.position.y >= self.surface.vertical_reach {
+            return None;
+        }
+        let travel = UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior).sun_travel;
+        let region = TubeRegion::around(camera.position, travel, g.distance);
+        let deepest = deepest_needed(camera.position, g.distance);
+        let end_depth = if s.floor.depth > 0.0 { s.floor.depth.min(deepest) } else { deepest };
+        let buffer = (((size.0 as f32 * g.resolution).round() as u32).max(1), ((size.1 as f32 * g.resolution).round() as u32).max(1));
+        Some(GodRayUniforms {
+            counts: [g.photons, g.steps, buffer.0, buffer.1],
+            region: [region.centre.x, region.centre.y, region.half, region.spacing(g.photons)],
+            limits: [g.distance, end_depth, 0.0, 0.0],
+        })
     }
 
     /// Texels of the reflection texture per radian of view angle (at its
@@ -594,6 +626,7 @@ impl Renderer {
                 Some((patch, depth)) => [patch[0], patch[1], depth, 1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4)],
                 None => [0.0; 4],
             },
+            godrays: [self.godray_frame(camera, size).map_or(0.0, |g| g.limits[0]), 0.0, 0.0, 0.0],
             modes2: [
                 match s.water.optics {
                     WaterOptics::Physical => 0,
@@ -677,18 +710,23 @@ impl Renderer {
     }
 
     fn target_settings(&self) -> TargetSettings {
-        TargetSettings { reflection_resolution: self.scene.render.reflection_resolution, reflection_margin: self.scene.render.fov_margin }
+        TargetSettings {
+            reflection_resolution: self.scene.render.reflection_resolution,
+            reflection_margin: self.scene.render.fov_margin,
+            godray_resolution: self.scene.godrays.resolution,
+        }
     }
 
     /// Record one frame into `encoder`, drawing into `input.target`.
     pub fn render(&mut self, encoder: &mut wgpu::CommandEncoder, input: &FrameInput) {
         let settings = self.target_settings();
         if self.targets.as_ref().map(|t| (t.size, t.settings)) != Some((input.size, settings)) {
-            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.downsampler, &self.water_inputs_layout, &self.shadow.view));
+            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.downsampler, &self.water_inputs_layout, &self.shadow.view, &self.godrays));
         }
         self.write_frame_uniforms(&input.camera, input.size, input.time);
         self.surface.ocean.prepare(&self.queue, input.time);
         let caustics_due = self.caustics_due();
+        let godray_frame = self.godray_frame(&input.camera, input.size);
         let mut timer = if self.timing { self.timer.as_mut() } else { None };
         if let Some(t) = timer.as_deref_mut() {
             t.begin_frame();
@@ -801,10 +839,39 @@ impl Renderer {
             let aspect = input.size.0.max(1) as f32 / input.size.1.max(1) as f32;
             self.water.record(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera, aspect, self.surface.bounds_margin);
         }
+        if let Some(g) = godray_frame {
+            self.godrays.prepare(&self.queue, &g);
+            self.godrays.record(
+                encoder,
+                [globals, &self.frame_only, &self.surface.group],
+                self.scene.godrays.method,
+                &self.godray_tubes,
+                &targets.godrays,
+                &targets.hdr_view,
+                timer.as_deref_mut(),
+            );
+        }
         self.tonemap.record(encoder, input.target, globals, &targets.tonemap_input, timer.as_deref_mut());
         if let Some(t) = timer {
             t.resolve(encoder);
         }
+    }
+
+    /// The last frame's god-ray buffer (linear radiance, pre-exposed, before
+    /// upsampling), RGBA float, rows top to bottom; `None` before a frame.
+    pub fn read_godrays(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
+        let t = &self.targets.as_ref()?.godrays;
+        let bytes = read_texture(&self.device, &self.queue, &t.buffer, 8);
+        let halves: &[u16] = bytemuck::cast_slice(&bytes);
+        let px = halves.chunks_exact(4).map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])]).collect();
+        Some((t.size.0, t.size.1, px))
+    }
+
+    /// The beam tubes of the last frame (lines method): per photon, where it
+    /// enters the water (xyz), its length, its direction (xyz) and its flux
+    /// relative to the sun's irradiance (m²; 0 = not drawn).
+    pub fn read_godray_tubes(&self) -> Vec<[f32; 8]> {
+        self.godrays.read_tubes(&self.device, &self.queue, &self.godray_tubes)
     }
 
     /// Each pixel's medium in the last frame (0 air, 1 water: where its

@@ -17,6 +17,7 @@ pub const MEDIUM: &str = include_str!("shaders/medium.wgsl");
 pub const PROJECTIVE: &str = include_str!("shaders/projective.wgsl");
 pub const SHADOW_SPACE: &str = include_str!("shaders/shadow_space.wgsl");
 pub const SHADOW_LOOKUP: &str = include_str!("shaders/shadow_lookup.wgsl");
+pub const PHOTON: &str = include_str!("shaders/photon.wgsl");
 pub const CAUSTICS_LOOKUP: &str = include_str!("shaders/caustics_lookup.wgsl");
 
 /// Join shader parts, each introduced by a comment naming its position.
@@ -46,6 +47,10 @@ pub fn all_for_validation() -> Vec<(String, String)> {
         ("geometry/shadow".to_string(), crate::passes::geometry::shadow_source()),
         ("caustics".to_string(), crate::passes::caustics::source()),
         ("caustics/beam".to_string(), crate::passes::caustics::beam_source()),
+        ("godrays/tubes".to_string(), crate::passes::godrays::tubes_source()),
+        ("godrays/ribbons".to_string(), crate::passes::godrays::ribbons_source()),
+        ("godrays/march".to_string(), crate::passes::godrays::march_source()),
+        ("godrays/resolve".to_string(), crate::passes::godrays::resolve_source()),
     ];
     for n in [64u32, 256, 1024] {
         v.push((format!("ocean/fft N={n}"), crate::passes::ocean::fft_source(n)));

@@ -46,6 +46,8 @@ pub struct TargetSettings {
     pub reflection_resolution: f32,
     /// Reflection field-of-view widening (0.5 = 50%).
     pub reflection_margin: f32,
+    /// God-ray buffer size relative to the output.
+    pub godray_resolution: f32,
 }
 
 pub struct ColorDepth {
@@ -78,6 +80,8 @@ pub struct Targets {
     pub water_inputs: wgpu::BindGroup,
     /// The tone map's inputs (HDR image and the debug views' textures).
     pub tonemap_input: wgpu::BindGroup,
+    /// The god-ray buffer and its depth.
+    pub godrays: crate::passes::godrays::GodRayTargets,
 }
 
 fn texture(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
@@ -135,6 +139,7 @@ impl Targets {
         downsampler: &crate::passes::mips::Downsampler,
         water_inputs_layout: &wgpu::BindGroupLayout,
         shadow_view: &wgpu::TextureView,
+        godrays: &crate::passes::godrays::GodRaysPass,
     ) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
@@ -168,6 +173,7 @@ impl Targets {
                 wgpu::BindGroupEntry { binding: 6, resource: tv(&refraction_over.depth_view) },
             ],
         });
+        let godrays = godrays.create_targets(device, size, settings.godray_resolution, &depth_view, &stencil_view);
         let tonemap_input = tonemap.input_group(device, [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, shadow_view, &stencil_view]);
         Targets {
             size,
@@ -182,6 +188,7 @@ impl Targets {
             refraction_over,
             water_inputs,
             tonemap_input,
+            godrays,
         }
     }
 }

@@ -31,6 +31,7 @@ pub struct FrameUniforms {
     pub sky_underwater: [f32; 4],
     pub modes2: [u32; 4],
     pub caustic_params: [f32; 4],
+    pub godrays: [f32; 4],
 }
 
 /// WGSL `View` (passes/geometry/geometry_common.wgsl).
@@ -92,6 +93,8 @@ pub fn layouts() -> Vec<(&'static str, String, usize)> {
         ("CausticParams", crate::passes::caustics::source(), size_of::<crate::passes::caustics::CausticUniforms>()),
         ("BeamParams", crate::passes::caustics::beam_source(), size_of::<crate::passes::caustics::CausticUniforms>()),
         ("Object", crate::passes::geometry::source(), size_of::<ObjectUniforms>()),
+        ("GodRayParams", crate::passes::godrays::ribbons_source(), size_of::<crate::passes::godrays::GodRayUniforms>()),
+        ("Tube", crate::passes::godrays::ribbons_source(), crate::passes::godrays::TUBE_BYTES as usize),
         ("AssembleParams", crate::passes::ocean::assemble_source(), size_of::<AssembleUniforms>()),
     ]
 }

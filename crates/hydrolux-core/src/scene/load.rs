@@ -406,6 +406,15 @@ impl Scene {
                 allowed: "must be 16 to 2048".into(),
             });
         }
+        let g = &self.godrays;
+        if !(4..=2048).contains(&g.photons) {
+            return Err(SceneError::OutOfRange { key: "godrays.photons".into(), value: g.photons.to_string(), allowed: "must be 4 to 2048 (per side)".into() });
+        }
+        range("godrays.resolution", g.resolution, g.resolution > 0.0 && g.resolution <= 1.0, "must be > 0 and at most 1 (a fraction of the output size)")?;
+        range("godrays.distance", g.distance, g.distance > 0.0 && g.distance <= 1000.0, "must be > 0 and at most 1000 m")?;
+        if !(4..=512).contains(&g.steps) {
+            return Err(SceneError::OutOfRange { key: "godrays.steps".into(), value: g.steps.to_string(), allowed: "must be 4 to 512".into() });
+        }
         if self.objects.len() > 1024 {
             return Err(SceneError::OutOfRange { key: "objects".into(), value: self.objects.len().to_string(), allowed: "at most 1024 objects".into() });
         }

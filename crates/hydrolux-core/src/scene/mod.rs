@@ -31,6 +31,7 @@ pub struct Scene {
     pub render: RenderDesc,
     pub floor: FloorDesc,
     pub caustics: CausticsDesc,
+    pub godrays: GodRaysDesc,
     /// `[[objects]]` entries: meshes and primitives with a transform and material.
     pub objects: Vec<ObjectDesc>,
     /// Folder that relative mesh, texture and heightmap paths start from (the
@@ -283,6 +284,41 @@ impl Default for CausticsDesc {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+pub enum GodRayMethod {
+    /// Each photon's path in the water drawn as a line (a screen-facing
+    /// ribbon) into a reduced-resolution buffer (seed 000 §4.6).
+    Lines,
+    /// Ray marching each pixel of the buffer through the caustic layers and
+    /// the shadow map (the slices of seed 003 §4.3).
+    March,
+    Off,
+}
+
+/// Volume caustics under the surface: the shafts of light that the waves'
+/// focusing makes visible in the water.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GodRaysDesc {
+    pub method: GodRayMethod,
+    /// Photons per side of the square of surface traced around the viewer (lines).
+    pub photons: u32,
+    /// The god-ray buffer's size as a fraction of the output.
+    pub resolution: f32,
+    /// How far from the eye (m) the shafts are drawn; beyond, the water's
+    /// in-scattering is the uniform (unfocused) closed form.
+    pub distance: f32,
+    /// Samples along each pixel's ray (march).
+    pub steps: u32,
+}
+
+impl Default for GodRaysDesc {
+    fn default() -> Self {
+        GodRaysDesc { method: GodRayMethod::Lines, photons: 256, resolution: 0.5, distance: 20.0, steps: 48 }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Primitive {
     Box,
     Sphere,
@@ -375,6 +411,7 @@ impl Default for Scene {
             render: RenderDesc::default(),
             floor: FloorDesc::default(),
             caustics: CausticsDesc::default(),
+            godrays: GodRaysDesc::default(),
             objects: Vec::new(),
             base_dir: std::path::PathBuf::new(),
         }

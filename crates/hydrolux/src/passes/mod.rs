@@ -1,11 +1,12 @@
 //! One module per pass, in frame order: ocean (simulate) → sky (bake) →
 //! caustics → geometry (shadow map, offscreen reflection/refraction views) →
 //! water (medium classification) → sky background, geometry and water in the
-//! main view → tonemap (or a debug view); probe answers queries outside the
+//! main view → god rays → tonemap (or a debug view); probe answers queries outside the
 //! frame.
 
 pub mod caustics;
 pub mod geometry;
+pub mod godrays;
 pub mod mips;
 pub mod ocean;
 pub mod probe;

@@ -52,6 +52,9 @@ struct Frame {
     // Floor caustics: xy patch (m; x = 0 when off), z the floor depth the map
     // is for, w 1 / (the flat-water value of the map).
     caustic_params: vec4<f32>,
+    // x distance from the eye (m) within which god rays replace the uniform
+    // sun in-scattering (0: no god rays this frame).
+    godrays: vec4<f32>,
 }
 
 const VIEW_FINAL: u32 = 0u;

@@ -46,18 +46,35 @@ fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<
     return sun + sky + up;
 }
 
+// The sun's part of the light scattered once into a view ray along `dir`
+// from an eye `depth` m under the mean surface, between distances s0 and s1
+// (the depth changes by −dir.y per metre). Twin:
+// UnderwaterLight::sun_in_scatter.
+fn sun_in_scatter(depth: f32, dir: vec3<f32>, s0: f32, s1: f32) -> vec3<f32> {
+    let cos_w = max(frame.sun_travel.w, 1e-3);
+    let d0 = max(depth - dir.y * s0, 0.0);
+    let phase = henyey_greenstein(dot(frame.sun_travel.xyz, -dir), frame.absorption.w);
+    return transmittance(s0) * in_scatter(frame.sun_underwater.rgb * transmittance(d0 / cos_w), phase, -dir.y / cos_w, s1 - s0);
+}
+
+// The diffuse skylight's part over the first s metres.
+fn sky_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
+    let d = max(depth, 0.0);
+    let sky_start = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
+    return in_scatter(sky_start, PHASE_ISOTROPIC, -dir.y / DIFFUSE_MEAN_COSINE, s);
+}
+
 // Light scattered once into a path of length s along `dir` that starts
 // `depth` m under the mean surface, towards a viewer looking along `dir`
-// (seed 000 eq. 3.7–3.8; the depth changes by −dir.y per metre).
+// (seed 000 eq. 3.7–3.8).
 fn view_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
-    let d = max(depth, 0.0);
-    let down = -dir.y;
-    let cos_w = max(frame.sun_travel.w, 1e-3);
-    let phase = henyey_greenstein(dot(frame.sun_travel.xyz, -dir), frame.absorption.w);
-    let sun = in_scatter(frame.sun_underwater.rgb * transmittance(d / cos_w), phase, down / cos_w, s);
-    let sky_start = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
-    let sky = in_scatter(sky_start, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
-    return sun + sky;
+    return sun_in_scatter(depth, dir, 0.0, s) + sky_in_scatter(depth, dir, s);
+}
+
+// The same for a ray leaving the eye: where god rays are drawn (the first
+// frame.godrays.x metres), they replace the uniform sun term.
+fn eye_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
+    return sun_in_scatter(depth, dir, min(frame.godrays.x, s), s) + sky_in_scatter(depth, dir, s);
 }
 
 // The same from just under the surface (a downward refracted ray).
@@ -65,10 +82,10 @@ fn path_in_scatter(dir: vec3<f32>, s: f32) -> vec3<f32> {
     return view_in_scatter(0.0, dir, s);
 }
 
-// What a viewer inside the water at `eye` sees of radiance `l` (in-medium)
+// What a viewer inside the water at `eye` (the camera) sees of radiance `l` (in-medium)
 // leaving `p`: attenuated on the way, plus the light scattered into the path.
 fn through_water(eye: vec3<f32>, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let d = distance(eye, p);
     let dir = (p - eye) / max(d, 1e-6);
-    return l * transmittance(d) + view_in_scatter(-eye.y, dir, d);
+    return l * transmittance(d) + eye_in_scatter(-eye.y, dir, d);
 }

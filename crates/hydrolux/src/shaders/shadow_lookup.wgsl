@@ -26,3 +26,16 @@ fn sun_visibility(world: vec3<f32>, n: vec3<f32>) -> f32 {
     }
     return sum / 9.0;
 }
+
+// One filtered tap, for the many samples of a volume (god rays).
+fn sun_visibility_point(world: vec3<f32>) -> f32 {
+    if (frame.modes2.z == 0u) {
+        return 1.0;
+    }
+    let clip = frame.shadow_view_proj * vec4<f32>(shadow_space(world), 1.0);
+    let uv = vec2<f32>(0.5 + 0.5 * clip.x, 0.5 - 0.5 * clip.y);
+    if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0))) {
+        return 1.0;
+    }
+    return textureSampleCompareLevel(shadow_map, shadow_sampler, uv, min(clip.z, 1.0) - 0.0015);
+}

@@ -51,26 +51,15 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = params.extent.xy;
     let x0 = ((f32(id.x) + 0.5) / f32(n) - 0.5) * size.x;
     let z0 = ((f32(id.y) + 0.5) / f32(n) - 0.5) * size.y;
-    let s = surface_sample_footprint(vec2<f32>(x0, z0), 0.0);
-    let tx = vec3<f32>(1.0 + s.dxx, s.slope.x, s.dxz);
-    let tz = vec3<f32>(s.dxz, s.slope.y, 1.0 + s.dzz);
-    let area_normal = cross(tz, tx);
-    let l = frame.sun_dir.xyz;
-    let shown = dot(area_normal, l);
-    if (shown <= 0.0) {
+    let photon = refracted_photon(vec2<f32>(x0, z0));
+    if (photon.weight <= 0.0) {
         return;
     }
-    let nrm = normalize(area_normal);
-    let ior = frame.water_body.w;
-    let t = 1.0 - fresnel_exact(dot(nrm, l), 1.0, ior);
-    let dir = refract(-l, nrm, 1.0 / ior);
-    if (dir.y > -1e-4) {
-        return;
-    }
-    let pos = vec3<f32>(x0 + s.disp.x, s.disp.y, z0 + s.disp.z);
+    let pos = photon.pos;
+    let dir = photon.dir;
     let m = f32(params.counts.y);
     let cell_area = size.x * size.y / (m * m);
-    let energy = shown * t * (size.x * size.y / f32(n * n)) / cell_area;
+    let energy = photon.weight * (size.x * size.y / f32(n * n)) / cell_area;
     for (var layer = 0u; layer < params.counts.w; layer++) {
         let hit = pos + dir * (max(pos.y + layer_depth(layer), 0.0) / -dir.y);
         // Bilinear (tent) weights over the four nearest cell centres.

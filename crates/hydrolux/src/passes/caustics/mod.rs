@@ -19,7 +19,7 @@ pub fn beam_source() -> String {
 }
 
 pub fn source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SURFACE, include_str!("caustics.wgsl")])
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SURFACE, shaders::PHOTON, include_str!("caustics.wgsl")])
 }
 
 /// WGSL `CausticParams` (and `BeamParams`, the same layout).

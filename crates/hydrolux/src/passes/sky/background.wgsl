@@ -57,5 +57,5 @@ fn fs_deep(in: VsOut) -> @location(0) vec4<f32> {
     if (dir.y > 1e-4 && eye.y < 0.0) {
         s = -eye.y / dir.y;
     }
-    return vec4<f32>(view_in_scatter(-eye.y, dir, s), 1.0);
+    return vec4<f32>(eye_in_scatter(-eye.y, dir, s), 1.0);
 }

@@ -1,0 +1,50 @@
+// Shared by the god-ray shaders: their parameters, the beam tubes, and the
+// buffer's geometry. Layout twins: GodRayUniforms, Tube (mod.rs).
+
+struct GodRayParams {
+    // x photons per side, y march steps, zw buffer size (texels).
+    counts: vec4<u32>,
+    // xy centre of the traced square of surface, z its half side (m),
+    // w ribbon half-width (m).
+    region: vec4<f32>,
+    // x distance from the eye within which shafts are drawn (m), y depth at
+    // which tubes end (m).
+    limits: vec4<f32>,
+}
+
+// One photon's path in the water. Twin: hydrolux_core::godrays::BeamTube.
+struct Tube {
+    // xyz where it enters the water, w length (m).
+    start: vec4<f32>,
+    // xyz unit direction, w flux relative to the sun's irradiance (m²; 0: none).
+    dir: vec4<f32>,
+}
+
+// Where the view ray at NDC `ndc` meets depth `z` (reversed-Z).
+fn world_at(ndc: vec2<f32>, z: f32) -> vec3<f32> {
+    let h = frame.inv_view_proj * vec4<f32>(ndc, z, 1.0);
+    return h.xyz / h.w;
+}
+
+// NDC of the centre of texel `texel` of a buffer of `size` texels.
+fn texel_ndc(texel: vec2<f32>, size: vec2<f32>) -> vec2<f32> {
+    let uv = (texel + 0.5) / size;
+    return vec2<f32>(2.0 * uv.x - 1.0, 1.0 - 2.0 * uv.y);
+}
+
+// Distance from the eye to the scene at NDC `ndc` with depth `z`
+// (infinite where nothing was drawn).
+fn scene_distance(ndc: vec2<f32>, z: f32) -> f32 {
+    if (z <= 0.0) {
+        return 1e9;
+    }
+    return distance(world_at(ndc, z), frame.camera_pos.xyz);
+}
+
+// Light of the refracted sun scattered towards the eye per metre of a view
+// ray along `view`, by a beam of irradiance `e_perp` (relative to the sun's)
+// travelling along `travel`, `s` m from the eye.
+fn scattered_to_eye(e_perp: vec3<f32>, travel: vec3<f32>, view: vec3<f32>, s: f32) -> vec3<f32> {
+    let phase = henyey_greenstein(dot(travel, -view), frame.absorption.w);
+    return frame.scattering.rgb * phase * e_perp * frame.sun_illuminance.rgb * transmittance(s);
+}

@@ -1,0 +1,48 @@
+// God rays, the ray-marched alternative (`godrays.method = "march"`): each
+// texel of the buffer marches its view ray through the water up to the
+// drawn distance or the scene, sampling the refracted sun's irradiance
+// from the caustic layers (the light-space slices of seed 003 §4.3) and
+// the shadow map, and integrates the single scattering towards the eye.
+// Flat water gives the same as the lines; needs the caustic layers (a
+// floor and caustics on) to show any focusing.
+
+@group(1) @binding(0) var<uniform> params: GodRayParams;
+@group(2) @binding(0) var scene_depth: texture_2d<f32>;
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    return vec4<f32>(fullscreen_ndc(i), 0.0, 1.0);
+}
+
+// Interleaved gradient noise (Jimenez 2014): a per-texel offset of the
+// samples that turns banding into fine noise, which the upsampling smooths.
+fn texel_noise(p: vec2<f32>) -> f32 {
+    return fract(52.9829189 * fract(dot(p, vec2<f32>(0.06711056, 0.00583715))));
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let texel = vec2<i32>(pos.xy);
+    let size = vec2<f32>(params.counts.zw);
+    let ndc = texel_ndc(vec2<f32>(texel), size);
+    let eye = frame.camera_pos.xyz;
+    let view = normalize(world_at(ndc, 0.5) - eye);
+    let end = min(params.limits.x, scene_distance(ndc, textureLoad(scene_depth, texel, 0).r));
+    let steps = params.counts.y;
+    let ds = end / f32(steps);
+    let jitter = texel_noise(pos.xy);
+    let travel = frame.sun_travel.xyz;
+    let cos_w = max(frame.sun_travel.w, 1e-3);
+    let flat_e = frame.sun_underwater.rgb / max(frame.sun_illuminance.rgb, vec3<f32>(1e-6));
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < steps; i++) {
+        let s = (f32(i) + jitter) * ds;
+        let p = eye + view * s;
+        if (p.y > 0.0) {
+            continue;
+        }
+        let e = flat_e * transmittance(-p.y / cos_w) * caustic_factor(p) * sun_visibility_point(p);
+        sum += scattered_to_eye(e, travel, view, s) * ds;
+    }
+    return vec4<f32>(sum, 1.0);
+}

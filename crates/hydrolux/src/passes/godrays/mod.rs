@@ -1,0 +1,377 @@
+//! God rays: volume caustics under the surface (seed 000 §3.5, §4.6; the
+//! slices of seed 003 §4.3 for the march). CPU twin:
+//! `hydrolux_core::godrays`.
+//!
+//! Per frame, for a viewer in the water:
+//! 1. `tubes.wgsl` (lines method): one compute thread per photon of a grid
+//!    over the surface around the viewer builds its beam tube.
+//! 2. `resolve.wgsl` `fs_reduce`: the scene's depth at the buffer's size
+//!    (nearest of each block).
+//! 3. `ribbons.wgsl` draws every tube as a ribbon into the buffer
+//!    (additively), or `march.wgsl` marches each buffer texel through the
+//!    caustic layers and the shadow map.
+//! 4. `resolve.wgsl` `fs_composite`: depth-aware upsampling into the image,
+//!    where the pixel's medium is water.
+//!
+//! Within `godrays.distance` of the eye the buffer carries the sun's single
+//! scattering; beyond it the water shaders keep the uniform closed form
+//! (`eye_in_scatter` in `shaders/medium.wgsl`), so the two add up to the
+//! whole ray.
+
+use crate::gpu_util::*;
+use crate::shaders::{self, compose};
+use crate::timing::GpuTimer;
+use hydrolux_core::scene::GodRayMethod;
+
+/// The buffer of scattered light (linear radiance, pre-exposed).
+pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The scene's depth at the buffer's size.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+const COMMON: &str = include_str!("common.wgsl");
+
+fn base() -> Vec<&'static str> {
+    vec![shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, COMMON]
+}
+
+pub fn tubes_source() -> String {
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, COMMON, shaders::OPTICS, shaders::SURFACE, shaders::PHOTON, include_str!("tubes.wgsl")])
+}
+
+pub fn ribbons_source() -> String {
+    let mut parts = base();
+    parts.extend([shaders::SHADOW_SPACE, shaders::SHADOW_LOOKUP, include_str!("ribbons.wgsl")]);
+    compose(&parts)
+}
+
+pub fn march_source() -> String {
+    let mut parts = base();
+    parts.extend([shaders::FULLSCREEN, shaders::SHADOW_SPACE, shaders::SHADOW_LOOKUP, shaders::CAUSTICS_LOOKUP, include_str!("march.wgsl")]);
+    compose(&parts)
+}
+
+pub fn resolve_source() -> String {
+    let mut parts = base();
+    parts.extend([shaders::FULLSCREEN, include_str!("resolve.wgsl")]);
+    compose(&parts)
+}
+
+/// WGSL `GodRayParams` (common.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GodRayUniforms {
+    pub counts: [u32; 4],
+    pub region: [f32; 4],
+    pub limits: [f32; 4],
+}
+
+/// WGSL `Tube` (common.wgsl): 32 bytes per photon.
+pub const TUBE_BYTES: u64 = 32;
+
+/// The tube buffer for one photon count.
+pub struct GodRayTubes {
+    pub per_side: u32,
+    buffer: wgpu::Buffer,
+    build_group: wgpu::BindGroup,
+    draw_group: wgpu::BindGroup,
+}
+
+/// Size-dependent targets: the buffer, its depth, and what reads them.
+pub struct GodRayTargets {
+    pub size: (u32, u32),
+    pub buffer: wgpu::Texture,
+    buffer_view: wgpu::TextureView,
+    depth_view: wgpu::TextureView,
+    depth_input: wgpu::BindGroup,
+    reduce_input: wgpu::BindGroup,
+    composite_input: wgpu::BindGroup,
+}
+
+pub struct GodRaysPass {
+    params: wgpu::Buffer,
+    build_layout: wgpu::BindGroupLayout,
+    draw_layout: wgpu::BindGroupLayout,
+    depth_layout: wgpu::BindGroupLayout,
+    reduce_layout: wgpu::BindGroupLayout,
+    composite_layout: wgpu::BindGroupLayout,
+    build: wgpu::ComputePipeline,
+    ribbons: wgpu::RenderPipeline,
+    march: wgpu::RenderPipeline,
+    reduce: wgpu::RenderPipeline,
+    composite: wgpu::RenderPipeline,
+}
+
+/// What the frame decided about god rays (see `Renderer`).
+#[derive(Clone, Copy, Debug)]
+pub struct GodRayFrame {
+    pub method: GodRayMethod,
+    pub uniforms: GodRayUniforms,
+}
+
+const ADD: wgpu::BlendComponent = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+
+fn render_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    layouts: &[&wgpu::BindGroupLayout],
+    format: wgpu::TextureFormat,
+    additive: bool,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout(device, label, layouts)),
+        vertex: wgpu::VertexState { module, entry_point: Some(entries.0), compilation_options: Default::default(), buffers: &[] },
+        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(entries.1),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: additive.then_some(wgpu::BlendState { color: ADD, alpha: ADD }),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl GodRaysPass {
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        frame_only: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+        hdr_format: wgpu::TextureFormat,
+    ) -> Self {
+        let (vs, fs, cs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
+        let build_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("god-ray tubes (build)"),
+            entries: &[uniform_entry(0, cs), storage_entry(1, cs, false)],
+        });
+        let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("god-ray tubes"),
+            entries: &[uniform_entry(0, vs | fs), storage_entry(1, vs | fs, true)],
+        });
+        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("god-ray depth"),
+            entries: &[texture_entry(0, fs, wgpu::TextureViewDimension::D2, false)],
+        });
+        let depth_texture = |binding| {
+            layout_entry(binding, fs, wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Depth,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            })
+        };
+        let reduce_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("god-ray reduce"),
+            entries: &[depth_texture(0), uniform_entry(4, fs)],
+        });
+        let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("god-ray composite"),
+            entries: &[
+                depth_texture(0),
+                texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
+                texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
+                layout_entry(3, fs, wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                }),
+            ],
+        });
+        let tubes_module = shader(device, "god-ray tubes", &tubes_source());
+        let build = compute_pipeline(device, "god-ray tubes", &tubes_module, "build", &[frame_only, surface, &build_layout]);
+        let ribbons_module = shader(device, "god-ray ribbons", &ribbons_source());
+        let ribbons = render_pipeline(device, "god-ray ribbons", &ribbons_module, ("vs_ribbon", "fs_ribbon"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, true);
+        let march_module = shader(device, "god-ray march", &march_source());
+        let march = render_pipeline(device, "god-ray march", &march_module, ("vs_main", "fs_main"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, false);
+        let resolve_module = shader(device, "god-ray resolve", &resolve_source());
+        let reduce = render_pipeline(device, "god-ray reduce", &resolve_module, ("vs_main", "fs_reduce"), &[frame_only, &reduce_layout], DEPTH_FORMAT, false);
+        let composite = render_pipeline(device, "god-ray composite", &resolve_module, ("vs_main", "fs_composite"), &[frame_only, &composite_layout], hdr_format, true);
+        GodRaysPass {
+            params: uniform_buffer(device, "god-ray params", &GodRayUniforms::default()),
+            build_layout,
+            draw_layout,
+            depth_layout,
+            reduce_layout,
+            composite_layout,
+            build,
+            ribbons,
+            march,
+            reduce,
+            composite,
+        }
+    }
+
+    pub fn create_tubes(&self, device: &wgpu::Device, per_side: u32) -> GodRayTubes {
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("god-ray tubes"),
+            size: (per_side as u64).pow(2) * TUBE_BYTES,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let group = |layout, label| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: self.params.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: buffer.as_entire_binding() },
+                ],
+            })
+        };
+        GodRayTubes { per_side, build_group: group(&self.build_layout, "god-ray tubes (build)"), draw_group: group(&self.draw_layout, "god-ray tubes"), buffer }
+    }
+
+    /// The buffer (`scale` × the output size) and its bind groups, reading
+    /// the main view's depth and medium (stencil) views.
+    pub fn create_targets(
+        &self,
+        device: &wgpu::Device,
+        output: (u32, u32),
+        scale: f32,
+        main_depth: &wgpu::TextureView,
+        main_medium: &wgpu::TextureView,
+    ) -> GodRayTargets {
+        let size = (((output.0 as f32 * scale).round() as u32).max(1), ((output.1 as f32 * scale).round() as u32).max(1));
+        let texture = |label, format| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        let buffer = texture("god-ray buffer", BUFFER_FORMAT);
+        let depth = texture("god-ray depth", DEPTH_FORMAT);
+        let buffer_view = buffer.create_view(&Default::default());
+        let depth_view = depth.create_view(&Default::default());
+        let tv = wgpu::BindingResource::TextureView;
+        let depth_input = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("god-ray depth"),
+            layout: &self.depth_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: tv(&depth_view) }],
+        });
+        let reduce_input = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("god-ray reduce"),
+            layout: &self.reduce_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: tv(main_depth) }, wgpu::BindGroupEntry { binding: 4, resource: self.params.as_entire_binding() }],
+        });
+        let composite_input = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("god-ray composite"),
+            layout: &self.composite_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: tv(main_depth) },
+                wgpu::BindGroupEntry { binding: 1, resource: tv(&depth_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: tv(&buffer_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: tv(main_medium) },
+            ],
+        });
+        GodRayTargets { size, buffer, buffer_view, depth_view, depth_input, reduce_input, composite_input }
+    }
+
+    /// Write this frame's parameters (before recording).
+    pub fn prepare(&self, queue: &wgpu::Queue, uniforms: &GodRayUniforms) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(uniforms));
+    }
+
+    /// Build the tubes (lines), fill the buffer and add it to `hdr`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        [globals, frame_only, surface]: [&wgpu::BindGroup; 3],
+        method: GodRayMethod,
+        tubes: &GodRayTubes,
+        targets: &GodRayTargets,
+        hdr: &wgpu::TextureView,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
+        if method == GodRayMethod::Off {
+            return;
+        }
+        if method == GodRayMethod::Lines {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("god-ray tubes"),
+                timestamp_writes: timer.as_deref_mut().and_then(|t| t.compute_writes("god-ray tubes")),
+            });
+            pass.set_pipeline(&self.build);
+            pass.set_bind_group(0, frame_only, &[]);
+            pass.set_bind_group(1, surface, &[]);
+            pass.set_bind_group(2, &tubes.build_group, &[]);
+            let n = tubes.per_side.div_ceil(8);
+            pass.dispatch_workgroups(n, n, 1);
+        }
+        let target = |encoder: &mut wgpu::CommandEncoder, label: &'static str, view, timer: Option<&mut GpuTimer>| {
+            encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(label),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: timer.and_then(|t| t.render_writes(label)),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                })
+                .forget_lifetime()
+        };
+        {
+            let mut pass = target(encoder, "god-ray depth", &targets.depth_view, timer.as_deref_mut());
+            pass.set_pipeline(&self.reduce);
+            pass.set_bind_group(0, frame_only, &[]);
+            pass.set_bind_group(1, &targets.reduce_input, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        {
+            let mut pass = target(encoder, "god rays", &targets.buffer_view, timer.as_deref_mut());
+            pass.set_bind_group(0, globals, &[]);
+            pass.set_bind_group(1, &tubes.draw_group, &[]);
+            pass.set_bind_group(2, &targets.depth_input, &[]);
+            if method == GodRayMethod::Lines {
+                pass.set_pipeline(&self.ribbons);
+                pass.draw(0..6, 0..tubes.per_side * tubes.per_side);
+            } else {
+                pass.set_pipeline(&self.march);
+                pass.draw(0..3, 0..1);
+            }
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("god-ray composite"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: hdr,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timer.and_then(|t| t.render_writes("god-ray composite")),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.composite);
+        pass.set_bind_group(0, frame_only, &[]);
+        pass.set_bind_group(1, &targets.composite_input, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Read the tubes back (start xyz, length, dir xyz, flux per tube).
+    pub fn read_tubes(&self, device: &wgpu::Device, queue: &wgpu::Queue, tubes: &GodRayTubes) -> Vec<[f32; 8]> {
+        let bytes = read_buffer(device, queue, &tubes.buffer, (tubes.per_side as u64).pow(2) * TUBE_BYTES);
+        bytemuck::cast_slice::<u8, f32>(&bytes).chunks_exact(8).map(|c| c.try_into().unwrap_or([0.0; 8])).collect()
+    }
+}
