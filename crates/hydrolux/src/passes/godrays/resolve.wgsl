@@ -22,7 +22,7 @@ fn fs_reduce(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let full = vec2<f32>(textureDimensions(full_depth));
     let small = vec2<f32>(params.counts.zw);
     let lo = vec2<i32>(floor(floor(pos.xy) * full / small));
-    let hi = min(vec2<i32>(ceil((floor(pos.xy) + 1.0) * full / small)), vec2<i32>(full) - 1);
+    let hi = min(vec2<i32>(ceil((floor(pos.xy) + 1.0) * full / small)) - 1, vec2<i32>(full) - 1);
     var nearest = 0.0;
     for (var y = lo.y; y <= min(hi.y, lo.y + 7); y++) {
         for (var x = lo.x; x <= min(hi.x, lo.x + 7); x++) {
