@@ -6,8 +6,9 @@
 use crate::gpu_util::*;
 use wgpu::util::DeviceExt;
 use crate::passes::caustics::{CausticMap, CausticsPass};
-use crate::passes::godrays::{GodRayTubes, GodRayUniforms, GodRaysPass};
-use crate::passes::geometry::{GeometryPass, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding};
+use crate::passes::godrays::{GodRayTubes, GodRayUniforms, GodRaysPass, Shafts};
+use crate::passes::water_object::{MARCH_STEPS, ObjectLight, ObjectLightUniforms, WaterObjectPass};
+use crate::passes::geometry::{GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding};
 use crate::passes::mips::Downsampler;
 use crate::passes::ocean::{OceanPass, OceanTooLarge};
 use crate::passes::probe::ProbePass;
@@ -55,6 +56,8 @@ struct ViewSlots {
     reflection_under: ViewSlot,
     refraction_over: ViewSlot,
     shadow: ViewSlot,
+    /// Refractive objects' light view.
+    object_light: ViewSlot,
 }
 
 /// What one frame needs beyond the scene: where to draw, and when.
@@ -96,6 +99,8 @@ pub struct Renderer {
     caustic_map: CausticMap,
     godrays: GodRaysPass,
     godray_tubes: GodRayTubes,
+    water_object: WaterObjectPass,
+    object_light: ObjectLight,
     shadow: ShadowState,
     downsampler: Downsampler,
     sky: SkyPass,
@@ -138,6 +143,7 @@ impl Renderer {
                 layout_entry(5, all, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
                 texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(7, all),
+                texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
             ],
         });
         let frame_only_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -193,17 +199,21 @@ impl Renderer {
         // caustic map it writes.
         let caustics = CausticsPass::new(device, &frame_only_layout, &surface_layout);
         let caustic_map = caustics.create_map(device, scene.caustics.photons, scene.caustics.map_resolution, scene.caustics.layers);
+        let geometry_pass = GeometryPass::new(device, queue, &globals_layout, &frame_only_layout, main_depth_format);
+        let geometry = geometry_pass.upload(device, queue, scene)?;
+        let godrays = GodRaysPass::new(device, &globals_layout, &frame_only_layout, &surface_layout, crate::targets::HDR_FORMAT);
+        let godray_tubes = godrays.create_tubes(device, scene.godrays.photons);
+        let water_object = WaterObjectPass::new(device, &globals_layout, &frame_only_layout, &geometry_pass);
+        let object_light = water_object.create_light(device, &godrays, Self::object_resolution(&geometry, scene));
         let shadow = Self::build_shadow(
             device,
             &globals_layout,
             &frame_buffer,
             &sky,
             [&sky_sampler, &shadow_sampler, &caustic_sampler],
-            &caustic_map.view,
+            [&caustic_map.view, &object_light.map_view],
             scene.render.shadow_resolution,
         );
-        let geometry_pass = GeometryPass::new(device, queue, &globals_layout, &frame_only_layout, main_depth_format);
-        let geometry = geometry_pass.upload(device, queue, scene)?;
         let views = ViewSlots {
             main: geometry_pass.view_slot(device, "main view", Winding::Normal),
             reflection: geometry_pass.view_slot(device, "reflection view", Winding::Mirrored),
@@ -211,14 +221,13 @@ impl Renderer {
             reflection_under: geometry_pass.view_slot(device, "reflection under view", Winding::Mirrored),
             refraction_over: geometry_pass.view_slot(device, "refraction over view", Winding::Normal),
             shadow: geometry_pass.view_slot(device, "shadow view", Winding::Normal),
+            object_light: geometry_pass.view_slot(device, "object light view", Winding::Normal),
         };
         let water_inputs_layout = WaterPass::inputs_layout(device);
         let water = WaterPass::new(device, &globals_layout, &surface_layout, &water_inputs_layout, main_depth_format);
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
         let surface = Self::build_surface(device, queue, &downsampler, &surface_layout, &surface_buffer, scene)?;
-        let godrays = GodRaysPass::new(device, &globals_layout, &frame_only_layout, &surface_layout, crate::targets::HDR_FORMAT);
-        let godray_tubes = godrays.create_tubes(device, scene.godrays.photons);
         let timer = GpuTimer::new(device, queue);
         let mut r = Renderer {
             device: device.clone(),
@@ -236,6 +245,8 @@ impl Renderer {
             caustic_map,
             godrays,
             godray_tubes,
+            water_object,
+            object_light,
             shadow,
             downsampler,
             sky,
@@ -265,7 +276,7 @@ impl Renderer {
         frame_buffer: &wgpu::Buffer,
         sky: &SkyPass,
         [sky_sampler, shadow_sampler, caustic_sampler]: [&wgpu::Sampler; 3],
-        caustic_view: &wgpu::TextureView,
+        [caustic_view, object_caustic_view]: [&wgpu::TextureView; 2],
         resolution: u32,
     ) -> ShadowState {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -291,6 +302,7 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(shadow_sampler) },
                 wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(caustic_view) },
                 wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(caustic_sampler) },
+                wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(object_caustic_view) },
             ],
         });
         ShadowState { resolution, view, globals }
@@ -371,7 +383,7 @@ impl Renderer {
         let resolved = match scene.water.model {
             WaterModel::Fft => spectrum.expected_slope_variance(),
             WaterModel::Sines => sines.slope_variance(),
-            WaterModel::Flat => [0.0, 0.0],
+            WaterModel::Flat | WaterModel::None => [0.0, 0.0],
             WaterModel::Heightfield => heightfield.as_ref().map_or([0.0, 0.0], |f| {
                 let n = (f.nx * f.nz) as f64;
                 let mut v = [0.0f64; 2];
@@ -395,7 +407,7 @@ impl Renderer {
         let hs = match scene.water.model {
             WaterModel::Fft => 4.0 * spectrum.expected_variance().sqrt(),
             WaterModel::Sines => 4.0 * sines.waves.iter().map(|w| w.amplitude * w.amplitude / 2.0).sum::<f64>().sqrt(),
-            WaterModel::Flat => 0.0,
+            WaterModel::Flat | WaterModel::None => 0.0,
             // Hs = 4σ would undercount a user's steep single waves: use the peak.
             WaterModel::Heightfield => heightfield.as_ref().map_or(0.0, |f| 2.0 * f.max_abs() as f64),
         };
@@ -435,6 +447,12 @@ impl Renderer {
         }
         if scene.floor != self.scene.floor || scene.objects != self.scene.objects || scene.base_dir != self.scene.base_dir {
             self.geometry = self.geometry_pass.upload(&self.device, &self.queue, scene)?;
+            self.targets = None;
+        }
+        let object_resolution = Self::object_resolution(&self.geometry, scene);
+        let object_light_changed = object_resolution != self.object_light.resolution;
+        if object_light_changed {
+            self.object_light = self.water_object.create_light(&self.device, &self.godrays, object_resolution);
         }
         let caustics_changed = scene.caustics.photons != self.caustic_map.photons_per_side
             || scene.caustics.map_resolution != self.caustic_map.resolution
@@ -442,14 +460,14 @@ impl Renderer {
         if caustics_changed {
             self.caustic_map = self.caustics.create_map(&self.device, scene.caustics.photons, scene.caustics.map_resolution, scene.caustics.layers);
         }
-        if scene.render.shadow_resolution != self.shadow.resolution || caustics_changed {
+        if scene.render.shadow_resolution != self.shadow.resolution || caustics_changed || object_light_changed {
             self.shadow = Self::build_shadow(
                 &self.device,
                 &self.globals_layout,
                 &self.frame_buffer,
                 &self.sky,
                 [&self.sky_sampler, &self.shadow_sampler, &self.caustic_sampler],
-                &self.caustic_map.view,
+                [&self.caustic_map.view, &self.object_light.map_view],
                 scene.render.shadow_resolution,
             );
             self.targets = None;
@@ -512,7 +530,7 @@ impl Renderer {
     /// there is a floor to receive them and the sun is up.
     fn caustic_setup(&self) -> Option<([f32; 2], f32)> {
         let s = &self.scene;
-        let on = s.caustics.method != CausticMethod::Off && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
+        let on = self.has_water() && s.caustics.method != CausticMethod::Off && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
         on.then(|| (s.surface_patch(), s.floor.depth))
     }
 
@@ -523,25 +541,91 @@ impl Renderer {
         self.caustic_setup().filter(|_| moving || !self.caustics_current)
     }
 
-    /// The god rays' parameters when they are drawn this frame: a method is
-    /// chosen, the sun is up and the camera may be in the water.
-    fn godray_frame(&self, camera: &Camera, size: (u32, u32)) -> Option<GodRayUniforms> {
+    /// Whether the scene has a water body (`water.model` is not "none").
+    fn has_water(&self) -> bool {
+        self.scene.water.model != WaterModel::None
+    }
+
+    /// The god rays' parameters when they are drawn this frame, and whether
+    /// they are for a viewer in the air (the fog and refractive objects'
+    /// paths) rather than in the water (the surface's photons).
+    fn godray_frame(&self, camera: &Camera, size: (u32, u32)) -> Option<(GodRayUniforms, bool)> {
         let s = &self.scene;
         let g = &s.godrays;
         let sun = s.sun_direction();
-        if g.method == GodRayMethod::Off || sun.y <= 0.0 || camera.position.y >= self.surface.vertical_reach {
+        if g.method == GodRayMethod::Off || sun.y <= 0.0 {
             return None;
         }
-        let travel = UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior).sun_travel;
-        let region = TubeRegion::around(camera.position, travel, g.distance);
-        let deepest = deepest_needed(camera.position, g.distance);
-        let end_depth = if s.floor.depth > 0.0 { s.floor.depth.min(deepest) } else { deepest };
         let buffer = (((size.0 as f32 * g.resolution).round() as u32).max(1), ((size.1 as f32 * g.resolution).round() as u32).max(1));
-        Some(GodRayUniforms {
-            counts: [g.photons, g.steps, buffer.0, buffer.1],
-            region: [region.centre.x, region.centre.y, region.half, region.spacing(g.photons)],
-            limits: [g.distance, end_depth, 0.0, 0.0],
-        })
+        let in_water = self.has_water() && camera.position.y < self.surface.vertical_reach;
+        if in_water {
+            let medium = s.medium();
+            let travel = UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior).sun_travel;
+            let region = TubeRegion::around(camera.position, travel, g.distance);
+            let deepest = deepest_needed(camera.position, g.distance);
+            let end_depth = if s.floor.depth > 0.0 { s.floor.depth.min(deepest) } else { deepest };
+            return Some((
+                GodRayUniforms {
+                    counts: [g.photons, g.steps, buffer.0, buffer.1],
+                    region: [region.centre.x, region.centre.y, region.half, region.spacing(g.photons)],
+                    limits: [g.distance, end_depth, crate::targets::STENCIL_WATER as f32, 1.0],
+                    scattering: medium.scattering.extend(s.water.phase_g).into(),
+                    extinction: medium.extinction().extend(0.0).into(),
+                },
+                false,
+            ));
+        }
+        if s.air.fog <= 0.0 {
+            return None;
+        }
+        let half_width = self.object_light_setup().map_or(0.0, |(_, u)| u.info[0].sqrt());
+        Some((
+            GodRayUniforms {
+                counts: [0, g.steps, buffer.0, buffer.1],
+                region: [0.0, 0.0, 0.0, half_width],
+                limits: [s.air.fog_distance, 0.0, crate::targets::STENCIL_AIR as f32, 0.0],
+                scattering: [s.air.fog, s.air.fog, s.air.fog, s.air.fog_g],
+                extinction: [s.air.fog, s.air.fog, s.air.fog, 0.0],
+            },
+            true,
+        ))
+    }
+
+    /// Light-view texels per side for refractive objects (1 without any).
+    fn object_resolution(geometry: &SceneGeometry, scene: &Scene) -> u32 {
+        if geometry.refractive_bounds.is_some() { scene.godrays.object_resolution } else { 1 }
+    }
+
+    /// The refractive objects' light view and the paths' parameters, when
+    /// there are such objects and the sun is up: an orthographic view along
+    /// the sun around them and the floor below, wide enough for light they
+    /// bend sideways.
+    fn object_light_setup(&self) -> Option<(glam::Mat4, ObjectLightUniforms)> {
+        let (lo, hi) = self.geometry.refractive_bounds?;
+        let s = &self.scene;
+        let sun = s.sun_direction();
+        if sun.y <= 0.0 {
+            return None;
+        }
+        let floor = s.floor.depth > 0.0;
+        let floor_y = if floor { -s.floor.depth } else { lo.y - (hi.y - lo.y) };
+        let reach = (hi.y - floor_y).max(0.0);
+        let lo = glam::Vec3::new(lo.x - reach, floor_y.min(lo.y), lo.z - reach);
+        let hi = glam::Vec3::new(hi.x + reach, hi.y, hi.z + reach);
+        let view_proj = sun_view_projection(sun, lo, hi);
+        let radius = (0.5 * (hi - lo)).length();
+        let k = self.object_light.resolution;
+        let texel = 2.0 * radius / k as f32;
+        let ior = s.objects.iter().map(|o| o.material.ior).find(|&n| n > 0.0).unwrap_or(1.333);
+        Some((
+            view_proj,
+            ObjectLightUniforms {
+                inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+                counts: [k, MARCH_STEPS, 0, 0],
+                info: [texel * texel, ior, floor_y, 4.0 * radius],
+                extra: [crate::passes::water_object::FIXED_POINT_SCALE, floor as u32 as f32, 0.0, 0.0],
+            },
+        ))
     }
 
     /// Texels of the reflection texture per radian of view angle (at its
@@ -555,6 +639,8 @@ impl Renderer {
 
     fn write_frame_uniforms(&self, camera: &Camera, size: (u32, u32), time: f64) {
         let s = &self.scene;
+        let godrays = self.godray_frame(camera, size);
+        let object_light = self.object_light_setup();
         let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
         let view_proj = camera.view_projection(aspect);
         let refl_view_proj = camera.view_projection_widened(aspect, s.render.fov_margin) * mirror_matrix();
@@ -570,7 +656,7 @@ impl Renderer {
         let model = match s.water.model {
             WaterModel::Fft => 0,
             WaterModel::Sines => 1,
-            WaterModel::Flat => 2,
+            WaterModel::Flat | WaterModel::None => 2,
             WaterModel::Heightfield => 3,
         };
         let u = FrameUniforms {
@@ -626,7 +712,11 @@ impl Renderer {
                 Some((patch, depth)) => [patch[0], patch[1], depth, 1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4)],
                 None => [0.0; 4],
             },
-            godrays: [self.godray_frame(camera, size).map_or(0.0, |g| g.limits[0]), 0.0, 0.0, 0.0],
+            volume: [godrays.filter(|g| !g.1).map_or(0.0, |g| g.0.limits[0]), self.has_water() as u32 as f32, 0.0, 0.0],
+            fog: [s.air.fog, s.air.fog_g, s.air.fog_distance, godrays.filter(|g| g.1).is_some() as u32 as f32],
+            object_light_view_proj: object_light.map_or(glam::Mat4::IDENTITY, |o| o.0).to_cols_array_2d(),
+            // Receivers within ~1% of the light box's depth of where the light landed.
+            object_params: [object_light.is_some() as u32 as f32, 0.01, 0.0, 0.0],
             modes2: [
                 match s.water.optics {
                     WaterOptics::Physical => 0,
@@ -648,6 +738,10 @@ impl Renderer {
         if let Some(m) = shadow_view_proj {
             self.views.shadow.write(&self.queue, m, ClipPlane::none().0);
         }
+        if let Some((m, u)) = object_light {
+            self.views.object_light.write(&self.queue, m, ClipPlane::none().0);
+            self.water_object.prepare(&self.queue, &u);
+        }
         self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
         self.write_surface_uniforms(time);
     }
@@ -665,7 +759,7 @@ impl Renderer {
         let model = match s.water.model {
             WaterModel::Fft => 0,
             WaterModel::Sines => 1,
-            WaterModel::Flat => 2,
+            WaterModel::Flat | WaterModel::None => 2,
             WaterModel::Heightfield => 3,
         };
         let waves = &self.surface.sines.waves;
@@ -714,6 +808,7 @@ impl Renderer {
             reflection_resolution: self.scene.render.reflection_resolution,
             reflection_margin: self.scene.render.fov_margin,
             godray_resolution: self.scene.godrays.resolution,
+            refractive_objects: self.geometry.refractive_bounds.is_some(),
         }
     }
 
@@ -721,12 +816,14 @@ impl Renderer {
     pub fn render(&mut self, encoder: &mut wgpu::CommandEncoder, input: &FrameInput) {
         let settings = self.target_settings();
         if self.targets.as_ref().map(|t| (t.size, t.settings)) != Some((input.size, settings)) {
-            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.downsampler, &self.water_inputs_layout, &self.shadow.view, &self.godrays));
+            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.downsampler, &self.water_inputs_layout, &self.shadow.view, &self.godrays, &self.water_object));
         }
         self.write_frame_uniforms(&input.camera, input.size, input.time);
         self.surface.ocean.prepare(&self.queue, input.time);
         let caustics_due = self.caustics_due();
         let godray_frame = self.godray_frame(&input.camera, input.size);
+        let object_light_on = self.object_light_setup().is_some();
+        let has_water = self.has_water();
         let mut timer = if self.timing { self.timer.as_mut() } else { None };
         if let Some(t) = timer.as_deref_mut() {
             t.begin_frame();
@@ -757,8 +854,11 @@ impl Renderer {
                 multiview_mask: None,
             });
             if casts_shadows {
-                self.geometry_pass.record_shadow(&mut pass, &self.frame_only, &self.views.shadow, &self.geometry);
+                self.geometry_pass.record_shadow(&mut pass, &self.frame_only, &self.views.shadow, &self.geometry, Objects::All);
             }
+        }
+        if object_light_on {
+            self.water_object.record_light(encoder, &self.frame_only, &self.geometry_pass, &self.geometry, &self.views.object_light, &self.object_light, timer.as_deref_mut());
         }
         // Reflection and refraction textures: cleared to "nothing here"
         // (alpha 0, depth at infinity) so the water falls back to the sky or
@@ -768,11 +868,11 @@ impl Renderer {
         let reach = self.surface.vertical_reach;
         let cam_y = input.camera.position.y;
         let mut offscreen: Vec<(&'static str, &crate::targets::ColorDepth, &ViewSlot, bool)> = Vec::new();
-        if cam_y > -reach {
+        if cam_y > -reach && has_water {
             offscreen.push(("reflection", &targets.reflection, &self.views.reflection, true));
             offscreen.push(("refraction", &targets.refraction, &self.views.refraction, false));
         }
-        if cam_y < reach {
+        if cam_y < reach && has_water {
             offscreen.push(("reflection under", &targets.reflection_under, &self.views.reflection_under, true));
             offscreen.push(("refraction over", &targets.refraction_over, &self.views.refraction_over, false));
         }
@@ -828,7 +928,9 @@ impl Renderer {
         };
         {
             let mut pass = main_pass(encoder, "medium", true, timer.as_deref_mut());
-            self.water.record_medium(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera);
+            if has_water {
+                self.water.record_medium(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera);
+            }
         }
         {
             let mut pass = main_pass(encoder, "sky, scene and water", false, timer.as_deref_mut());
@@ -837,17 +939,36 @@ impl Renderer {
             }
             self.geometry_pass.record_main(&mut pass, globals, &self.views.main, &self.geometry);
             let aspect = input.size.0.max(1) as f32 / input.size.1.max(1) as f32;
-            self.water.record(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera, aspect, self.surface.bounds_margin);
+            if has_water {
+                self.water.record(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera, aspect, self.surface.bounds_margin);
+            }
         }
-        if let Some(g) = godray_frame {
+        if let Some((g, in_air)) = godray_frame {
             self.godrays.prepare(&self.queue, &g);
+            let shafts = if in_air {
+                Shafts::Air { object_tubes: object_light_on.then_some(&self.object_light.tubes) }
+            } else {
+                Shafts::Water(self.scene.godrays.method)
+            };
             self.godrays.record(
                 encoder,
                 [globals, &self.frame_only, &self.surface.group],
-                self.scene.godrays.method,
+                shafts,
                 &self.godray_tubes,
                 &targets.godrays,
                 &targets.hdr_view,
+                timer.as_deref_mut(),
+            );
+        }
+        if let Some(object_targets) = &targets.water_object {
+            self.water_object.record_camera(
+                encoder,
+                globals,
+                &self.geometry_pass,
+                &self.geometry,
+                &self.views.main,
+                object_targets,
+                (&targets.hdr, &targets.hdr_view),
                 timer.as_deref_mut(),
             );
         }
@@ -870,8 +991,22 @@ impl Renderer {
     /// The beam tubes of the last frame (lines method): per photon, where it
     /// enters the water (xyz), its length, its direction (xyz) and its flux
     /// relative to the sun's irradiance (m²; 0 = not drawn).
-    pub fn read_godray_tubes(&self) -> Vec<[f32; 8]> {
+    pub fn read_godray_tubes(&self) -> Vec<[f32; 12]> {
         self.godrays.read_tubes(&self.device, &self.queue, &self.godray_tubes)
+    }
+
+    /// The paths of light out of refractive objects in the last frame, one
+    /// per light-view texel: exit point p1 (xyz), length to p2, exit
+    /// direction (xyz), flux (m², relative to the sun; 0 = no path), rgb
+    /// tint (absorption inside), unused.
+    pub fn read_object_paths(&self) -> Vec<[f32; 12]> {
+        self.godrays.read_tubes(&self.device, &self.queue, &self.object_light.tubes)
+    }
+
+    /// The refractive objects' light view (world → clip) and its texels per
+    /// side; `None` without refractive objects or with the sun down.
+    pub fn object_light_view(&self) -> Option<(glam::Mat4, u32)> {
+        self.object_light_setup().map(|(m, _)| (m, self.object_light.resolution))
     }
 
     /// Each pixel's medium in the last frame (0 air, 1 water: where its

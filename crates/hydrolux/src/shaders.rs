@@ -18,6 +18,9 @@ pub const PROJECTIVE: &str = include_str!("shaders/projective.wgsl");
 pub const SHADOW_SPACE: &str = include_str!("shaders/shadow_space.wgsl");
 pub const SHADOW_LOOKUP: &str = include_str!("shaders/shadow_lookup.wgsl");
 pub const PHOTON: &str = include_str!("shaders/photon.wgsl");
+pub const TUBE: &str = include_str!("shaders/tube.wgsl");
+pub const FOG: &str = include_str!("shaders/fog.wgsl");
+pub const OBJECT_CAUSTICS: &str = include_str!("shaders/object_caustics.wgsl");
 pub const CAUSTICS_LOOKUP: &str = include_str!("shaders/caustics_lookup.wgsl");
 
 /// Join shader parts, each introduced by a comment naming its position.
@@ -47,6 +50,9 @@ pub fn all_for_validation() -> Vec<(String, String)> {
         ("geometry/shadow".to_string(), crate::passes::geometry::shadow_source()),
         ("caustics".to_string(), crate::passes::caustics::source()),
         ("caustics/beam".to_string(), crate::passes::caustics::beam_source()),
+        ("water_object/light".to_string(), crate::passes::water_object::light_source()),
+        ("water_object/paths".to_string(), crate::passes::water_object::paths_source()),
+        ("water_object/shade".to_string(), crate::passes::water_object::shade_source()),
         ("godrays/tubes".to_string(), crate::passes::godrays::tubes_source()),
         ("godrays/ribbons".to_string(), crate::passes::godrays::ribbons_source()),
         ("godrays/march".to_string(), crate::passes::godrays::march_source()),

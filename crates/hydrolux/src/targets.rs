@@ -48,6 +48,8 @@ pub struct TargetSettings {
     pub reflection_margin: f32,
     /// God-ray buffer size relative to the output.
     pub godray_resolution: f32,
+    /// The scene has refractive objects (they need camera-size targets).
+    pub refractive_objects: bool,
 }
 
 pub struct ColorDepth {
@@ -82,6 +84,8 @@ pub struct Targets {
     pub tonemap_input: wgpu::BindGroup,
     /// The god-ray buffer and its depth.
     pub godrays: crate::passes::godrays::GodRayTargets,
+    /// Refractive objects' back faces and the image behind them.
+    pub water_object: Option<crate::passes::water_object::ObjectTargets>,
 }
 
 fn texture(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
@@ -140,6 +144,7 @@ impl Targets {
         water_inputs_layout: &wgpu::BindGroupLayout,
         shadow_view: &wgpu::TextureView,
         godrays: &crate::passes::godrays::GodRaysPass,
+        water_object: &crate::passes::water_object::WaterObjectPass,
     ) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
@@ -173,6 +178,7 @@ impl Targets {
                 wgpu::BindGroupEntry { binding: 6, resource: tv(&refraction_over.depth_view) },
             ],
         });
+        let water_object = settings.refractive_objects.then(|| water_object.create_targets(device, size, &depth_view));
         let godrays = godrays.create_targets(device, size, settings.godray_resolution, &depth_view, &stencil_view);
         let tonemap_input = tonemap.input_group(device, [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, shadow_view, &stencil_view]);
         Targets {
@@ -189,6 +195,7 @@ impl Targets {
             water_inputs,
             tonemap_input,
             godrays,
+            water_object,
         }
     }
 }

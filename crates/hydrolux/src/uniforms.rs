@@ -31,7 +31,10 @@ pub struct FrameUniforms {
     pub sky_underwater: [f32; 4],
     pub modes2: [u32; 4],
     pub caustic_params: [f32; 4],
-    pub godrays: [f32; 4],
+    pub volume: [f32; 4],
+    pub fog: [f32; 4],
+    pub object_light_view_proj: [[f32; 4]; 4],
+    pub object_params: [f32; 4],
 }
 
 /// WGSL `View` (passes/geometry/geometry_common.wgsl).
@@ -95,6 +98,7 @@ pub fn layouts() -> Vec<(&'static str, String, usize)> {
         ("Object", crate::passes::geometry::source(), size_of::<ObjectUniforms>()),
         ("GodRayParams", crate::passes::godrays::ribbons_source(), size_of::<crate::passes::godrays::GodRayUniforms>()),
         ("Tube", crate::passes::godrays::ribbons_source(), crate::passes::godrays::TUBE_BYTES as usize),
+        ("ObjectLightParams", crate::passes::water_object::paths_source(), size_of::<crate::passes::water_object::ObjectLightUniforms>()),
         ("AssembleParams", crate::passes::ocean::assemble_source(), size_of::<AssembleUniforms>()),
     ]
 }

@@ -29,11 +29,28 @@ fn err(what: &'static str, path: &Path, reason: impl ToString) -> AssetError {
 pub fn load_mesh(path: &Path) -> Result<Mesh, AssetError> {
     exists("mesh", path)?;
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
-    let mut mesh = match ext.as_str() {
+    let mesh = match ext.as_str() {
         "obj" => load_obj(path)?,
         "gltf" | "glb" => load_gltf(path)?,
         _ => return Err(err("mesh", path, "unsupported format: use .obj, .gltf or .glb")),
     };
+    finish_mesh(mesh, path)
+}
+
+/// Meshes compiled into the library, by name: "bunny" (the Stanford bunny,
+/// public domain, closed, unit height, resting on y = 0; assets/bunny.obj).
+pub fn builtin_mesh(name: &str) -> Result<Mesh, AssetError> {
+    let path = Path::new(name);
+    let text = match name {
+        "bunny" => include_str!("../../../../assets/bunny.obj"),
+        _ => return Err(err("mesh", Path::new(&format!("builtin:{name}")), "unknown built-in mesh: use builtin:bunny")),
+    };
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Err(tobj::LoadError::OpenFileFailed)).map_err(|e| err("mesh", path, e))?;
+    finish_mesh(obj_models_to_mesh(&models, path)?, path)
+}
+
+fn finish_mesh(mut mesh: Mesh, path: &Path) -> Result<Mesh, AssetError> {
     if mesh.normals.len() != mesh.positions.len() {
         mesh.compute_normals();
     }
@@ -54,9 +71,13 @@ fn load_obj(path: &Path) -> Result<Mesh, AssetError> {
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     // Materials (.mtl) are not used: the scene gives each object its material.
     let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| err("mesh", path, e))?;
+    obj_models_to_mesh(&models, path)
+}
+
+fn obj_models_to_mesh(models: &[tobj::Model], path: &Path) -> Result<Mesh, AssetError> {
     let mut out = Mesh::default();
     let mut all_have_normals = true;
-    for model in &models {
+    for model in models {
         let m = &model.mesh;
         let n = m.positions.len() / 3;
         let has_normals = m.normals.len() == m.positions.len();

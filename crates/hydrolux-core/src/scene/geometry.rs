@@ -4,7 +4,7 @@
 //! file's folder. The renderer uploads this list as it is.
 
 use super::{MaterialDesc, Primitive, Scene, TerrainKind};
-use crate::geometry::load::{AssetError, load_heightmap, load_mesh};
+use crate::geometry::load::{AssetError, builtin_mesh, load_heightmap, load_mesh};
 use crate::geometry::terrain::{BasinParams, Terrain};
 use crate::geometry::{Mesh, primitives};
 use glam::{Mat4, Vec2, Vec3};
@@ -74,6 +74,8 @@ impl Scene {
                     Primitive::Cylinder => primitives::cylinder(64),
                     Primitive::Plane => primitives::plane(),
                 }
+            } else if let Some(name) = o.mesh.strip_prefix("builtin:") {
+                builtin_mesh(name)?
             } else {
                 load_mesh(&self.resolve_path(&o.mesh))?
             };

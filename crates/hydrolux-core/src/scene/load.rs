@@ -406,6 +406,13 @@ impl Scene {
                 allowed: "must be 16 to 2048".into(),
             });
         }
+        let a = &self.air;
+        range("air.fog", a.fog, (0.0..=1.0).contains(&a.fog), "must be 0 to 1 per metre")?;
+        range("air.fog_g", a.fog_g, a.fog_g > -1.0 && a.fog_g < 1.0, "must be between -1 and 1")?;
+        range("air.fog_distance", a.fog_distance, a.fog_distance > 0.0 && a.fog_distance <= 10_000.0, "must be > 0 and at most 10000 m")?;
+        if self.floor.material.ior != 0.0 {
+            return Err(SceneError::OutOfRange { key: "floor.material.ior".into(), value: self.floor.material.ior.to_string(), allowed: "must be 0: the floor is opaque".into() });
+        }
         let g = &self.godrays;
         if !(4..=2048).contains(&g.photons) {
             return Err(SceneError::OutOfRange { key: "godrays.photons".into(), value: g.photons.to_string(), allowed: "must be 4 to 2048 (per side)".into() });
@@ -414,6 +421,22 @@ impl Scene {
         range("godrays.distance", g.distance, g.distance > 0.0 && g.distance <= 1000.0, "must be > 0 and at most 1000 m")?;
         if !(4..=512).contains(&g.steps) {
             return Err(SceneError::OutOfRange { key: "godrays.steps".into(), value: g.steps.to_string(), allowed: "must be 4 to 512".into() });
+        }
+        if !(16..=2048).contains(&g.object_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "godrays.object_resolution".into(),
+                value: g.object_resolution.to_string(),
+                allowed: "must be 16 to 2048".into(),
+            });
+        }
+        if self.water.model != super::WaterModel::None {
+            if let Some(i) = self.objects.iter().position(|o| o.material.ior > 0.0) {
+                return Err(SceneError::OutOfRange {
+                    key: format!("objects[{i}].material.ior"),
+                    value: self.objects[i].material.ior.to_string(),
+                    allowed: "refractive objects need water.model = \"none\" (they are lit through air)".into(),
+                });
+            }
         }
         if self.objects.len() > 1024 {
             return Err(SceneError::OutOfRange { key: "objects".into(), value: self.objects.len().to_string(), allowed: "at most 1024 objects".into() });
@@ -441,6 +464,9 @@ fn validate_material(key: &str, m: &super::MaterialDesc) -> Result<(), SceneErro
     }
     if !(m.tile_size > 0.0 && m.tile_size.is_finite()) {
         return Err(SceneError::OutOfRange { key: format!("{key}.tile_size"), value: m.tile_size.to_string(), allowed: "must be > 0 m".into() });
+    }
+    if !(m.ior == 0.0 || (1.0..=3.0).contains(&m.ior)) {
+        return Err(SceneError::OutOfRange { key: format!("{key}.ior"), value: m.ior.to_string(), allowed: "must be 0 (opaque) or 1 to 3 (refractive)".into() });
     }
     if !(m.uv_scale.is_finite() && m.uv_scale != 0.0) {
         return Err(SceneError::OutOfRange { key: format!("{key}.uv_scale"), value: m.uv_scale.to_string(), allowed: "must be finite and non-zero".into() });

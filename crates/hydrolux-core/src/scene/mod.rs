@@ -32,6 +32,7 @@ pub struct Scene {
     pub floor: FloorDesc,
     pub caustics: CausticsDesc,
     pub godrays: GodRaysDesc,
+    pub air: AirDesc,
     /// `[[objects]]` entries: meshes and primitives with a transform and material.
     pub objects: Vec<ObjectDesc>,
     /// Folder that relative mesh, texture and heightmap paths start from (the
@@ -107,6 +108,8 @@ pub enum WaterModel {
     Flat,
     /// A user-given surface: `water.heightfield` (.npy) over `water.size`.
     Heightfield,
+    /// No water body at all (a room, a stage): only objects, floor and air.
+    None,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -216,6 +219,11 @@ pub struct MaterialDesc {
     pub pattern_color: [f32; 3],
     /// Side of a tile or checker square (m).
     pub tile_size: f32,
+    /// 0: opaque. Above 1: a clear refractive object of this index of
+    /// refraction (1.333: water) that absorbs like the scene's water medium;
+    /// it bends the sunlight into volume caustics and a caustic on what lies
+    /// behind it (seed 004). For closed meshes above the water.
+    pub ior: f32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -307,13 +315,35 @@ pub struct GodRaysDesc {
     /// How far from the eye (m) the shafts are drawn; beyond, the water's
     /// in-scattering is the uniform (unfocused) closed form.
     pub distance: f32,
-    /// Samples along each pixel's ray (march).
+    /// Samples along each pixel's ray (march, and the fog in the air).
     pub steps: u32,
+    /// Light-view texels per side for refractive objects: one path of light
+    /// through them per texel.
+    pub object_resolution: u32,
 }
 
 impl Default for GodRaysDesc {
     fn default() -> Self {
-        GodRaysDesc { method: GodRayMethod::Lines, photons: 256, resolution: 0.5, distance: 20.0, steps: 48 }
+        GodRaysDesc { method: GodRayMethod::Lines, photons: 256, resolution: 0.5, distance: 20.0, steps: 48, object_resolution: 256 }
+    }
+}
+
+/// The air as a participating medium: a light, grey fog (no absorption).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AirDesc {
+    /// Scattering coefficient of the fog (m⁻¹); 0 = clear air.
+    pub fog: f32,
+    /// Henyey–Greenstein anisotropy of the fog's scattering.
+    pub fog_g: f32,
+    /// The fog fills this many metres around the eye (a room); beyond it the
+    /// air is clear.
+    pub fog_distance: f32,
+}
+
+impl Default for AirDesc {
+    fn default() -> Self {
+        AirDesc { fog: 0.0, fog_g: 0.3, fog_distance: 40.0 }
     }
 }
 
@@ -333,7 +363,8 @@ pub struct ObjectDesc {
     /// Unit-size primitive (box of side 1, sphere and cylinder of diameter 1,
     /// plane of side 1 facing +y), scaled by `scale`.
     pub primitive: Primitive,
-    /// An .obj, .gltf or .glb file; when given it replaces `primitive`.
+    /// An .obj, .gltf or .glb file, or a built-in mesh ("builtin:bunny");
+    /// when given it replaces `primitive`.
     pub mesh: String,
     pub position: [f32; 3],
     /// Rotation about x, then y, then z (degrees).
@@ -412,6 +443,7 @@ impl Default for Scene {
             floor: FloorDesc::default(),
             caustics: CausticsDesc::default(),
             godrays: GodRaysDesc::default(),
+            air: AirDesc::default(),
             objects: Vec::new(),
             base_dir: std::path::PathBuf::new(),
         }
@@ -482,7 +514,7 @@ impl Default for WaterDesc {
 
 impl Default for MaterialDesc {
     fn default() -> Self {
-        MaterialDesc { albedo: [0.6, 0.6, 0.6], texture: String::new(), uv_scale: 1.0, pattern: Pattern::None, pattern_color: [0.1, 0.1, 0.1], tile_size: 0.25 }
+        MaterialDesc { albedo: [0.6, 0.6, 0.6], texture: String::new(), uv_scale: 1.0, pattern: Pattern::None, pattern_color: [0.1, 0.1, 0.1], tile_size: 0.25, ior: 0.0 }
     }
 }
 

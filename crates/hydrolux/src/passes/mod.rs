@@ -1,7 +1,8 @@
 //! One module per pass, in frame order: ocean (simulate) → sky (bake) →
 //! caustics → geometry (shadow map, offscreen reflection/refraction views) →
 //! water (medium classification) → sky background, geometry and water in the
-//! main view → god rays → tonemap (or a debug view); probe answers queries outside the
+//! main view → god rays → refractive objects (water_object, which also
+//! works from the light before the main view) → tonemap (or a debug view); probe answers queries outside the
 //! frame.
 
 pub mod caustics;
@@ -13,3 +14,4 @@ pub mod probe;
 pub mod sky;
 pub mod tonemap;
 pub mod water;
+pub mod water_object;

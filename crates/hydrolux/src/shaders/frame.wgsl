@@ -53,8 +53,21 @@ struct Frame {
     // is for, w 1 / (the flat-water value of the map).
     caustic_params: vec4<f32>,
     // x distance from the eye (m) within which god rays replace the uniform
-    // sun in-scattering (0: no god rays this frame).
-    godrays: vec4<f32>,
+    // sun in-scattering (0: no god rays this frame); y 1 when the scene has a
+    // water body.
+    volume: vec4<f32>,
+    // Fog in the air: x scattering σ (m⁻¹), y Henyey–Greenstein g, z how far
+    // from the eye it reaches (m).
+    fog: vec4<f32>,
+    // Refractive objects' light view (world → clip, orthographic along the sun).
+    object_light_view_proj: mat4x4<f32>,
+    // x 1 when refractive objects bend the sunlight (their caustic map is
+    // in use); y the depth tolerance of a receiver in that view.
+    object_params: vec4<f32>,
+}
+
+fn has_water() -> bool {
+    return frame.volume.y > 0.5;
 }
 
 const VIEW_FINAL: u32 = 0u;

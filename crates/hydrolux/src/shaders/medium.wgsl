@@ -72,9 +72,9 @@ fn view_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
 }
 
 // The same for a ray leaving the eye: where god rays are drawn (the first
-// frame.godrays.x metres), they replace the uniform sun term.
+// frame.volume.x metres), they replace the uniform sun term.
 fn eye_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
-    return sun_in_scatter(depth, dir, min(frame.godrays.x, s), s) + sky_in_scatter(depth, dir, s);
+    return sun_in_scatter(depth, dir, min(frame.volume.x, s), s) + sky_in_scatter(depth, dir, s);
 }
 
 // The same from just under the surface (a downward refracted ray).

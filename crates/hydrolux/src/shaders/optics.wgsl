@@ -4,13 +4,12 @@
 fn fresnel_exact(cos_i_in: f32, n1: f32, n2: f32) -> f32 {
     let cos_i = clamp(cos_i_in, 0.0, 1.0);
     let sin_t = n1 / n2 * sqrt(max(1.0 - cos_i * cos_i, 0.0));
-    if (sin_t >= 1.0) {
-        return 1.0;
-    }
-    let cos_t = sqrt(1.0 - sin_t * sin_t);
-    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
-    let rp = (n1 * cos_t - n2 * cos_i) / (n1 * cos_t + n2 * cos_i);
-    return 0.5 * (rs * rs + rp * rp);
+    let cos_t = sqrt(max(1.0 - sin_t * sin_t, 0.0));
+    let rs = (n1 * cos_i - n2 * cos_t) / max(n1 * cos_i + n2 * cos_t, 1e-12);
+    let rp = (n1 * cos_t - n2 * cos_i) / max(n1 * cos_t + n2 * cos_i, 1e-12);
+    // Branchless: total internal reflection beyond the critical angle (a
+    // divergent early return here crashes Mesa's lavapipe in some shaders).
+    return select(0.5 * (rs * rs + rp * rp), 1.0, sin_t >= 1.0);
 }
 
 // Schlick's approximation; leaving the denser medium it uses the transmitted angle.

@@ -6,7 +6,7 @@
 // hydrolux_core::projective::shadow_space.
 
 fn shadow_space(world: vec3<f32>) -> vec3<f32> {
-    let d = max(-world.y, 0.0);
+    let d = select(0.0, max(-world.y, 0.0), has_water());
     let t = frame.sun_travel.xyz;
     let l = frame.sun_dir.xyz;
     let entry = world - t * (d / max(frame.sun_travel.w, 1e-3));

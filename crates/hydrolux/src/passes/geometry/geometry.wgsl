@@ -70,6 +70,16 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     return shade(in, front);
 }
 
+// The main view through air: through the fog, if any.
+@fragment
+fn fs_air(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let c = shade(in, front);
+    if (frame.modes.w == VIEW_NORMALS) {
+        return c;
+    }
+    return vec4<f32>(through_fog(frame.camera_pos.xyz, in.world, c.rgb), 1.0);
+}
+
 // The surface's own radiance: material, sun (shadow-mapped), sky, and below
 // the mean water level the light field under the surface.
 fn shade(in: VsOut, front: bool) -> vec4<f32> {
@@ -87,7 +97,7 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     albedo = mix(albedo, object.pattern_color.rgb, pattern_mix(in.world, n));
     let visibility = sun_visibility(in.world, n);
     var irradiance: vec3<f32>;
-    if (in.world.y < 0.0) {
+    if (in.world.y < 0.0 && has_water()) {
         irradiance = underwater_irradiance(-in.world.y, n, visibility * caustic_factor(in.world));
     } else {
         // Sun, sky from above, and light bounced off the ground and water
@@ -95,7 +105,8 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
         // that reflections show are not black.
         let l = frame.sun_dir.xyz;
         let e_down = frame.sky_ambient.rgb + frame.sun_illuminance.rgb * max(l.y, 0.0);
-        irradiance = frame.sun_illuminance.rgb * max(dot(n, l), 0.0) * visibility
+        // The sun, plus what refractive objects bend onto this point.
+        irradiance = frame.sun_illuminance.rgb * max(dot(n, l), 0.0) * (visibility + object_caustic(in.world))
             + frame.sky_ambient.rgb * (0.5 + 0.5 * n.y)
             + GROUND_ALBEDO * e_down * (0.5 - 0.5 * n.y);
     }

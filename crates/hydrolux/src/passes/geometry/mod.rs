@@ -12,14 +12,20 @@ use wgpu::util::DeviceExt;
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// Vertex inputs and the view and object bindings, shared with the shaders
+/// that draw the scene's meshes in other passes (water_object).
+pub const GEOMETRY_COMMON: &str = include_str!("geometry_common.wgsl");
+
 pub fn source() -> String {
     compose(&[
         shaders::CONSTANTS,
         shaders::FRAME,
         shaders::MEDIUM,
+        shaders::FOG,
         shaders::SHADOW_SPACE,
         shaders::SHADOW_LOOKUP,
         shaders::CAUSTICS_LOOKUP,
+        shaders::OBJECT_CAUSTICS,
         include_str!("geometry_common.wgsl"),
         include_str!("geometry.wgsl"),
     ])
@@ -56,6 +62,16 @@ struct GpuObject {
     indices: std::ops::Range<u32>,
     base_vertex: i32,
     group: wgpu::BindGroup,
+    /// A clear refractive object (`material.ior` > 0): drawn by water_object.
+    refractive: bool,
+}
+
+/// Which of the scene's objects a draw covers.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Objects {
+    Opaque,
+    Refractive,
+    All,
 }
 
 /// The scene's meshes on the GPU.
@@ -65,6 +81,8 @@ pub struct SceneGeometry {
     objects: Vec<GpuObject>,
     /// Union of the shadow casters' boxes (`None`: nothing casts shadows).
     pub shadow_bounds: Option<(glam::Vec3, glam::Vec3)>,
+    /// Union of the refractive objects' boxes (`None`: there are none).
+    pub refractive_bounds: Option<(glam::Vec3, glam::Vec3)>,
     pub triangle_count: usize,
 }
 
@@ -91,7 +109,7 @@ pub struct GeometryPass {
     white: wgpu::TextureView,
 }
 
-fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
     const ATTRS: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
     wgpu::VertexBufferLayout { array_stride: 32, step_mode: wgpu::VertexStepMode::Vertex, attributes: &ATTRS }
 }
@@ -176,7 +194,7 @@ impl GeometryPass {
             object_layout,
             offscreen: colour(wgpu::FrontFace::Ccw, &offscreen_depth, "fs_main"),
             offscreen_mirrored: colour(wgpu::FrontFace::Cw, &offscreen_depth, "fs_main"),
-            main_air: colour(wgpu::FrontFace::Ccw, &main_depth, "fs_main"),
+            main_air: colour(wgpu::FrontFace::Ccw, &main_depth, "fs_air"),
             main_water: colour(wgpu::FrontFace::Ccw, &main_depth, "fs_underwater"),
             shadow,
             sampler,
@@ -199,6 +217,7 @@ impl GeometryPass {
         let built = scene.build_geometry()?;
         let (mut vertices, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
         let mut shadow_bounds: Option<(glam::Vec3, glam::Vec3)> = None;
+        let mut refractive_bounds: Option<(glam::Vec3, glam::Vec3)> = None;
         for o in &built {
             let base_vertex = vertices.len() as i32;
             let first = indices.len() as u32;
@@ -210,6 +229,9 @@ impl GeometryPass {
             indices.extend_from_slice(&o.mesh.indices);
             if let Some((lo, hi)) = o.shadow_bounds {
                 shadow_bounds = Some(shadow_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+                if o.material.ior > 0.0 {
+                    refractive_bounds = Some(refractive_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+                }
             }
             let m = &o.material;
             let texture = if m.texture.is_empty() {
@@ -230,7 +252,8 @@ impl GeometryPass {
                         Pattern::Tiles => 1,
                         Pattern::Checker => 2,
                     },
-                    0,
+                    // The index of refraction, as bits (0: opaque).
+                    m.ior.to_bits(),
                     0,
                     0,
                 ],
@@ -245,7 +268,7 @@ impl GeometryPass {
                     wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
                 ],
             });
-            objects.push(GpuObject { indices: first..indices.len() as u32, base_vertex, group });
+            objects.push(GpuObject { indices: first..indices.len() as u32, base_vertex, group, refractive: m.ior > 0.0 });
         }
         // wgpu wants non-empty buffers.
         vertices.push(bytemuck::Zeroable::zeroed());
@@ -257,6 +280,7 @@ impl GeometryPass {
             triangle_count: (indices.len() - 1) / 3,
             objects,
             shadow_bounds,
+            refractive_bounds,
         })
     }
 
@@ -264,7 +288,7 @@ impl GeometryPass {
     pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry) {
         pass.set_pipeline(if view.winding == Winding::Mirrored { &self.offscreen_mirrored } else { &self.offscreen });
         pass.set_bind_group(0, globals, &[]);
-        self.draw_objects(pass, view, geometry);
+        self.draw_objects(pass, view, geometry, Objects::Opaque);
     }
 
     /// Draw every object into the main view, once per medium: pixels whose
@@ -274,18 +298,28 @@ impl GeometryPass {
             pass.set_pipeline(pipeline);
             pass.set_stencil_reference(medium);
             pass.set_bind_group(0, globals, &[]);
-            self.draw_objects(pass, view, geometry);
+            self.draw_objects(pass, view, geometry, Objects::Opaque);
         }
     }
 
-    /// Draw every object into the sun's shadow map.
-    pub fn record_shadow(&self, pass: &mut wgpu::RenderPass<'_>, frame_only: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry) {
+    /// Draw `which` objects into a depth map from the sun (the shadow map).
+    pub fn record_shadow(&self, pass: &mut wgpu::RenderPass<'_>, frame_only: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry, which: Objects) {
         pass.set_pipeline(&self.shadow);
         pass.set_bind_group(0, frame_only, &[]);
-        self.draw_objects(pass, view, geometry);
+        self.draw_objects(pass, view, geometry, which);
     }
 
-    fn draw_objects(&self, pass: &mut wgpu::RenderPass<'_>, view: &ViewSlot, geometry: &SceneGeometry) {
+    pub fn view_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.view_layout
+    }
+
+    pub fn object_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.object_layout
+    }
+
+    /// Draw `which` objects with the caller's pipeline (groups 1 and 2 are
+    /// the view and each object; the caller sets group 0 and any after 2).
+    pub fn draw_objects(&self, pass: &mut wgpu::RenderPass<'_>, view: &ViewSlot, geometry: &SceneGeometry, which: Objects) {
         if geometry.objects.is_empty() {
             return;
         }
@@ -293,6 +327,14 @@ impl GeometryPass {
         pass.set_vertex_buffer(0, geometry.vertices.slice(..));
         pass.set_index_buffer(geometry.indices.slice(..), wgpu::IndexFormat::Uint32);
         for o in &geometry.objects {
+            let wanted = match which {
+                Objects::Opaque => !o.refractive,
+                Objects::Refractive => o.refractive,
+                Objects::All => true,
+            };
+            if !wanted {
+                continue;
+            }
             pass.set_bind_group(2, &o.group, &[]);
             pass.draw_indexed(o.indices.clone(), o.base_vertex, 0..1);
         }

@@ -1,5 +1,6 @@
-// Shared by the god-ray shaders: their parameters, the beam tubes, and the
-// buffer's geometry. Layout twins: GodRayUniforms, Tube (mod.rs).
+// Shared by the god-ray shaders: their parameters and the buffer's
+// geometry. Layout twin: GodRayUniforms (mod.rs). Each shader binds its
+// `params`.
 
 struct GodRayParams {
     // x photons per side, y march steps, zw buffer size (texels).
@@ -8,16 +9,18 @@ struct GodRayParams {
     // w ribbon half-width (m).
     region: vec4<f32>,
     // x distance from the eye within which shafts are drawn (m), y depth at
-    // which tubes end (m).
+    // which tubes end (m), z the medium drawn (stencil value: 0 air, 1
+    // water), w 1 when tubes are tested against the shadow map.
     limits: vec4<f32>,
+    // The medium the light scatters in: rgb scattering σs (m⁻¹), w
+    // Henyey–Greenstein g.
+    scattering: vec4<f32>,
+    // rgb extinction σk (m⁻¹).
+    extinction: vec4<f32>,
 }
 
-// One photon's path in the water. Twin: hydrolux_core::godrays::BeamTube.
-struct Tube {
-    // xyz where it enters the water, w length (m).
-    start: vec4<f32>,
-    // xyz unit direction, w flux relative to the sun's irradiance (m²; 0: none).
-    dir: vec4<f32>,
+fn medium_transmittance(distance: f32) -> vec3<f32> {
+    return exp(-params.extinction.rgb * max(distance, 0.0));
 }
 
 // Where the view ray at NDC `ndc` meets depth `z` (reversed-Z).
@@ -45,6 +48,6 @@ fn scene_distance(ndc: vec2<f32>, z: f32) -> f32 {
 // ray along `view`, by a beam of irradiance `e_perp` (relative to the sun's)
 // travelling along `travel`, `s` m from the eye.
 fn scattered_to_eye(e_perp: vec3<f32>, travel: vec3<f32>, view: vec3<f32>, s: f32) -> vec3<f32> {
-    let phase = henyey_greenstein(dot(travel, -view), frame.absorption.w);
-    return frame.scattering.rgb * phase * e_perp * frame.sun_illuminance.rgb * transmittance(s);
+    let phase = henyey_greenstein(dot(travel, -view), params.scattering.w);
+    return params.scattering.rgb * phase * e_perp * frame.sun_illuminance.rgb * medium_transmittance(s);
 }

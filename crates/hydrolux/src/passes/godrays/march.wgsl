@@ -41,8 +41,31 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         if (p.y > 0.0) {
             continue;
         }
-        let e = flat_e * transmittance(-p.y / cos_w) * caustic_factor(p) * sun_visibility_point(p);
+        let e = flat_e * medium_transmittance(-p.y / cos_w) * caustic_factor(p) * sun_visibility_point(p);
         sum += scattered_to_eye(e, travel, view, s) * ds;
+    }
+    return vec4<f32>(sum, 1.0);
+}
+
+// The fog in the air (`[air]`): the sun scattered towards the eye over the
+// fog's reach, with the shadow map's visibility at each sample, so objects
+// cast shadows into it (seed 003 §4.3's slices, with one slice per sample).
+@fragment
+fn fs_fog(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let texel = vec2<i32>(pos.xy);
+    let size = vec2<f32>(params.counts.zw);
+    let ndc = texel_ndc(vec2<f32>(texel), size);
+    let eye = frame.camera_pos.xyz;
+    let view = normalize(world_at(ndc, 0.5) - eye);
+    let end = min(params.limits.x, scene_distance(ndc, textureLoad(scene_depth, texel, 0).r));
+    let steps = params.counts.y;
+    let ds = end / f32(steps);
+    let jitter = texel_noise(pos.xy);
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < steps; i++) {
+        let s = (f32(i) + jitter) * ds;
+        let p = eye + view * s;
+        sum += scattered_to_eye(vec3<f32>(sun_visibility_point(p)), -frame.sun_dir.xyz, view, s) * ds;
     }
     return vec4<f32>(sum, 1.0);
 }

@@ -31,11 +31,11 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const COMMON: &str = include_str!("common.wgsl");
 
 fn base() -> Vec<&'static str> {
-    vec![shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, COMMON]
+    vec![shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, shaders::TUBE, COMMON]
 }
 
 pub fn tubes_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, COMMON, shaders::OPTICS, shaders::SURFACE, shaders::PHOTON, include_str!("tubes.wgsl")])
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, shaders::TUBE, COMMON, shaders::OPTICS, shaders::SURFACE, shaders::PHOTON, include_str!("tubes.wgsl")])
 }
 
 pub fn ribbons_source() -> String {
@@ -63,17 +63,29 @@ pub struct GodRayUniforms {
     pub counts: [u32; 4],
     pub region: [f32; 4],
     pub limits: [f32; 4],
+    pub scattering: [f32; 4],
+    pub extinction: [f32; 4],
 }
 
-/// WGSL `Tube` (common.wgsl): 32 bytes per photon.
-pub const TUBE_BYTES: u64 = 32;
+/// WGSL `Tube` (shaders/tube.wgsl): 48 bytes per path.
+pub const TUBE_BYTES: u64 = 48;
 
-/// The tube buffer for one photon count.
+/// A tube buffer: one tube per photon of a square grid (`per_side`²).
 pub struct GodRayTubes {
     pub per_side: u32,
-    buffer: wgpu::Buffer,
+    /// The tubes; the water object pass writes its paths here.
+    pub buffer: wgpu::Buffer,
     build_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
+}
+
+/// What the god-ray buffer holds this frame.
+pub enum Shafts<'a> {
+    /// A viewer in the water: the surface's photons as ribbons (lines), or the march.
+    Water(GodRayMethod),
+    /// A viewer in the fog: the sun marched through the shadow map, and the
+    /// paths of light out of refractive objects as ribbons.
+    Air { object_tubes: Option<&'a GodRayTubes> },
 }
 
 /// Size-dependent targets: the buffer, its depth, and what reads them.
@@ -97,6 +109,7 @@ pub struct GodRaysPass {
     build: wgpu::ComputePipeline,
     ribbons: wgpu::RenderPipeline,
     march: wgpu::RenderPipeline,
+    fog: wgpu::RenderPipeline,
     reduce: wgpu::RenderPipeline,
     composite: wgpu::RenderPipeline,
 }
@@ -184,6 +197,7 @@ impl GodRaysPass {
                     view_dimension: wgpu::TextureViewDimension::D2,
                     multisampled: false,
                 }),
+                uniform_entry(4, fs),
             ],
         });
         let tubes_module = shader(device, "god-ray tubes", &tubes_source());
@@ -192,6 +206,7 @@ impl GodRaysPass {
         let ribbons = render_pipeline(device, "god-ray ribbons", &ribbons_module, ("vs_ribbon", "fs_ribbon"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, true);
         let march_module = shader(device, "god-ray march", &march_source());
         let march = render_pipeline(device, "god-ray march", &march_module, ("vs_main", "fs_main"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, false);
+        let fog = render_pipeline(device, "god-ray fog", &march_module, ("vs_main", "fs_fog"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, false);
         let resolve_module = shader(device, "god-ray resolve", &resolve_source());
         let reduce = render_pipeline(device, "god-ray reduce", &resolve_module, ("vs_main", "fs_reduce"), &[frame_only, &reduce_layout], DEPTH_FORMAT, false);
         let composite = render_pipeline(device, "god-ray composite", &resolve_module, ("vs_main", "fs_composite"), &[frame_only, &composite_layout], hdr_format, true);
@@ -205,6 +220,7 @@ impl GodRaysPass {
             build,
             ribbons,
             march,
+            fog,
             reduce,
             composite,
         }
@@ -276,6 +292,7 @@ impl GodRaysPass {
                 wgpu::BindGroupEntry { binding: 1, resource: tv(&depth_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: tv(&buffer_view) },
                 wgpu::BindGroupEntry { binding: 3, resource: tv(main_medium) },
+                wgpu::BindGroupEntry { binding: 4, resource: self.params.as_entire_binding() },
             ],
         });
         GodRayTargets { size, buffer, buffer_view, depth_view, depth_input, reduce_input, composite_input }
@@ -286,22 +303,23 @@ impl GodRaysPass {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(uniforms));
     }
 
-    /// Build the tubes (lines), fill the buffer and add it to `hdr`.
+    /// Build the surface's tubes (lines in the water), fill the buffer and
+    /// add it to `hdr`.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         [globals, frame_only, surface]: [&wgpu::BindGroup; 3],
-        method: GodRayMethod,
+        shafts: Shafts,
         tubes: &GodRayTubes,
         targets: &GodRayTargets,
         hdr: &wgpu::TextureView,
         mut timer: Option<&mut GpuTimer>,
     ) {
-        if method == GodRayMethod::Off {
+        if matches!(shafts, Shafts::Water(GodRayMethod::Off)) {
             return;
         }
-        if method == GodRayMethod::Lines {
+        if matches!(shafts, Shafts::Water(GodRayMethod::Lines)) {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("god-ray tubes"),
                 timestamp_writes: timer.as_deref_mut().and_then(|t| t.compute_writes("god-ray tubes")),
@@ -342,12 +360,24 @@ impl GodRaysPass {
             pass.set_bind_group(0, globals, &[]);
             pass.set_bind_group(1, &tubes.draw_group, &[]);
             pass.set_bind_group(2, &targets.depth_input, &[]);
-            if method == GodRayMethod::Lines {
-                pass.set_pipeline(&self.ribbons);
-                pass.draw(0..6, 0..tubes.per_side * tubes.per_side);
-            } else {
-                pass.set_pipeline(&self.march);
-                pass.draw(0..3, 0..1);
+            match shafts {
+                Shafts::Water(GodRayMethod::Lines) => {
+                    pass.set_pipeline(&self.ribbons);
+                    pass.draw(0..6, 0..tubes.per_side * tubes.per_side);
+                }
+                Shafts::Water(_) => {
+                    pass.set_pipeline(&self.march);
+                    pass.draw(0..3, 0..1);
+                }
+                Shafts::Air { object_tubes } => {
+                    pass.set_pipeline(&self.fog);
+                    pass.draw(0..3, 0..1);
+                    if let Some(t) = object_tubes {
+                        pass.set_pipeline(&self.ribbons);
+                        pass.set_bind_group(1, &t.draw_group, &[]);
+                        pass.draw(0..6, 0..t.per_side * t.per_side);
+                    }
+                }
             }
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -370,8 +400,8 @@ impl GodRaysPass {
     }
 
     /// Read the tubes back (start xyz, length, dir xyz, flux per tube).
-    pub fn read_tubes(&self, device: &wgpu::Device, queue: &wgpu::Queue, tubes: &GodRayTubes) -> Vec<[f32; 8]> {
+    pub fn read_tubes(&self, device: &wgpu::Device, queue: &wgpu::Queue, tubes: &GodRayTubes) -> Vec<[f32; 12]> {
         let bytes = read_buffer(device, queue, &tubes.buffer, (tubes.per_side as u64).pow(2) * TUBE_BYTES);
-        bytemuck::cast_slice::<u8, f32>(&bytes).chunks_exact(8).map(|c| c.try_into().unwrap_or([0.0; 8])).collect()
+        bytemuck::cast_slice::<u8, f32>(&bytes).chunks_exact(12).map(|c| c.try_into().unwrap_or([0.0; 12])).collect()
     }
 }

@@ -4,7 +4,7 @@
 // upsampled to the output without halos — of the four nearest buffer
 // texels, those whose depth matches the pixel's are blended (bilinearly);
 // where none does (an edge), the one nearest in depth is taken — and added
-// to the image where the pixel's medium is water.
+// to the image where the pixel's medium is the one the buffer is for.
 
 @group(1) @binding(0) var full_depth: texture_depth_2d;
 @group(1) @binding(4) var<uniform> params: GodRayParams;
@@ -39,7 +39,7 @@ fn pixel_distance(ndc: vec2<f32>, z: f32) -> f32 {
 @fragment
 fn fs_composite(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(pos.xy);
-    if (textureLoad(medium_tex, px, 0).r != 1u) {
+    if (textureLoad(medium_tex, px, 0).r != u32(params.limits.z)) {
         discard;
     }
     let full = vec2<f32>(textureDimensions(full_depth));

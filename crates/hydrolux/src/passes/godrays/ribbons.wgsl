@@ -75,7 +75,11 @@ fn fs_ribbon(in: RibbonOut) -> @location(0) vec4<f32> {
     }
     let p = eye + view * s;
     let profile = (1.0 - u) / (params.region.w * max(sqrt(denom), MIN_SIN_ALPHA));
-    let e = t.dir.w * profile * sun_visibility_point(p) * transmittance(d);
+    var visible = 1.0;
+    if (params.limits.w > 0.5) {
+        visible = sun_visibility_point(p);
+    }
+    let e = t.dir.w * profile * visible * t.tint.rgb * medium_transmittance(d);
     return vec4<f32>(scattered_to_eye(e, t.dir.xyz, view, s), 1.0);
 }
 

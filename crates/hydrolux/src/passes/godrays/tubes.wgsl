@@ -19,6 +19,7 @@ fn build(@builtin(global_invocation_id) id: vec3<u32>) {
     var tube: Tube;
     tube.start = vec4<f32>(photon.pos, 0.0);
     tube.dir = vec4<f32>(photon.dir, 0.0);
+    tube.tint = vec4<f32>(1.0);
     if (photon.weight > 0.0) {
         let length = max((photon.pos.y + params.limits.y) / -photon.dir.y, 0.0);
         // Cull tubes that never come within the drawn distance of the eye.

@@ -44,6 +44,9 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (dir.y > 0.0) {
         l += sun_disk(dir);
     }
+    // Through the whole depth of the fog, if any.
+    let eye = frame.camera_pos.xyz;
+    l = through_fog(eye, eye + dir * 1e6, l);
     return vec4<f32>(min(l, vec3<f32>(60000.0)), 1.0);
 }
 

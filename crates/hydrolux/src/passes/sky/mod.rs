@@ -17,7 +17,7 @@ pub fn bake_source() -> String {
 }
 
 pub fn background_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::MEDIUM, include_str!("background.wgsl")])
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::MEDIUM, shaders::FOG, include_str!("background.wgsl")])
 }
 
 pub struct SkyPass {

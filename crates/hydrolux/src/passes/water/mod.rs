@@ -38,6 +38,7 @@ pub fn source() -> String {
         shaders::SKY_BINDINGS,
         shaders::SURFACE,
         shaders::MEDIUM,
+        shaders::FOG,
         shaders::PROJECTIVE,
         shaders::SHADOW_SPACE,
         shaders::SHADOW_LOOKUP,

@@ -283,7 +283,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let horizon_dir = normalize(vec3<f32>(-v.x, 0.02, -v.z));
     let horizon = textureSampleLevel(sky_cube, sky_sampler, horizon_dir, 0.0).rgb * exposure();
     let haze = 1.0 - exp(-dist / 40000.0);
-    color = mix(color, horizon, haze);
+    color = through_fog(frame.camera_pos.xyz, in.world, mix(color, horizon, haze));
     return vec4<f32>(min(color, vec3<f32>(60000.0)), 1.0);
 }
 

@@ -1,0 +1,23 @@
+// Refractive objects seen from the light (seed 004 §3.1): their front faces
+// (nearest the sun) and back faces (farthest), each as outward normal and
+// depth in the objects' orthographic light view (a view slot whose matrix
+// is frame.object_light_view_proj).
+
+struct LightOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+}
+
+@vertex
+fn vs_light(v: VsIn) -> LightOut {
+    let world = (object.model * vec4<f32>(v.position, 1.0)).xyz;
+    var out: LightOut;
+    out.clip = view.view_proj * vec4<f32>(world, 1.0);
+    out.normal = object.normal_matrix * v.normal;
+    return out;
+}
+
+@fragment
+fn fs_light(in: LightOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(normalize(in.normal), in.clip.z);
+}

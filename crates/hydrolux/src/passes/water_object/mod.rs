@@ -1,0 +1,399 @@
+//! Light through refractive objects (seed 004, after Hu et al. 2010; CPU
+//! twin of the path: `hydrolux_core::water_object`), and the objects
+//! themselves seen as clear water.
+//!
+//! From the light (`record_light`), in an orthographic view fitted to the
+//! refractive objects and what lies below them:
+//! 1. `light.wgsl`: their front faces and back faces (outward normal, depth);
+//!    the opaque scene's depth (the geometry pass's shadow pipeline).
+//! 2. `paths.wgsl`: per texel, refract in, march to the exit p1 against the
+//!    back depth, refract out, march to p2 against the scene depth; write
+//!    the path p1 → p2 as a beam tube (drawn by the god-ray pass as the
+//!    volume caustic in the fog) and splat its light where it lands, then
+//!    filter that into the object caustic map that receivers read
+//!    (`shaders/object_caustics.wgsl`).
+//!
+//! From the camera (`record_camera`), after the opaque scene and the god
+//! rays: `shade.wgsl` records the objects' back faces, then shades their
+//! front faces by two refractions into a copy of the image behind them.
+
+use crate::gpu_util::*;
+use crate::passes::geometry::{self, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot};
+use crate::passes::godrays::{GodRayTubes, GodRaysPass};
+use crate::shaders::{self, compose};
+use crate::timing::GpuTimer;
+
+/// Front/back faces from the light: outward normal and depth.
+const FACES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The object caustic map: rgb irradiance, a the scene's depth.
+pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The camera's back-face record: outward normal and distance.
+const BACK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Fixed point of the splat: 2¹⁶ per unit of relative irradiance.
+pub const FIXED_POINT_SCALE: f32 = 65536.0;
+/// Samples of each march (before bisection).
+pub const MARCH_STEPS: u32 = 96;
+
+pub fn light_source() -> String {
+    compose(&[shaders::CONSTANTS, shaders::FRAME, geometry::GEOMETRY_COMMON, include_str!("light.wgsl")])
+}
+
+pub fn paths_source() -> String {
+    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::TUBE, include_str!("paths.wgsl")])
+}
+
+pub fn shade_source() -> String {
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::OPTICS,
+        shaders::SKY_MODEL,
+        shaders::SKY_BINDINGS,
+        shaders::MEDIUM,
+        shaders::FOG,
+        geometry::GEOMETRY_COMMON,
+        include_str!("shade.wgsl"),
+    ])
+}
+
+/// WGSL `ObjectLightParams` (paths.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ObjectLightUniforms {
+    pub inv_view_proj: [[f32; 4]; 4],
+    pub counts: [u32; 4],
+    pub info: [f32; 4],
+    pub extra: [f32; 4],
+}
+
+/// The light-view targets for one resolution, and the paths' tubes.
+pub struct ObjectLight {
+    pub resolution: u32,
+    front_view: wgpu::TextureView,
+    front_depth: wgpu::TextureView,
+    back_view: wgpu::TextureView,
+    back_depth: wgpu::TextureView,
+    scene_depth: wgpu::TextureView,
+    pub map: wgpu::Texture,
+    pub map_view: wgpu::TextureView,
+    paths_group: wgpu::BindGroup,
+    pub tubes: GodRayTubes,
+}
+
+/// Camera-size targets: the back faces and a copy of the image behind.
+pub struct ObjectTargets {
+    back_view: wgpu::TextureView,
+    back_depth: wgpu::TextureView,
+    front_depth: wgpu::TextureView,
+    behind: wgpu::Texture,
+    inputs: wgpu::BindGroup,
+}
+
+pub struct WaterObjectPass {
+    params: wgpu::Buffer,
+    light_front: wgpu::RenderPipeline,
+    light_back: wgpu::RenderPipeline,
+    paths_layout: wgpu::BindGroupLayout,
+    clear: wgpu::ComputePipeline,
+    trace: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+    inputs_layout: wgpu::BindGroupLayout,
+    camera_back: wgpu::RenderPipeline,
+    camera_front: wgpu::RenderPipeline,
+}
+
+fn target_texture(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn mesh_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    (vs, fs): (&str, &str),
+    layouts: &[&wgpu::BindGroupLayout],
+    format: wgpu::TextureFormat,
+    cull: wgpu::Face,
+    depth: wgpu::DepthStencilState,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout(device, label, layouts)),
+        vertex: wgpu::VertexState { module, entry_point: Some(vs), compilation_options: Default::default(), buffers: &[Some(geometry::vertex_layout())] },
+        primitive: wgpu::PrimitiveState { cull_mode: Some(cull), ..Default::default() },
+        depth_stencil: Some(depth),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState { module, entry_point: Some(fs), compilation_options: Default::default(), targets: &[Some(format.into())] }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+fn depth_state(format: wgpu::TextureFormat, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState { format, depth_write_enabled: Some(true), depth_compare: Some(compare), stencil: Default::default(), bias: Default::default() }
+}
+
+impl WaterObjectPass {
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        frame_only: &wgpu::BindGroupLayout,
+        geometry_pass: &GeometryPass,
+    ) -> Self {
+        let (fs, cs) = (wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
+        let mesh_layouts = [frame_only, geometry_pass.view_layout(), geometry_pass.object_layout()];
+        let light_module = shader(device, "water object light", &light_source());
+        let d32 = wgpu::TextureFormat::Depth32Float;
+        let light_front = mesh_pipeline(device, "water object front", &light_module, ("vs_light", "fs_light"), &mesh_layouts, FACES_FORMAT, wgpu::Face::Back, depth_state(d32, wgpu::CompareFunction::Less));
+        let light_back = mesh_pipeline(device, "water object back", &light_module, ("vs_light", "fs_light"), &mesh_layouts, FACES_FORMAT, wgpu::Face::Front, depth_state(d32, wgpu::CompareFunction::Greater));
+        let unfilterable = |b| texture_entry(b, cs, wgpu::TextureViewDimension::D2, false);
+        let paths_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("water object paths"),
+            entries: &[
+                uniform_entry(0, cs),
+                unfilterable(1),
+                unfilterable(2),
+                layout_entry(3, cs, wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                }),
+                storage_entry(4, cs, false),
+                storage_entry(5, cs, false),
+                storage_texture_entry(6, MAP_FORMAT, wgpu::TextureViewDimension::D2),
+            ],
+        });
+        let paths_module = shader(device, "water object paths", &paths_source());
+        let p = |entry| compute_pipeline(device, entry, &paths_module, entry, &[frame_only, &paths_layout]);
+        let inputs_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("water object inputs"),
+            entries: &[
+                texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
+                layout_entry(1, fs, wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                }),
+                texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
+            ],
+        });
+        let shade_module = shader(device, "water object shade", &shade_source());
+        let shade_layouts = [globals, geometry_pass.view_layout(), geometry_pass.object_layout(), &inputs_layout];
+        // Reversed Z: the farthest back face has the smallest depth.
+        let camera_back = mesh_pipeline(device, "water object back faces", &shade_module, ("vs_object", "fs_back"), &shade_layouts[..3], BACK_FORMAT, wgpu::Face::Front, depth_state(d32, wgpu::CompareFunction::Less));
+        // Its own depth (nearest front face); the scene's depth is tested in
+        // the shader, which reads it (a read-only attachment that is also
+        // sampled is not portable).
+        let camera_front = mesh_pipeline(device, "water object", &shade_module, ("vs_object", "fs_front"), &shade_layouts, crate::targets::HDR_FORMAT, wgpu::Face::Back, depth_state(d32, wgpu::CompareFunction::Greater));
+        let (clear, trace, resolve) = (p("clear"), p("trace"), p("resolve"));
+        WaterObjectPass {
+            params: uniform_buffer(device, "water object params", &ObjectLightUniforms::default()),
+            light_front,
+            light_back,
+            paths_layout,
+            clear,
+            trace,
+            resolve,
+            inputs_layout,
+            camera_back,
+            camera_front,
+        }
+    }
+
+    /// The light-view targets for `resolution`² paths (1 when there are no
+    /// refractive objects: the map globals bind must exist).
+    pub fn create_light(&self, device: &wgpu::Device, godrays: &GodRaysPass, resolution: u32) -> ObjectLight {
+        let k = (resolution, resolution);
+        let att = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let view = |t: wgpu::Texture| t.create_view(&Default::default());
+        let front_view = view(target_texture(device, "water object front", k, FACES_FORMAT, att));
+        let back_view = view(target_texture(device, "water object back", k, FACES_FORMAT, att));
+        let front_depth = view(target_texture(device, "water object front depth", k, wgpu::TextureFormat::Depth32Float, att));
+        let back_depth = view(target_texture(device, "water object back depth", k, wgpu::TextureFormat::Depth32Float, att));
+        let scene_depth = view(target_texture(device, "water object scene depth", k, SHADOW_FORMAT, att));
+        let map = target_texture(device, "object caustic map", k, MAP_FORMAT, wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC);
+        let map_view = map.create_view(&Default::default());
+        let accum = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("object caustic accumulator"),
+            size: (resolution as u64).pow(2) * 3 * 4,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let tubes = godrays.create_tubes(device, resolution);
+        let tv = wgpu::BindingResource::TextureView;
+        let paths_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("water object paths"),
+            layout: &self.paths_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: tv(&front_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: tv(&back_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: tv(&scene_depth) },
+                wgpu::BindGroupEntry { binding: 4, resource: tubes.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: accum.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: tv(&map_view) },
+            ],
+        });
+        ObjectLight { resolution, front_view, front_depth, back_view, back_depth, scene_depth, map, map_view, paths_group, tubes }
+    }
+
+    /// Camera-size targets reading the main view's depth.
+    pub fn create_targets(&self, device: &wgpu::Device, size: (u32, u32), main_depth: &wgpu::TextureView) -> ObjectTargets {
+        let att = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let back_view = target_texture(device, "water object back faces", size, BACK_FORMAT, att).create_view(&Default::default());
+        let back_depth = target_texture(device, "water object back faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
+        let front_depth = target_texture(device, "water object front faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
+        let behind = target_texture(device, "behind water objects", size, crate::targets::HDR_FORMAT, wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING);
+        let behind_view = behind.create_view(&Default::default());
+        let tv = wgpu::BindingResource::TextureView;
+        let inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("water object inputs"),
+            layout: &self.inputs_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: tv(&behind_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: tv(main_depth) },
+                wgpu::BindGroupEntry { binding: 2, resource: tv(&back_view) },
+            ],
+        });
+        ObjectTargets { back_view, back_depth, front_depth, behind, inputs }
+    }
+
+    pub fn prepare(&self, queue: &wgpu::Queue, uniforms: &ObjectLightUniforms) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(uniforms));
+    }
+
+    /// Everything from the light: faces, scene depth, paths and the map.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_light(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame_only: &wgpu::BindGroup,
+        geometry_pass: &GeometryPass,
+        geometry: &SceneGeometry,
+        view: &ViewSlot,
+        light: &ObjectLight,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
+        let faces = |encoder: &mut wgpu::CommandEncoder, label, color, depth, clear_w: f64, clear_depth: f32, pipeline, timer: Option<&mut GpuTimer>| {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: color,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.0, g: 0.0, b: 0.0, a: clear_w }), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(clear_depth), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.and_then(|t| t.render_writes(label)),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, frame_only, &[]);
+            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+        };
+        // Empty texels: front beyond the far plane (2), back before the near one (−1).
+        faces(encoder, "water object faces", &light.front_view, &light.front_depth, 2.0, 1.0, &self.light_front, timer.as_deref_mut());
+        faces(encoder, "water object back", &light.back_view, &light.back_depth, -1.0, 0.0, &self.light_back, None);
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("water object scene depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &light.scene_depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            geometry_pass.record_shadow(&mut pass, frame_only, view, geometry, Objects::Opaque);
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("water object paths"),
+            timestamp_writes: timer.and_then(|t| t.compute_writes("water object paths")),
+        });
+        pass.set_bind_group(0, frame_only, &[]);
+        pass.set_bind_group(1, &light.paths_group, &[]);
+        let n = light.resolution.div_ceil(8);
+        for pipeline in [&self.clear, &self.trace, &self.resolve] {
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(n, n, 1);
+        }
+    }
+
+    /// The refractive objects in the main view (after the opaque scene and
+    /// the god rays are in `hdr`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_camera(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        globals: &wgpu::BindGroup,
+        geometry_pass: &GeometryPass,
+        geometry: &SceneGeometry,
+        view: &ViewSlot,
+        targets: &ObjectTargets,
+        (hdr, hdr_view): (&wgpu::Texture, &wgpu::TextureView),
+        timer: Option<&mut GpuTimer>,
+    ) {
+        encoder.copy_texture_to_texture(hdr.as_image_copy(), targets.behind.as_image_copy(), hdr.size());
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("water object back faces"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &targets.back_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.back_depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.and_then(|t| t.render_writes("water object")),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.camera_back);
+            pass.set_bind_group(0, globals, &[]);
+            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("water object front"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: hdr_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &targets.front_depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.camera_front);
+        pass.set_bind_group(0, globals, &[]);
+        pass.set_bind_group(3, &targets.inputs, &[]);
+        geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+    }
+}

@@ -1,0 +1,105 @@
+// Refractive objects seen by the camera, as clear water or glass (what seed
+// 004 left undone; the two-sided image-space refraction of Wyman 2005):
+// `fs_back` records each pixel's farthest back face (outward normal,
+// distance from the eye); `fs_front` shades the front face: Fresnel
+// reflection of the sky, and the scene behind seen through two refractions
+// — in at the front face, out at the back face found by the thickness the
+// back-face pass measured — attenuated by the water inside, then through
+// the fog.
+
+@group(3) @binding(0) var behind_tex: texture_2d<f32>;
+@group(3) @binding(1) var scene_depth: texture_depth_2d;
+@group(3) @binding(2) var back_tex: texture_2d<f32>;
+
+struct ShadeOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+}
+
+@vertex
+fn vs_object(v: VsIn) -> ShadeOut {
+    let world = (object.model * vec4<f32>(v.position, 1.0)).xyz;
+    var out: ShadeOut;
+    out.clip = view.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    out.normal = object.normal_matrix * v.normal;
+    return out;
+}
+
+@fragment
+fn fs_back(in: ShadeOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(normalize(in.normal), distance(in.world, frame.camera_pos.xyz));
+}
+
+// World → (uv, inside the screen).
+fn screen_uv(p: vec3<f32>) -> vec3<f32> {
+    let clip = frame.view_proj * vec4<f32>(p, 1.0);
+    let ndc = clip.xy / clip.w;
+    let inside = clip.w > 0.0 && all(abs(ndc) <= vec2<f32>(1.0));
+    return vec3<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y, select(0.0, 1.0, inside));
+}
+
+// The texel under screen uv, clamped to the texture — in float first, so
+// that a degenerate projection (NaN) cannot become a wild integer index.
+fn texel_at(uv: vec2<f32>, size: vec2<f32>) -> vec2<i32> {
+    return vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
+}
+
+// The sky cube towards `dir`; a degenerate direction (zero, NaN) reads
+// straight up instead (Mesa's lavapipe crashes on a NaN cube lookup).
+fn sky_towards(dir: vec3<f32>) -> vec3<f32> {
+    let d = clamp(dir, vec3<f32>(-1.0), vec3<f32>(1.0));
+    let ok = dot(d, d) > 1e-8;
+    return textureSampleLevel(sky_cube, sky_sampler, select(vec3<f32>(0.0, 1.0, 0.0), d, ok), 0.0).rgb * exposure();
+}
+
+@fragment
+fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(in.clip.xy);
+    // Behind the opaque scene (reversed Z: smaller is farther).
+    if (in.clip.z < textureLoad(scene_depth, px, 0)) {
+        discard;
+    }
+    let eye = frame.camera_pos.xyz;
+    let v = normalize(in.world - eye);
+    let n0 = normalize(in.normal);
+    if (frame.modes.w == VIEW_NORMALS) {
+        return vec4<f32>(n0 * 0.5 + 0.5, 1.0);
+    }
+    // ior stored as bits in flags.y (geometry upload).
+    let ior = bitcast<f32>(object.flags.y);
+    let cos0 = max(-dot(v, n0), 0.0);
+    let r0 = fresnel_exact(cos0, 1.0, ior);
+    let reflected = sky_towards(reflect(v, n0));
+    let t1 = refract(v, n0, 1.0 / ior);
+    let size = vec2<f32>(textureDimensions(back_tex));
+    let thickness = max(textureLoad(back_tex, px, 0).w - distance(in.world, eye), 0.005);
+    let p1 = in.world + t1 * thickness;
+    let at_exit = screen_uv(p1);
+    let exit_texel = texel_at(at_exit.xy, size);
+    let b = textureLoad(back_tex, exit_texel, 0);
+    // The back face's normal where the ray leaves; where the back-face
+    // record is empty there, this pixel's own back face, or the front's.
+    let here = textureLoad(back_tex, px, 0);
+    var n1 = select(here.xyz, b.xyz, at_exit.z > 0.5 && b.w > 0.0);
+    n1 = select(n0, normalize(n1), dot(n1, n1) > 0.25);
+    let refracted_out = refract(t1, -n1, ior);
+    let tir = dot(refracted_out, refracted_out) < 0.5;
+    // Totally reflected at the back: follow the reflected ray instead.
+    let t2 = select(refracted_out, reflect(t1, -n1), tir);
+    let r1 = select(fresnel_exact(max(dot(t1, n1), 0.0), ior, 1.0), 0.0, tir);
+    // What lies behind along t2: guess its distance from the scene's depth
+    // under the exit point, then look it up where that point projects.
+    let z = textureLoad(scene_depth, exit_texel, 0);
+    let ndc = vec2<f32>(2.0 * at_exit.x - 1.0, 1.0 - 2.0 * at_exit.y);
+    let h = frame.inv_view_proj * vec4<f32>(ndc, max(z, 1e-7), 1.0);
+    let gap = max(distance(h.xyz / h.w, eye) - distance(p1, eye), 0.05);
+    let q = screen_uv(p1 + t2 * gap);
+    let zq = textureLoad(scene_depth, texel_at(q.xy, size), 0);
+    let seen = textureSampleLevel(behind_tex, sky_sampler, clamp(q.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
+    let behind = select(sky_towards(t2), seen, at_exit.z > 0.5 && z > 0.0 && q.z > 0.5 && zq > 0.0);
+    let inside = exp(-frame.absorption.rgb * thickness);
+    let color = r0 * reflected + (1.0 - r0) * (1.0 - r1) * inside * behind;
+    return vec4<f32>(clamp(through_fog(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0)), 1.0);
+}
