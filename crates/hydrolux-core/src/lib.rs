@@ -6,6 +6,7 @@ pub mod camera;
 pub mod caustics;
 pub mod geometry;
 pub mod godrays;
+pub mod water_object;
 pub mod medium;
 pub mod npy;
 pub mod optics;
