@@ -716,7 +716,7 @@ impl Renderer {
             fog: [s.air.fog, s.air.fog_g, s.air.fog_distance, godrays.filter(|g| g.1).is_some() as u32 as f32],
             object_light_view_proj: object_light.map_or(glam::Mat4::IDENTITY, |o| o.0).to_cols_array_2d(),
             // Receivers within ~1% of the light box's depth of where the light landed.
-            object_params: [object_light.is_some() as u32 as f32, 0.01, 0.0, 0.0],
+            object_params: [object_light.is_some() as u32 as f32, 1.0, 0.0, 0.0],
             modes2: [
                 match s.water.optics {
                     WaterOptics::Physical => 0,
@@ -1001,6 +1001,16 @@ impl Renderer {
     /// tint (absorption inside), unused.
     pub fn read_object_paths(&self) -> Vec<[f32; 12]> {
         self.godrays.read_tubes(&self.device, &self.queue, &self.object_light.tubes)
+    }
+
+    /// The caustic of refractive objects after the last frame, in their
+    /// light view (K × K texels, rows top to bottom): rgb irradiance landing
+    /// there relative to the sun's on a plane facing it, and the depth of
+    /// the surface it landed on.
+    pub fn read_object_caustics(&self) -> (u32, Vec<[f32; 4]>) {
+        let bytes = read_texture(&self.device, &self.queue, &self.object_light.map, 8);
+        let halves: &[u16] = bytemuck::cast_slice(&bytes);
+        (self.object_light.resolution, halves.chunks_exact(4).map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])]).collect())
     }
 
     /// The refractive objects' light view (world → clip) and its texels per

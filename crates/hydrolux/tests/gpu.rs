@@ -807,7 +807,7 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
     let inv = view_proj.inverse();
     let sun = s.sun_direction();
     let texel = (inv.project_point3(glam::Vec3::new(1.0, 0.0, 0.5)) - inv.project_point3(glam::Vec3::new(1.0 - 2.0 / k as f32, 0.0, 0.5))).length();
-    let (mut checked, mut worst, mut ratios, mut dir_errors) = (0, 0.0f32, Vec::new(), Vec::new());
+    let (mut checked, mut worst, mut ratios, mut dir_errors, mut land_errors) = (0, 0.0f32, Vec::new(), Vec::new(), Vec::new());
     for j in 0..k {
         for i in 0..k {
             let g = paths[(j * k + i) as usize];
@@ -827,6 +827,10 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
             worst = worst.max(miss / texel);
             assert!(miss < 2.5 * texel, "texel ({i}, {j}): p1 {p1} vs analytic {} ({} texels)", want.p1, miss / texel);
             dir_errors.push((dir - want.exit_dir).length());
+            // Where it lands: on the floor plane, where the analytic path does.
+            let p2 = p1 + dir * g[3];
+            let want_p2 = want.p1 + want.exit_dir * ((-0.001 - want.p1.y) / want.exit_dir.y);
+            land_errors.push((p2 - want_p2).length());
             ratios.push(g[7] / (want.transmitted * texel * texel));
             checked += 1;
         }
@@ -842,5 +846,19 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
     let (dir_median, dir_p95) = (dir_errors[dir_errors.len() / 2], dir_errors[dir_errors.len() * 19 / 20]);
     eprintln!("exit direction error: median {dir_median:.4}, 95th percentile {dir_p95:.4}");
     assert!(dir_median < 0.02 && dir_p95 < 0.08, "exit direction error median {dir_median}, 95th percentile {dir_p95}");
+
+    // The caustic map holds all the light that came through (the splat and
+    // its filter conserve it): Σ map = Σ transmitted × tint over the paths.
+    let (_, map) = r.read_object_caustics();
+    let through: f32 = paths.iter().filter(|g| g[7] > 0.0).map(|g| g[7] / (texel * texel) * g[10]).sum();
+    let landed: f32 = map.iter().map(|m| m[2]).sum();
+    let peak = map.iter().map(|m| m[2]).fold(0.0f32, f32::max);
+    eprintln!("light through {through}, landed {landed}, peak {peak}");
+    land_errors.sort_by(|a, b| a.total_cmp(b));
+    eprintln!("landing error median {} p95 {}", land_errors[land_errors.len() / 2], land_errors[land_errors.len() * 19 / 20]);
+    assert!((landed / through - 1.0).abs() < 0.02, "landed {landed} vs through {through}");
+    // A water ball 0.5 m above the floor is a lens focused near the floor.
+    assert!(peak > 10.0, "the ball lens should focus the sunlight: peak {peak}× the sun");
+    assert!(land_errors[land_errors.len() / 2] < 0.05, "paths land within 5 cm of the analytic landing point (median)");
     assert!(p5 > 0.9 && p95 < 1.1, "flux ratio 5th–95th percentile {p5}–{p95}");
 }
