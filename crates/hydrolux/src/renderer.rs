@@ -712,11 +712,16 @@ impl Renderer {
                 Some((patch, depth)) => [patch[0], patch[1], depth, 1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4)],
                 None => [0.0; 4],
             },
-            volume: [godrays.filter(|g| !g.1).map_or(0.0, |g| g.0.limits[0]), self.has_water() as u32 as f32, 0.0, 0.0],
-            fog: [s.air.fog, s.air.fog_g, s.air.fog_distance, godrays.filter(|g| g.1).is_some() as u32 as f32],
+            volume: [
+                godrays.filter(|g| !g.1).map_or(0.0, |g| g.0.limits[0]),
+                self.has_water() as u32 as f32,
+                godrays.is_some_and(|g| g.1) as u32 as f32,
+                0.0,
+            ],
+            fog: [s.air.fog, s.air.fog_g, s.air.fog_distance, s.air.fog_sky],
             object_light_view_proj: object_light.map_or(glam::Mat4::IDENTITY, |o| o.0).to_cols_array_2d(),
             // Receivers within ~1% of the light box's depth of where the light landed.
-            object_params: [object_light.is_some() as u32 as f32, 1.0, 0.0, 0.0],
+            object_params: [object_light.is_some() as u32 as f32, 0.01, 0.0, 0.0],
             modes2: [
                 match s.water.optics {
                     WaterOptics::Physical => 0,

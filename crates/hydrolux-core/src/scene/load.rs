@@ -409,6 +409,7 @@ impl Scene {
         let a = &self.air;
         range("air.fog", a.fog, (0.0..=1.0).contains(&a.fog), "must be 0 to 1 per metre")?;
         range("air.fog_g", a.fog_g, a.fog_g > -1.0 && a.fog_g < 1.0, "must be between -1 and 1")?;
+        range("air.fog_sky", a.fog_sky, (0.0..=1.0).contains(&a.fog_sky), "must be 0 to 1")?;
         range("air.fog_distance", a.fog_distance, a.fog_distance > 0.0 && a.fog_distance <= 10_000.0, "must be > 0 and at most 10000 m")?;
         if self.floor.material.ior != 0.0 {
             return Err(SceneError::OutOfRange { key: "floor.material.ior".into(), value: self.floor.material.ior.to_string(), allowed: "must be 0: the floor is opaque".into() });

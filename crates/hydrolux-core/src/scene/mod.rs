@@ -339,11 +339,14 @@ pub struct AirDesc {
     /// The fog fills this many metres around the eye (a room); beyond it the
     /// air is clear.
     pub fog_distance: f32,
+    /// How much of the sky lights the fog: 1 outdoors, less in a room whose
+    /// walls hide most of it (the sun's part is shadowed separately).
+    pub fog_sky: f32,
 }
 
 impl Default for AirDesc {
     fn default() -> Self {
-        AirDesc { fog: 0.0, fog_g: 0.3, fog_distance: 40.0 }
+        AirDesc { fog: 0.0, fog_g: 0.3, fog_distance: 40.0, fog_sky: 1.0 }
     }
 }
 

@@ -2,7 +2,7 @@
 // scattering σ (frame.fog.x) filling the first frame.fog.z metres around the
 // eye, lit by the sky (uniformly) and the sun. Single scattering (seed 000
 // §3.3 eq. 3.6 with σa = 0). The sun's part is marched through the shadow
-// map by the god-ray pass when it runs (frame.fog.w = 1), so that objects
+// map by the god-ray pass when it runs (frame.volume.z = 1), so that objects
 // cast shadows into the fog; otherwise it is the unshadowed closed form
 // here. Needs `frame` and `medium` (henyey_greenstein).
 
@@ -12,7 +12,7 @@
 const FOG_GROUND_BOUNCE: f32 = 0.15;
 
 fn fog_sky_radiance() -> vec3<f32> {
-    return frame.sky_ambient.rgb / PI * 0.5 * (1.0 + FOG_GROUND_BOUNCE);
+    return frame.fog.w * frame.sky_ambient.rgb / PI * 0.5 * (1.0 + FOG_GROUND_BOUNCE);
 }
 
 // What the eye sees of radiance `l` leaving `p` through the fog.
@@ -25,7 +25,7 @@ fn through_fog(eye: vec3<f32>, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let s = min(full, frame.fog.z);
     let t = exp(-sigma * s);
     var glow = fog_sky_radiance();
-    if (frame.fog.w < 0.5) {
+    if (frame.volume.z < 0.5) {
         let dir = (p - eye) / max(full, 1e-6);
         glow += frame.sun_illuminance.rgb * henyey_greenstein(dot(frame.sun_dir.xyz, dir), frame.fog.y);
     }

@@ -54,10 +54,11 @@ struct Frame {
     caustic_params: vec4<f32>,
     // x distance from the eye (m) within which god rays replace the uniform
     // sun in-scattering (0: no god rays this frame); y 1 when the scene has a
-    // water body.
+    // water body; z 1 when the god-ray pass marches the sun's light in the
+    // fog (shadowed) this frame.
     volume: vec4<f32>,
     // Fog in the air: x scattering σ (m⁻¹), y Henyey–Greenstein g, z how far
-    // from the eye it reaches (m).
+    // from the eye it reaches (m), w the fraction of the sky lighting it.
     fog: vec4<f32>,
     // Refractive objects' light view (world → clip, orthographic along the sun).
     object_light_view_proj: mat4x4<f32>,
