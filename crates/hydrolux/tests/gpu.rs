@@ -474,6 +474,22 @@ fn golden_images_below_and_half_submerged() {
     golden::check("half-submerged", 160, 90, &px);
 }
 
+/// Goldens of the volume caustics: the `underwater` scene's shafts by the
+/// lines and by the march (the plain `underwater` golden has the default,
+/// lines, too), and the `water_dragon` (light bent through a water bunny
+/// into shafts in the fog and a caustic on the floor).
+#[test]
+fn golden_images_of_god_rays_and_the_water_dragon() {
+    for (name, method) in [("underwater-godrays-lines", "lines"), ("underwater-godrays-march", "march")] {
+        let s = Scene::load("underwater", &[format!("godrays.method={method}"), "godrays.resolution=1".into()]).expect("built-in");
+        let (px, _) = render(&s, (160, 90), 10.0);
+        golden::check(name, 160, 90, &px);
+    }
+    let s = Scene::load("water_dragon", &["godrays.object_resolution=192".into()]).expect("built-in");
+    let (px, _) = render(&s, (160, 108), 0.0);
+    golden::check("water_dragon", 160, 108, &px);
+}
+
 /// The GPU photon splatting against the CPU tracer (hydrolux_core::caustics)
 /// on the same surface: flat water gives T(θ)·cos θ in every cell; under FFT
 /// waves the maps agree in pattern (correlation) and in mean (energy).
