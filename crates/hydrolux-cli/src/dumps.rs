@@ -19,9 +19,13 @@ pub enum DumpKind {
     Jacobian,
     Hdr,
     Caustics,
+    /// The god-ray buffer (linear radiance, pre-exposed, buffer size).
+    Godrays,
+    /// The caustic of refractive objects in their light view.
+    ObjectCaustics,
 }
 
-pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics";
+pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics";
 
 #[derive(Clone, Debug)]
 pub struct Dump {
@@ -41,6 +45,8 @@ pub fn parse(text: &str) -> Result<Dump> {
         "jacobian" => DumpKind::Jacobian,
         "hdr" => DumpKind::Hdr,
         "caustics" => DumpKind::Caustics,
+        "godrays" => DumpKind::Godrays,
+        "object_caustics" => DumpKind::ObjectCaustics,
         other => bail!("--dump `{other}`: unknown buffer; choose one of {KINDS}"),
     };
     let path = PathBuf::from(file);
@@ -74,6 +80,12 @@ pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
     if dump.kind == DumpKind::Caustics && !(scene.caustics.method != CausticMethod::Off && scene.floor.depth > 0.0 && scene.sun_direction().y > 0.0) {
         bail!("--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)");
     }
+    if dump.kind == DumpKind::Godrays && scene.godrays.method == hydrolux::core::scene::GodRayMethod::Off {
+        bail!("--dump godrays: god rays are off in this scene (set godrays.method to \"lines\" or \"march\")");
+    }
+    if dump.kind == DumpKind::ObjectCaustics && !scene.objects.iter().any(|o| o.material.ior > 0.0) {
+        bail!("--dump object_caustics: the scene has no refractive object (an object with material.ior > 0)");
+    }
     Ok(())
 }
 
@@ -86,6 +98,12 @@ pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
             bail!("--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)")
         };
         (m as usize, m as usize, 1, map)
+    } else if dump.kind == DumpKind::Godrays {
+        let Some((w, h, px)) = renderer.read_godrays() else { bail!("no frame has been rendered to dump") };
+        (w as usize, h as usize, 3, px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
+    } else if dump.kind == DumpKind::ObjectCaustics {
+        let (k, map) = renderer.read_object_caustics();
+        (k as usize, k as usize, 3, map.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
     } else {
         let (n, samples) = surface_grid(renderer);
         let (c, data): (usize, Vec<f32>) = match dump.kind {
@@ -93,7 +111,7 @@ pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
             DumpKind::Displacement => (3, samples.iter().flat_map(|s| s.displacement).collect()),
             DumpKind::Normals => (3, samples.iter().flat_map(|s| s.normal().to_array()).collect()),
             DumpKind::Jacobian => (1, samples.iter().map(|s| s.jacobian()).collect()),
-            DumpKind::Hdr | DumpKind::Caustics => unreachable!("handled above"),
+            DumpKind::Hdr | DumpKind::Caustics | DumpKind::Godrays | DumpKind::ObjectCaustics => unreachable!("handled above"),
         };
         (n, n, c, data)
     };

@@ -164,15 +164,17 @@ impl Viewer {
         }
     }
 
-    /// V: show the next debug view (final → reflection → … → shadow → final).
-    fn cycle_view(&mut self) {
-        let current = self.table.get("render").and_then(|r| r.get("view")).and_then(Value::as_str).unwrap_or("final").to_string();
-        let i = DebugView::NAMES.iter().position(|n| *n == current).unwrap_or(0);
-        let next = DebugView::NAMES[(i + 1) % DebugView::NAMES.len()];
-        if let Some(Value::Table(r)) = self.table.get_mut("render") {
-            r.insert("view".into(), Value::String(next.into()));
+    /// Step `section.key` to the next of `names` (V: the debug view, G: the
+    /// god-ray method), and apply it.
+    fn cycle_option(&mut self, section: &str, key: &str, names: &[&str]) {
+        let current = self.table.get(section).and_then(|r| r.get(key)).and_then(Value::as_str).unwrap_or(names[0]).to_string();
+        let i = names.iter().position(|n| *n == current).unwrap_or(0);
+        let next = names[(i + 1) % names.len()];
+        let table = self.table.entry(section).or_insert_with(|| Value::Table(Default::default()));
+        if let Value::Table(r) = table {
+            r.insert(key.into(), Value::String(next.into()));
         }
-        self.status = format!("view: {next}");
+        self.status = format!("{section}.{key}: {next}");
         self.apply_table();
     }
 
@@ -428,7 +430,8 @@ impl ApplicationHandler for Viewer {
                             KeyCode::BracketLeft => self.time_scale = (self.time_scale * 0.5).max(1.0 / 64.0),
                             KeyCode::BracketRight => self.time_scale = (self.time_scale * 2.0).min(64.0),
                             KeyCode::KeyP => self.screenshot_requested = true,
-                            KeyCode::KeyV => self.cycle_view(),
+                            KeyCode::KeyV => self.cycle_option("render", "view", &DebugView::NAMES),
+                            KeyCode::KeyG => self.cycle_option("godrays", "method", &["lines", "march", "off"]),
                             _ => {}
                         }
                     } else {
