@@ -27,7 +27,7 @@ pub struct SceneArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Show an intermediate texture instead of the final image: final,
-    /// reflection, refraction, depth, normals or shadow (= --set render.view=KIND).
+    /// reflection, refraction, depth, normals, shadow, medium or caustics (= --set render.view=KIND).
     #[arg(long, value_name = "KIND")]
     pub view: Option<String>,
 }

@@ -27,7 +27,7 @@ pub struct RenderArgs {
     /// Frames per second of simulated time in a sequence.
     #[arg(long, default_value_t = 30.0)]
     pub fps: f64,
-    /// Write an internal buffer: KIND=FILE.npy|FILE.exr with KIND one of height, displacement, normals, jacobian, hdr. Repeatable.
+    /// Write an internal buffer: KIND=FILE.npy|FILE.exr with KIND one of height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics. Repeatable.
     #[arg(long = "dump", value_name = "KIND=FILE")]
     pub dump: Vec<String>,
 }

@@ -31,6 +31,8 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     std::fs::write(dir.join("bad.glb"), "not a glb").unwrap();
     std::fs::write(dir.join("bad_mesh.toml"), "[[objects]]\nmesh = \"bad.glb\"\n").unwrap();
     std::fs::write(dir.join("no_texture.toml"), "[[objects]]\n[objects.material]\ntexture = \"nope.png\"\n").unwrap();
+    std::fs::write(dir.join("refractive_in_water.toml"), "[[objects]]\nprimitive = \"sphere\"\nmaterial = { ior = 1.333 }\n").unwrap();
+    std::fs::write(dir.join("unknown_builtin_mesh.toml"), "[water]\nmodel = \"none\"\n[[objects]]\nmesh = \"builtin:teapot\"\n").unwrap();
     let cases: &[(&[&str], &str)] = &[
         (&["render", "--scene", "nowhere"], "unknown scene `nowhere`"),
         (&["render", "--scene", "missing.toml"], "cannot read scene file missing.toml"),
@@ -56,6 +58,14 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--set", "water.model=heightfield"], "water.heightfield"),
         (&["render", "--set", "water.model=heightfield", "--set", "water.heightfield=nope.npy"], "cannot load heightfield nope.npy: no such file"),
         (&["render", "--set", "water.model=heightfield", "--set", "water.heightfield=broken.toml"], "cannot load heightfield broken.toml: not a .npy file"),
+        (&["render", "--set", "godrays.method=rays"], "godrays.method"),
+        (&["render", "--set", "godrays.resolution=2"], "`godrays.resolution` = 2 is out of range"),
+        (&["render", "--set", "godrays.photons=1"], "`godrays.photons` = 1 is out of range"),
+        (&["render", "--set", "air.fog=-0.1"], "`air.fog` = -0.1 is out of range"),
+        (&["render", "--scene", "refractive_in_water.toml"], "refractive objects need water.model = \"none\""),
+        (&["render", "--scene", "unknown_builtin_mesh.toml"], "cannot load mesh builtin:teapot"),
+        (&["render", "--set", "godrays.method=off", "--dump", "godrays=g.npy"], "god rays are off"),
+        (&["render", "--dump", "object_caustics=o.npy"], "no refractive object"),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);
@@ -67,7 +77,11 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
     let mut left: Vec<String> = left.into_iter().map(|f| f.to_string_lossy().into_owned()).collect();
     left.sort();
-    assert_eq!(left, ["bad.glb", "bad_mesh.toml", "broken.toml", "no_mesh.toml", "no_texture.toml"], "files were written: {left:?}");
+    assert_eq!(
+        left,
+        ["bad.glb", "bad_mesh.toml", "broken.toml", "no_mesh.toml", "no_texture.toml", "refractive_in_water.toml", "unknown_builtin_mesh.toml"],
+        "files were written: {left:?}"
+    );
 }
 
 #[test]
@@ -187,4 +201,33 @@ fn caustics_dump_is_an_m_by_m_float_grid() {
     let mean = values.iter().sum::<f32>() / values.len() as f32;
     // The pool's sun is 58° up: flat water would give T·sin 58° ≈ 0.83 everywhere.
     assert!((mean - 0.83).abs() < 0.02, "mean floor irradiance {mean}");
+}
+
+#[test]
+fn god_ray_and_object_caustic_dumps_have_their_shapes() {
+    let dir = scratch("volume");
+    let shape = |file: &str| {
+        let npy = std::fs::read(dir.join(file)).unwrap();
+        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
+        let values: Vec<f32> = npy[10 + hlen..].chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+        (header, values)
+    };
+    let (code, err) = hydrolux(
+        &["render", "--scene", "underwater", "--width", "32", "--height", "20", "--set", "godrays.photons=64", "--dump", "godrays=g.npy", "--out", "u.png"],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let (header, values) = shape("g.npy");
+    assert!(header.contains("'shape': (10, 16, 3)"), "{header}");
+    assert!(values.iter().all(|v| v.is_finite() && *v >= 0.0) && values.iter().any(|v| *v > 0.0), "the buffer holds light");
+    let (code, err) = hydrolux(
+        &["render", "--scene", "water_dragon", "--width", "24", "--height", "16", "--set", "godrays.object_resolution=128", "--dump", "object_caustics=o.npy", "--out", "d.png"],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let (header, values) = shape("o.npy");
+    assert!(header.contains("'shape': (128, 128, 3)"), "{header}");
+    let peak = values.iter().cloned().fold(0.0f32, f32::max);
+    assert!(peak > 1.0, "the water bunny focuses sunlight somewhere: peak {peak}");
 }
