@@ -430,14 +430,12 @@ impl Scene {
                 allowed: "must be 16 to 2048".into(),
             });
         }
-        if self.water.model != super::WaterModel::None {
-            if let Some(i) = self.objects.iter().position(|o| o.material.ior > 0.0) {
-                return Err(SceneError::OutOfRange {
-                    key: format!("objects[{i}].material.ior"),
-                    value: self.objects[i].material.ior.to_string(),
-                    allowed: "refractive objects need water.model = \"none\" (they are lit through air)".into(),
-                });
-            }
+        if let Some(i) = self.objects.iter().position(|o| o.material.ior > 0.0).filter(|_| self.water.model != super::WaterModel::None) {
+            return Err(SceneError::OutOfRange {
+                key: format!("objects[{i}].material.ior"),
+                value: self.objects[i].material.ior.to_string(),
+                allowed: "refractive objects need water.model = \"none\" (they are lit through air)".into(),
+            });
         }
         if self.objects.len() > 1024 {
             return Err(SceneError::OutOfRange { key: "objects".into(), value: self.objects.len().to_string(), allowed: "at most 1024 objects".into() });
