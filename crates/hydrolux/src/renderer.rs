@@ -591,6 +591,15 @@ impl Renderer {
         ))
     }
 
+    /// How far along refracted paths the water shader marches god rays for
+    /// a viewer above the water (0: none): when god rays are on, the sun is
+    /// up and the caustic layers they are marched through exist.
+    fn shafts_from_above(&self, camera: &Camera) -> f32 {
+        let g = &self.scene.godrays;
+        let above = camera.position.y > -self.surface.vertical_reach;
+        if g.method == GodRayMethod::Off || !above || self.caustic_setup().is_none() { 0.0 } else { g.distance }
+    }
+
     /// Light-view texels per side for refractive objects (1 without any).
     fn object_resolution(geometry: &SceneGeometry, scene: &Scene) -> u32 {
         if geometry.refractive_bounds.is_some() { scene.godrays.object_resolution } else { 1 }
@@ -716,7 +725,7 @@ impl Renderer {
                 godrays.filter(|g| !g.1).map_or(0.0, |g| g.0.limits[0]),
                 self.has_water() as u32 as f32,
                 godrays.is_some_and(|g| g.1) as u32 as f32,
-                0.0,
+                self.shafts_from_above(camera),
             ],
             fog: [s.air.fog, s.air.fog_g, s.air.fog_distance, s.air.fog_sky],
             object_light_view_proj: object_light.map_or(glam::Mat4::IDENTITY, |o| o.0).to_cols_array_2d(),

@@ -55,7 +55,8 @@ struct Frame {
     // x distance from the eye (m) within which god rays replace the uniform
     // sun in-scattering (0: no god rays this frame); y 1 when the scene has a
     // water body; z 1 when the god-ray pass marches the sun's light in the
-    // fog (shadowed) this frame.
+    // fog (shadowed) this frame; w how far (m) along refracted paths seen from
+    // above the water shaders march god rays (0: not this frame).
     volume: vec4<f32>,
     // Fog in the air: x scattering σ (m⁻¹), y Henyey–Greenstein g, z how far
     // from the eye it reaches (m), w the fraction of the sky lighting it.

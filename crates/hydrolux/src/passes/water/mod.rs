@@ -42,6 +42,7 @@ pub fn source() -> String {
         shaders::PROJECTIVE,
         shaders::SHADOW_SPACE,
         shaders::SHADOW_LOOKUP,
+        shaders::CAUSTICS_LOOKUP,
         include_str!("water.wgsl"),
     ])
 }

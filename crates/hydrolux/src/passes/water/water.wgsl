@@ -197,7 +197,36 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
         return c_water + a * (seen - c_water);
     }
     // In-medium radiance leaves through the surface divided by n² (the solid angle widens).
-    return (seen * transmittance(s) + path_in_scatter(t_dir, s)) / (ior * ior);
+    return (seen * transmittance(s) + path_in_scatter_with_shafts(p, t_dir, s)) / (ior * ior);
+}
+
+// Samples of the god rays seen from above.
+const SHAFT_STEPS: u32 = 16u;
+
+// path_in_scatter, but with god rays seen from above (frame.volume.w > 0):
+// over the first frame.volume.w metres of the refracted path the sun's
+// part is marched through the caustic layers and the shadow map (the
+// focused, shadowed light), beyond it the uniform closed form. Flat water
+// gives the same either way.
+fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f32> {
+    let reach = min(frame.volume.w, s);
+    if (reach <= 0.0) {
+        return path_in_scatter(t_dir, s);
+    }
+    let travel = frame.sun_travel.xyz;
+    let cos_w = max(frame.sun_travel.w, 1e-3);
+    let phase = henyey_greenstein(dot(travel, -t_dir), frame.absorption.w);
+    let ds = reach / f32(SHAFT_STEPS);
+    // Per-pixel offset of the samples (interleaved gradient noise).
+    let jitter = fract(52.9829189 * fract(dot(p.xz * 37.0, vec2<f32>(0.06711056, 0.00583715))));
+    var shafts = vec3<f32>(0.0);
+    for (var i = 0u; i < SHAFT_STEPS; i++) {
+        let d = (f32(i) + jitter) * ds;
+        let q = p + t_dir * d;
+        let e = frame.sun_underwater.rgb * transmittance(max(-q.y, 0.0) / cos_w) * caustic_factor(q) * sun_visibility_point(q);
+        shafts += frame.scattering.rgb * phase * e * transmittance(d) * ds;
+    }
+    return shafts + sun_in_scatter(0.0, t_dir, reach, s) + sky_in_scatter(0.0, t_dir, s);
 }
 
 @fragment
