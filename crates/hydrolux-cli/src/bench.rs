@@ -93,7 +93,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
         println!("adapter   {} ({:?})", info.name, info.backend);
         println!("scene     {} {}", a.scene.scene, a.scene.set.join(" "));
         println!("size      {}×{}, {} frames", a.size.width, a.size.height, a.frames);
-        println!("geometry  {} scene triangles (+ water clipmap), shadow map {}², reflection at {}× output", triangles, scene.render.shadow_resolution, scene.render.reflection_resolution);
+        let water = if scene.water.model == hydrolux::core::scene::WaterModel::None { " (no water)" } else { " (+ water clipmap)" };
+        println!("geometry  {triangles} scene triangles{water}, shadow map {}², reflection at {}× output", scene.render.shadow_resolution, scene.render.reflection_resolution);
         println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
         if timestamps {
             println!("passes    (GPU timestamps, median ms)");
