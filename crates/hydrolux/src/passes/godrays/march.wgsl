@@ -3,8 +3,10 @@
 // drawn distance or the scene, sampling the refracted sun's irradiance
 // from the caustic layers (the light-space slices of seed 003 §4.3) and
 // the shadow map, and integrates the single scattering towards the eye.
-// Flat water gives the same as the lines; needs the caustic layers (a
-// floor and caustics on) to show any focusing.
+// Each step adds the closed form of its segment times the focusing and
+// visibility sampled in it, so flat water gives exactly the uniform
+// in-scattering; needs the caustic layers (a floor and caustics on) to show
+// any focusing.
 
 @group(1) @binding(0) var<uniform> params: GodRayParams;
 @group(2) @binding(0) var scene_depth: texture_2d<f32>;
@@ -31,18 +33,16 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let steps = params.counts.y;
     let ds = end / f32(steps);
     let jitter = texel_noise(pos.xy);
-    let travel = frame.sun_travel.xyz;
-    let cos_w = max(frame.sun_travel.w, 1e-3);
-    let flat_e = frame.sun_underwater.rgb / max(frame.sun_illuminance.rgb, vec3<f32>(1e-6));
+    // Each step: the closed form of its segment (exact for flat water)
+    // times the focusing and visibility sampled in it.
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < steps; i++) {
-        let s = (f32(i) + jitter) * ds;
-        let p = eye + view * s;
+        let s0 = f32(i) * ds;
+        let p = eye + view * (s0 + jitter * ds);
         if (p.y > 0.0) {
             continue;
         }
-        let e = flat_e * medium_transmittance(-p.y / cos_w) * caustic_factor(p) * sun_visibility_point(p);
-        sum += scattered_to_eye(e, travel, view, s) * ds;
+        sum += caustic_factor(p) * sun_visibility_point(p) * sun_in_scatter(-eye.y, view, s0, s0 + ds);
     }
     return vec4<f32>(sum, 1.0);
 }
@@ -61,11 +61,15 @@ fn fs_fog(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let steps = params.counts.y;
     let ds = end / f32(steps);
     let jitter = texel_noise(pos.xy);
+    // Each step: the closed form of its segment, ∫ e^(−σk·s) ds, times the
+    // visibility sampled in it.
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < steps; i++) {
-        let s = (f32(i) + jitter) * ds;
-        let p = eye + view * s;
-        sum += scattered_to_eye(vec3<f32>(sun_visibility_point(p)), -frame.sun_dir.xyz, view, s) * ds;
+        let s0 = f32(i) * ds;
+        let p = eye + view * (s0 + jitter * ds);
+        let k = max(params.extinction.rgb, vec3<f32>(1e-6));
+        let segment = (medium_transmittance(s0) - medium_transmittance(s0 + ds)) / k;
+        sum += scattered_to_eye(vec3<f32>(sun_visibility_point(p)), -frame.sun_dir.xyz, view, 0.0) * segment;
     }
     return vec4<f32>(sum, 1.0);
 }

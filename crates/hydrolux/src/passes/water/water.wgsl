@@ -213,18 +213,16 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
     if (reach <= 0.0) {
         return path_in_scatter(t_dir, s);
     }
-    let travel = frame.sun_travel.xyz;
-    let cos_w = max(frame.sun_travel.w, 1e-3);
-    let phase = henyey_greenstein(dot(travel, -t_dir), frame.absorption.w);
     let ds = reach / f32(SHAFT_STEPS);
     // Per-pixel offset of the samples (interleaved gradient noise).
     let jitter = fract(52.9829189 * fract(dot(p.xz * 37.0, vec2<f32>(0.06711056, 0.00583715))));
+    // Each step: the closed form of its segment (exact for flat water)
+    // times the focusing and visibility sampled in it.
     var shafts = vec3<f32>(0.0);
     for (var i = 0u; i < SHAFT_STEPS; i++) {
-        let d = (f32(i) + jitter) * ds;
-        let q = p + t_dir * d;
-        let e = frame.sun_underwater.rgb * transmittance(max(-q.y, 0.0) / cos_w) * caustic_factor(q) * sun_visibility_point(q);
-        shafts += frame.scattering.rgb * phase * e * transmittance(d) * ds;
+        let d0 = f32(i) * ds;
+        let q = p + t_dir * (d0 + jitter * ds);
+        shafts += caustic_factor(q) * sun_visibility_point(q) * sun_in_scatter(0.0, t_dir, d0, d0 + ds);
     }
     return shafts + sun_in_scatter(0.0, t_dir, reach, s) + sky_in_scatter(0.0, t_dir, s);
 }
