@@ -88,18 +88,7 @@ pub struct Targets {
     pub water_object: Option<crate::passes::water_object::ObjectTargets>,
 }
 
-fn texture(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
+use crate::gpu_util::texture_2d as texture;
 
 impl ColorDepth {
     /// With `downsampler`, the colour gets a mip chain (box-filtered after

@@ -257,18 +257,8 @@ impl GodRaysPass {
         main_medium: &wgpu::TextureView,
     ) -> GodRayTargets {
         let size = (((output.0 as f32 * scale).round() as u32).max(1), ((output.1 as f32 * scale).round() as u32).max(1));
-        let texture = |label, format| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            })
-        };
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let texture = |label, format| texture_2d(device, label, size, format, usage);
         let buffer = texture("god-ray buffer", BUFFER_FORMAT);
         let depth = texture("god-ray depth", DEPTH_FORMAT);
         let buffer_view = buffer.create_view(&Default::default());

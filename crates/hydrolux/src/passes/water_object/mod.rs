@@ -102,19 +102,6 @@ pub struct WaterObjectPass {
     camera_front: wgpu::RenderPipeline,
 }
 
-fn target_texture(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
-
 #[allow(clippy::too_many_arguments)]
 fn mesh_pipeline(
     device: &wgpu::Device,
@@ -216,12 +203,12 @@ impl WaterObjectPass {
         let k = (resolution, resolution);
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let view = |t: wgpu::Texture| t.create_view(&Default::default());
-        let front_view = view(target_texture(device, "water object front", k, FACES_FORMAT, att));
-        let back_view = view(target_texture(device, "water object back", k, FACES_FORMAT, att));
-        let front_depth = view(target_texture(device, "water object front depth", k, wgpu::TextureFormat::Depth32Float, att));
-        let back_depth = view(target_texture(device, "water object back depth", k, wgpu::TextureFormat::Depth32Float, att));
-        let scene_depth = view(target_texture(device, "water object scene depth", k, SHADOW_FORMAT, att));
-        let map = target_texture(device, "object caustic map", k, MAP_FORMAT, wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC);
+        let front_view = view(texture_2d(device, "water object front", k, FACES_FORMAT, att));
+        let back_view = view(texture_2d(device, "water object back", k, FACES_FORMAT, att));
+        let front_depth = view(texture_2d(device, "water object front depth", k, wgpu::TextureFormat::Depth32Float, att));
+        let back_depth = view(texture_2d(device, "water object back depth", k, wgpu::TextureFormat::Depth32Float, att));
+        let scene_depth = view(texture_2d(device, "water object scene depth", k, SHADOW_FORMAT, att));
+        let map = texture_2d(device, "object caustic map", k, MAP_FORMAT, wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC);
         let map_view = map.create_view(&Default::default());
         let accum = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("object caustic accumulator"),
@@ -250,10 +237,10 @@ impl WaterObjectPass {
     /// Camera-size targets reading the main view's depth.
     pub fn create_targets(&self, device: &wgpu::Device, size: (u32, u32), main_depth: &wgpu::TextureView) -> ObjectTargets {
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let back_view = target_texture(device, "water object back faces", size, BACK_FORMAT, att).create_view(&Default::default());
-        let back_depth = target_texture(device, "water object back faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
-        let front_depth = target_texture(device, "water object front faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
-        let behind = target_texture(device, "behind water objects", size, crate::targets::HDR_FORMAT, wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING);
+        let back_view = texture_2d(device, "water object back faces", size, BACK_FORMAT, att).create_view(&Default::default());
+        let back_depth = texture_2d(device, "water object back faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
+        let front_depth = texture_2d(device, "water object front faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
+        let behind = texture_2d(device, "behind water objects", size, crate::targets::HDR_FORMAT, wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING);
         let behind_view = behind.create_view(&Default::default());
         let tv = wgpu::BindingResource::TextureView;
         let inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
