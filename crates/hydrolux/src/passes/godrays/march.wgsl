@@ -16,23 +16,36 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     return vec4<f32>(fullscreen_ndc(i), 0.0, 1.0);
 }
 
-// Interleaved gradient noise (Jimenez 2014): a per-texel offset of the
-// samples that turns banding into fine noise, which the upsampling smooths.
-fn texel_noise(p: vec2<f32>) -> f32 {
-    return fract(52.9829189 * fract(dot(p, vec2<f32>(0.06711056, 0.00583715))));
+// A buffer texel's view ray, marched up to the drawn distance or the scene.
+struct MarchRay {
+    eye: vec3<f32>,
+    view: vec3<f32>,
+    // Step length (m) and the texel's offset of the samples within a step.
+    ds: f32,
+    jitter: f32,
+}
+
+fn march_ray(pos: vec2<f32>) -> MarchRay {
+    let texel = vec2<i32>(pos);
+    let ndc = texel_ndc(vec2<f32>(texel), vec2<f32>(params.counts.zw));
+    var r: MarchRay;
+    r.eye = frame.camera_pos.xyz;
+    r.view = normalize(world_at(ndc, 0.5) - r.eye);
+    let end = min(params.limits.x, scene_distance(ndc, textureLoad(scene_depth, texel, 0).r));
+    r.ds = end / f32(params.counts.y);
+    // Banding turned into fine noise, which the upsampling smooths.
+    r.jitter = interleaved_gradient_noise(pos);
+    return r;
 }
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let texel = vec2<i32>(pos.xy);
-    let size = vec2<f32>(params.counts.zw);
-    let ndc = texel_ndc(vec2<f32>(texel), size);
-    let eye = frame.camera_pos.xyz;
-    let view = normalize(world_at(ndc, 0.5) - eye);
-    let end = min(params.limits.x, scene_distance(ndc, textureLoad(scene_depth, texel, 0).r));
+    let r = march_ray(pos.xy);
+    let eye = r.eye;
+    let view = r.view;
+    let ds = r.ds;
+    let jitter = r.jitter;
     let steps = params.counts.y;
-    let ds = end / f32(steps);
-    let jitter = texel_noise(pos.xy);
     // Each step: the closed form of its segment (exact for flat water)
     // times the focusing and visibility sampled in it.
     var sum = vec3<f32>(0.0);
@@ -52,15 +65,12 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 // cast shadows into it (seed 003 §4.3's slices, with one slice per sample).
 @fragment
 fn fs_fog(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let texel = vec2<i32>(pos.xy);
-    let size = vec2<f32>(params.counts.zw);
-    let ndc = texel_ndc(vec2<f32>(texel), size);
-    let eye = frame.camera_pos.xyz;
-    let view = normalize(world_at(ndc, 0.5) - eye);
-    let end = min(params.limits.x, scene_distance(ndc, textureLoad(scene_depth, texel, 0).r));
+    let r = march_ray(pos.xy);
+    let eye = r.eye;
+    let view = r.view;
+    let ds = r.ds;
+    let jitter = r.jitter;
     let steps = params.counts.y;
-    let ds = end / f32(steps);
-    let jitter = texel_noise(pos.xy);
     // Each step: the closed form of its segment, ∫ e^(−σk·s) ds, times the
     // visibility sampled in it.
     var sum = vec3<f32>(0.0);

@@ -214,8 +214,7 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
         return path_in_scatter(t_dir, s);
     }
     let ds = reach / f32(SHAFT_STEPS);
-    // Per-pixel offset of the samples (interleaved gradient noise).
-    let jitter = fract(52.9829189 * fract(dot(p.xz * 37.0, vec2<f32>(0.06711056, 0.00583715))));
+    let jitter = interleaved_gradient_noise(p.xz * 37.0);
     // Each step: the closed form of its segment (exact for flat water)
     // times the focusing and visibility sampled in it.
     var shafts = vec3<f32>(0.0);
