@@ -121,6 +121,9 @@ pub struct Renderer {
     /// The caustic map matches the scene; only a still surface (flat water,
     /// a heightfield) lets it be reused from frame to frame.
     caustics_current: bool,
+    /// The water objects' light paths and caustic map match the scene (they
+    /// depend only on it: objects, floor and sun are static).
+    object_light_current: bool,
 }
 
 impl Renderer {
@@ -265,6 +268,7 @@ impl Renderer {
             timing: false,
             last_timings: Vec::new(),
             caustics_current: false,
+            object_light_current: false,
         };
         r.update_sky();
         Ok(r)
@@ -477,6 +481,7 @@ impl Renderer {
         }
         self.scene = scene.clone();
         self.caustics_current = false;
+        self.object_light_current = false;
         self.update_sky();
         Ok(())
     }
@@ -871,8 +876,9 @@ impl Renderer {
                 self.geometry_pass.record_shadow(&mut pass, &self.frame_only, &self.views.shadow, &self.geometry, Objects::All);
             }
         }
-        if object_light_on {
+        if object_light_on && !self.object_light_current {
             self.water_object.record_light(encoder, &self.frame_only, &self.geometry_pass, &self.geometry, &self.views.object_light, &self.object_light, timer.as_deref_mut());
+            self.object_light_current = true;
         }
         // Reflection and refraction textures: cleared to "nothing here"
         // (alpha 0, depth at infinity) so the water falls back to the sky or
