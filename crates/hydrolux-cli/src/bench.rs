@@ -52,7 +52,10 @@ pub fn run(a: BenchArgs) -> Result<()> {
     for i in 0..a.frames {
         let t0 = Instant::now();
         let index = target.submit(&mut renderer, camera, (i + 3) as f64 / 60.0);
-        ctx.device.poll(hydrolux::wgpu::PollType::Wait { submission_index: Some(index), timeout: None })?;
+        ctx.device.poll(hydrolux::wgpu::PollType::Wait {
+            submission_index: Some(index),
+            timeout: None,
+        })?;
         frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         renderer.collect_timings();
         for (name, ms) in renderer.last_timings() {
@@ -93,8 +96,15 @@ pub fn run(a: BenchArgs) -> Result<()> {
         println!("adapter   {} ({:?})", info.name, info.backend);
         println!("scene     {} {}", a.scene.scene, a.scene.set.join(" "));
         println!("size      {}×{}, {} frames", a.size.width, a.size.height, a.frames);
-        let water = if scene.water.model == hydrolux::core::scene::WaterModel::None { " (no water)" } else { " (+ water clipmap)" };
-        println!("geometry  {triangles} scene triangles{water}, shadow map {}², reflection at {}× output", scene.render.shadow_resolution, scene.render.reflection_resolution);
+        let water = if scene.water.model == hydrolux::core::scene::WaterModel::None {
+            " (no water)"
+        } else {
+            " (+ water clipmap)"
+        };
+        println!(
+            "geometry  {triangles} scene triangles{water}, shadow map {}², reflection at {}× output",
+            scene.render.shadow_resolution, scene.render.reflection_resolution
+        );
         println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
         if timestamps {
             println!("passes    (GPU timestamps, median ms)");

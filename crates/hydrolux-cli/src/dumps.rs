@@ -25,7 +25,8 @@ pub enum DumpKind {
     ObjectCaustics,
 }
 
-pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics";
+pub const KINDS: &str =
+    "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics";
 
 #[derive(Clone, Debug)]
 pub struct Dump {
@@ -59,17 +60,25 @@ fn surface_grid(renderer: &Renderer) -> (usize, Vec<SurfaceSample>) {
     let scene = renderer.scene();
     let n = scene.ocean.resolution as usize;
     let l = scene.ocean.patch_size as f64;
-    let points: Vec<[f64; 2]> = (0..n).flat_map(|z| (0..n).map(move |x| [x as f64 * l / n as f64, z as f64 * l / n as f64])).collect();
+    let points: Vec<[f64; 2]> = (0..n)
+        .flat_map(|z| (0..n).map(move |x| [x as f64 * l / n as f64, z as f64 * l / n as f64]))
+        .collect();
     let samples = match (scene.water.model, renderer.read_ocean_fields()) {
         (WaterModel::Fft, Some(texels)) => {
             let fields = OceanFields {
                 resolution: n,
-                patch_sizes: scene.ocean_settings().cascades().iter().map(|c| c.patch_size).collect(),
+                patch_sizes: scene
+                    .ocean_settings()
+                    .cascades()
+                    .iter()
+                    .map(|c| c.patch_size)
+                    .collect(),
                 texels,
             };
             points.iter().map(|p| fields.sample(p[0], p[1])).collect()
         }
-        _ => renderer.probe_surface(&points.iter().map(|p| [p[0] as f32, p[1] as f32]).collect::<Vec<_>>()),
+        _ => renderer
+            .probe_surface(&points.iter().map(|p| [p[0] as f32, p[1] as f32]).collect::<Vec<_>>()),
     };
     (n, samples)
 }
@@ -77,29 +86,50 @@ fn surface_grid(renderer: &Renderer) -> (usize, Vec<SurfaceSample>) {
 /// What can be known before rendering: a caustics dump needs caustics.
 pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
     use hydrolux::core::scene::CausticMethod;
-    if dump.kind == DumpKind::Caustics && !(scene.caustics.method != CausticMethod::Off && scene.floor.depth > 0.0 && scene.sun_direction().y > 0.0) {
-        bail!("--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)");
+    if dump.kind == DumpKind::Caustics
+        && !(scene.caustics.method != CausticMethod::Off
+            && scene.floor.depth > 0.0
+            && scene.sun_direction().y > 0.0)
+    {
+        bail!(
+            "--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)"
+        );
     }
-    if dump.kind == DumpKind::Godrays && scene.godrays.method == hydrolux::core::scene::GodRayMethod::Off {
-        bail!("--dump godrays: god rays are off in this scene (set godrays.method to \"lines\" or \"march\")");
+    if dump.kind == DumpKind::Godrays
+        && scene.godrays.method == hydrolux::core::scene::GodRayMethod::Off
+    {
+        bail!(
+            "--dump godrays: god rays are off in this scene (set godrays.method to \"lines\" or \"march\")"
+        );
     }
-    if dump.kind == DumpKind::ObjectCaustics && !scene.objects.iter().any(|o| o.material.ior > 0.0) {
-        bail!("--dump object_caustics: the scene has no refractive object (an object with material.ior > 0)");
+    if dump.kind == DumpKind::ObjectCaustics && !scene.objects.iter().any(|o| o.material.ior > 0.0)
+    {
+        bail!(
+            "--dump object_caustics: the scene has no refractive object (an object with material.ior > 0)"
+        );
     }
     Ok(())
 }
 
 pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
-    let (width, height, channels, data): (usize, usize, usize, Vec<f32>) = if dump.kind == DumpKind::Hdr {
-        let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame has been rendered to dump") };
+    let (width, height, channels, data): (usize, usize, usize, Vec<f32>) = if dump.kind
+        == DumpKind::Hdr
+    {
+        let Some((w, h, px)) = renderer.read_hdr() else {
+            bail!("no frame has been rendered to dump")
+        };
         (w as usize, h as usize, 3, px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
     } else if dump.kind == DumpKind::Caustics {
         let Some((m, map)) = renderer.read_caustics() else {
-            bail!("--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)")
+            bail!(
+                "--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)"
+            )
         };
         (m as usize, m as usize, 1, map)
     } else if dump.kind == DumpKind::Godrays {
-        let Some((w, h, px)) = renderer.read_godrays() else { bail!("no frame has been rendered to dump") };
+        let Some((w, h, px)) = renderer.read_godrays() else {
+            bail!("no frame has been rendered to dump")
+        };
         (w as usize, h as usize, 3, px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
     } else if dump.kind == DumpKind::ObjectCaustics {
         let (k, map) = renderer.read_object_caustics();
@@ -111,9 +141,15 @@ pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
             DumpKind::Displacement => (3, samples.iter().flat_map(|s| s.displacement).collect()),
             DumpKind::Normals => (3, samples.iter().flat_map(|s| s.normal().to_array()).collect()),
             DumpKind::Jacobian => (1, samples.iter().map(|s| s.jacobian()).collect()),
-            DumpKind::Hdr | DumpKind::Caustics | DumpKind::Godrays | DumpKind::ObjectCaustics => unreachable!("handled above"),
+            DumpKind::Hdr | DumpKind::Caustics | DumpKind::Godrays | DumpKind::ObjectCaustics => {
+                unreachable!("handled above")
+            }
         };
         (n, n, c, data)
     };
-    output::write_float(&dump.path, dump.format, &FloatImage { width, height, channels, data: &data })
+    output::write_float(
+        &dump.path,
+        dump.format,
+        &FloatImage { width, height, channels, data: &data },
+    )
 }

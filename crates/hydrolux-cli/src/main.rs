@@ -11,7 +11,11 @@ use clap::{Args, Parser, Subcommand};
 use hydrolux::core::scene::{BUILTIN_SCENES, Scene};
 
 #[derive(Parser)]
-#[command(name = "hydrolux", version, about = "Real-time water rendering: headless images, an interactive viewer, benchmarks.")]
+#[command(
+    name = "hydrolux",
+    version,
+    about = "Real-time water rendering: headless images, an interactive viewer, benchmarks."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -82,13 +86,22 @@ fn info() -> Result<()> {
     let l = ctx.device.limits();
     println!("adapter:      {} ({:?}, {:?})", i.name, i.device_type, i.backend);
     println!("driver:       {} {}", i.driver, i.driver_info);
-    println!("timestamps:   {}", if ctx.has_timestamps() { "yes (per-pass GPU times in bench)" } else { "no (bench reports wall clock only)" });
+    println!(
+        "timestamps:   {}",
+        if ctx.has_timestamps() {
+            "yes (per-pass GPU times in bench)"
+        } else {
+            "no (bench reports wall clock only)"
+        }
+    );
     println!("max texture:  {} px", l.max_texture_dimension_2d);
     println!("max storage buffer binding: {} MiB", l.max_storage_buffer_binding_size >> 20);
     println!("max workgroup storage:      {} KiB", l.max_compute_workgroup_storage_size >> 10);
     let max_n = [1024u32, 512, 256, 128, 64]
         .into_iter()
-        .find(|&n| hydrolux::passes::ocean::fields_bytes(n, 4) <= l.max_storage_buffer_binding_size as u64)
+        .find(|&n| {
+            hydrolux::passes::ocean::fields_bytes(n, 4) <= l.max_storage_buffer_binding_size as u64
+        })
         .unwrap_or(64);
     println!("largest ocean.resolution with 4 cascades: {max_n}");
     Ok(())
@@ -96,7 +109,9 @@ fn info() -> Result<()> {
 
 fn scenes() {
     for b in BUILTIN_SCENES {
-        let desc = Scene::load(b.name, &[]).map(|s| s.description).unwrap_or_else(|e| format!("(broken: {e})"));
+        let desc = Scene::load(b.name, &[])
+            .map(|s| s.description)
+            .unwrap_or_else(|e| format!("(broken: {e})"));
         println!("{:<10} {desc}", b.name);
     }
 }

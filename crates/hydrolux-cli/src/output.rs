@@ -25,11 +25,14 @@ pub fn format_of(path: &Path, allowed: &[Format], what: &str) -> Result<Format> 
     match f {
         Some(f) if allowed.contains(&f) => Ok(f),
         _ => {
-            let names: Vec<&str> = allowed.iter().map(|f| match f {
-                Format::Png => ".png",
-                Format::Exr => ".exr",
-                Format::Npy => ".npy",
-            }).collect();
+            let names: Vec<&str> = allowed
+                .iter()
+                .map(|f| match f {
+                    Format::Png => ".png",
+                    Format::Exr => ".exr",
+                    Format::Npy => ".npy",
+                })
+                .collect();
             bail!("{what} `{}` must end in {}", path.display(), names.join(" or "))
         }
     }
@@ -45,7 +48,9 @@ pub fn check_writable(path: &Path) -> Result<()> {
         bail!("cannot write `{}`: it is a folder", path.display());
     }
     let probe = dir.join(format!(".hydrolux-write-test-{}", std::process::id()));
-    std::fs::write(&probe, b"").with_context(|| format!("cannot write `{}`: folder `{}` is not writable", path.display(), dir.display()))?;
+    std::fs::write(&probe, b"").with_context(|| {
+        format!("cannot write `{}`: folder `{}` is not writable", path.display(), dir.display())
+    })?;
     let _ = std::fs::remove_file(probe);
     Ok(())
 }
@@ -60,8 +65,14 @@ fn parent_dir(path: &Path) -> PathBuf {
 /// Write through a temporary sibling, then rename over `path`.
 fn atomic_write(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("output");
-    let tmp = parent_dir(path).join(format!(".{name}.{}.tmp.{}", std::process::id(), path.extension().and_then(|e| e.to_str()).unwrap_or("bin")));
-    let result = write(&tmp).and_then(|_| std::fs::rename(&tmp, path).with_context(|| format!("cannot write `{}`", path.display())));
+    let tmp = parent_dir(path).join(format!(
+        ".{name}.{}.tmp.{}",
+        std::process::id(),
+        path.extension().and_then(|e| e.to_str()).unwrap_or("bin")
+    ));
+    let result = write(&tmp).and_then(|_| {
+        std::fs::rename(&tmp, path).with_context(|| format!("cannot write `{}`", path.display()))
+    });
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
@@ -70,7 +81,8 @@ fn atomic_write(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<
 
 pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
     atomic_write(path, |tmp| {
-        let file = std::fs::File::create(tmp).with_context(|| format!("cannot write `{}`", path.display()))?;
+        let file = std::fs::File::create(tmp)
+            .with_context(|| format!("cannot write `{}`", path.display()))?;
         let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
@@ -100,16 +112,29 @@ pub fn write_exr(path: &Path, img: &FloatImage) -> Result<()> {
     let channels: Vec<AnyChannel<FlatSamples>> = names
         .iter()
         .enumerate()
-        .map(|(c, name)| AnyChannel::new(*name, FlatSamples::F32(img.data.iter().skip(c).step_by(img.channels).copied().collect())))
+        .map(|(c, name)| {
+            AnyChannel::new(
+                *name,
+                FlatSamples::F32(img.data.iter().skip(c).step_by(img.channels).copied().collect()),
+            )
+        })
         .collect();
     let image = Image::from_channels((img.width, img.height), AnyChannels::sort(channels.into()));
-    atomic_write(path, |tmp| image.write().to_file(tmp).with_context(|| format!("cannot write `{}`", path.display())))
+    atomic_write(path, |tmp| {
+        image.write().to_file(tmp).with_context(|| format!("cannot write `{}`", path.display()))
+    })
 }
 
 pub fn write_npy(path: &Path, img: &FloatImage) -> Result<()> {
-    let shape: Vec<usize> = if img.channels == 1 { vec![img.height, img.width] } else { vec![img.height, img.width, img.channels] };
+    let shape: Vec<usize> = if img.channels == 1 {
+        vec![img.height, img.width]
+    } else {
+        vec![img.height, img.width, img.channels]
+    };
     let bytes = hydrolux::core::npy::encode_f32(&shape, img.data);
-    atomic_write(path, |tmp| std::fs::write(tmp, &bytes).with_context(|| format!("cannot write `{}`", path.display())))
+    atomic_write(path, |tmp| {
+        std::fs::write(tmp, &bytes).with_context(|| format!("cannot write `{}`", path.display()))
+    })
 }
 
 pub fn write_float(path: &Path, format: Format, img: &FloatImage) -> Result<()> {

@@ -66,13 +66,22 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let ctx = crate::headless_context()?;
     let max = ctx.device.limits().max_texture_dimension_2d;
     if a.size.width > max || a.size.height > max {
-        bail!("{}×{} is larger than this GPU allows ({max} pixels per side)", a.size.width, a.size.height);
+        bail!(
+            "{}×{} is larger than this GPU allows ({max} pixels per side)",
+            a.size.width,
+            a.size.height
+        );
     }
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     let progress = (a.frames > 1).then(|| {
         let bar = indicatif::ProgressBar::new(a.frames as u64);
-        bar.set_style(indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})").expect("valid template"));
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})",
+            )
+            .expect("valid template"),
+        );
         bar
     });
     for i in 0..a.frames {
@@ -84,7 +93,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
             _ => {
                 let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame rendered") };
                 let data: Vec<f32> = px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
-                output::write_exr(&out, &FloatImage { width: w as usize, height: h as usize, channels: 3, data: &data })?;
+                output::write_exr(
+                    &out,
+                    &FloatImage { width: w as usize, height: h as usize, channels: 3, data: &data },
+                )?;
             }
         }
         for d in &dumps {
@@ -101,7 +113,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if a.frames == 1 {
         eprintln!("wrote {}", a.out.display());
     } else {
-        eprintln!("wrote {} frames: {} … {}", a.frames, numbered(&a.out, 0, a.frames).display(), numbered(&a.out, a.frames - 1, a.frames).display());
+        eprintln!(
+            "wrote {} frames: {} … {}",
+            a.frames,
+            numbered(&a.out, 0, a.frames).display(),
+            numbered(&a.out, a.frames - 1, a.frames).display()
+        );
     }
     Ok(())
 }

@@ -62,15 +62,29 @@ impl FlyCamera {
     fn from_scene(s: &Scene) -> Self {
         let c = s.camera();
         let f = c.forward();
-        FlyCamera { position: c.position, yaw: f.z.atan2(f.x), pitch: f.y.asin(), fov_y_deg: c.fov_y_deg }
+        FlyCamera {
+            position: c.position,
+            yaw: f.z.atan2(f.x),
+            pitch: f.y.asin(),
+            fov_y_deg: c.fov_y_deg,
+        }
     }
 
     fn forward(&self) -> Vec3 {
-        Vec3::new(self.pitch.cos() * self.yaw.cos(), self.pitch.sin(), self.pitch.cos() * self.yaw.sin())
+        Vec3::new(
+            self.pitch.cos() * self.yaw.cos(),
+            self.pitch.sin(),
+            self.pitch.cos() * self.yaw.sin(),
+        )
     }
 
     fn camera(&self) -> Camera {
-        Camera { position: self.position, look_at: self.position + self.forward(), up: Vec3::Y, fov_y_deg: self.fov_y_deg }
+        Camera {
+            position: self.position,
+            look_at: self.position + self.forward(),
+            up: Vec3::Y,
+            fov_y_deg: self.fov_y_deg,
+        }
     }
 }
 
@@ -110,10 +124,18 @@ impl Viewer {
     fn init(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let attrs = Window::default_attributes()
             .with_title(format!("Hydrolux — {}", self.args.scene.scene))
-            .with_inner_size(winit::dpi::PhysicalSize::new(self.args.size.width, self.args.size.height));
+            .with_inner_size(winit::dpi::PhysicalSize::new(
+                self.args.size.width,
+                self.args.size.height,
+            ));
         let window = Arc::new(event_loop.create_window(attrs).context("cannot open a window")?);
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle())));
-        let surface = instance.create_surface(window.clone()).context("cannot create a drawing surface for the window")?;
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
+                Box::new(event_loop.owned_display_handle()),
+            ));
+        let surface = instance
+            .create_surface(window.clone())
+            .context("cannot create a drawing surface for the window")?;
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             compatible_surface: Some(&surface),
@@ -139,9 +161,26 @@ impl Viewer {
         surface.configure(&ctx.device, &config);
         let renderer = Renderer::new(&ctx.device, &ctx.queue, format, &self.scene)?;
         let egui_ctx = egui::Context::default();
-        let egui_state = egui_winit::State::new(egui_ctx.clone(), egui::ViewportId::ROOT, &window, Some(window.scale_factor() as f32), None, None);
-        let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, format, egui_wgpu::RendererOptions::default());
-        self.gfx = Some(Gfx { window, surface, config, ctx, renderer, egui_ctx, egui_state, egui_renderer });
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            None,
+        );
+        let egui_renderer =
+            egui_wgpu::Renderer::new(&ctx.device, format, egui_wgpu::RendererOptions::default());
+        self.gfx = Some(Gfx {
+            window,
+            surface,
+            config,
+            ctx,
+            renderer,
+            egui_ctx,
+            egui_state,
+            egui_renderer,
+        });
         self.last_frame = Instant::now();
         Ok(())
     }
@@ -167,7 +206,13 @@ impl Viewer {
     /// Step `section.key` to the next of `names` (V: the debug view, G: the
     /// god-ray method), and apply it.
     fn cycle_option(&mut self, section: &str, key: &str, names: &[&str]) {
-        let current = self.table.get(section).and_then(|r| r.get(key)).and_then(Value::as_str).unwrap_or(names[0]).to_string();
+        let current = self
+            .table
+            .get(section)
+            .and_then(|r| r.get(key))
+            .and_then(Value::as_str)
+            .unwrap_or(names[0])
+            .to_string();
         let i = names.iter().position(|n| *n == current).unwrap_or(0);
         let next = names[(i + 1) % names.len()];
         let table = self.table.entry(section).or_insert_with(|| Value::Table(Default::default()));
@@ -180,7 +225,12 @@ impl Viewer {
 
     fn panel(&mut self, ui: &mut egui::Ui) {
         ui.heading("Hydrolux");
-        ui.label(format!("{:.1} ms/frame   t = {:.1} s{}", self.frame_ms, self.sim_time, if self.paused { "  (paused)" } else { "" }));
+        ui.label(format!(
+            "{:.1} ms/frame   t = {:.1} s{}",
+            self.frame_ms,
+            self.sim_time,
+            if self.paused { "  (paused)" } else { "" }
+        ));
         ui.horizontal(|ui| {
             if ui.button(if self.paused { "play" } else { "pause" }).clicked() {
                 self.paused = !self.paused;
@@ -221,18 +271,38 @@ impl Viewer {
         let right = flat.cross(Vec3::Y);
         let k = |c| self.keys.contains(&c);
         let mut m = Vec3::ZERO;
-        if k(KeyCode::KeyW) { m += f; }
-        if k(KeyCode::KeyS) { m -= f; }
-        if k(KeyCode::KeyD) { m += right; }
-        if k(KeyCode::KeyA) { m -= right; }
-        if k(KeyCode::KeyE) { m += Vec3::Y; }
-        if k(KeyCode::KeyQ) { m -= Vec3::Y; }
+        if k(KeyCode::KeyW) {
+            m += f;
+        }
+        if k(KeyCode::KeyS) {
+            m -= f;
+        }
+        if k(KeyCode::KeyD) {
+            m += right;
+        }
+        if k(KeyCode::KeyA) {
+            m -= right;
+        }
+        if k(KeyCode::KeyE) {
+            m += Vec3::Y;
+        }
+        if k(KeyCode::KeyQ) {
+            m -= Vec3::Y;
+        }
         self.camera.position += m * speed;
         let turn = 1.2 * dt;
-        if k(KeyCode::ArrowLeft) { self.camera.yaw -= turn; }
-        if k(KeyCode::ArrowRight) { self.camera.yaw += turn; }
-        if k(KeyCode::ArrowUp) { self.camera.pitch += turn; }
-        if k(KeyCode::ArrowDown) { self.camera.pitch -= turn; }
+        if k(KeyCode::ArrowLeft) {
+            self.camera.yaw -= turn;
+        }
+        if k(KeyCode::ArrowRight) {
+            self.camera.yaw += turn;
+        }
+        if k(KeyCode::ArrowUp) {
+            self.camera.pitch += turn;
+        }
+        if k(KeyCode::ArrowDown) {
+            self.camera.pitch -= turn;
+        }
         self.camera.pitch = self.camera.pitch.clamp(-1.5, 1.5);
     }
 
@@ -240,7 +310,11 @@ impl Viewer {
         let now = Instant::now();
         let real_dt = (now - self.last_frame).as_secs_f32();
         self.last_frame = now;
-        self.frame_ms = if self.frame_ms == 0.0 { real_dt * 1000.0 } else { 0.9 * self.frame_ms + 0.1 * real_dt * 1000.0 };
+        self.frame_ms = if self.frame_ms == 0.0 {
+            real_dt * 1000.0
+        } else {
+            0.9 * self.frame_ms + 0.1 * real_dt * 1000.0
+        };
         // Slow frames (software rendering, a stall) must not make the camera jump.
         let dt = real_dt.min(0.1);
         self.update_camera(dt);
@@ -259,14 +333,19 @@ impl Viewer {
             return Ok(()); // minimised: nothing to draw
         }
         let frame = match g.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
             wgpu::CurrentSurfaceTexture::Outdated => {
                 g.surface.configure(&g.ctx.device, &g.config);
                 return Ok(());
             }
             wgpu::CurrentSurfaceTexture::Lost => {
                 // The surface itself is gone: make a new one for the same window.
-                g.surface = g.ctx.instance.create_surface(g.window.clone()).context("cannot recreate the window surface")?;
+                g.surface = g
+                    .ctx
+                    .instance
+                    .create_surface(g.window.clone())
+                    .context("cannot recreate the window surface")?;
                 g.surface.configure(&g.ctx.device, &g.config);
                 return Ok(());
             }
@@ -280,7 +359,10 @@ impl Viewer {
         });
         g.egui_state.handle_platform_output(&g.window, out.platform_output);
         let jobs = g.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
-        let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [g.config.width, g.config.height], pixels_per_point: out.pixels_per_point };
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [g.config.width, g.config.height],
+            pixels_per_point: out.pixels_per_point,
+        };
         for (id, deltas) in &out.textures_delta.set {
             for delta in deltas {
                 g.egui_renderer.update_texture(&g.ctx.device, &g.ctx.queue, *id, delta);
@@ -288,7 +370,15 @@ impl Viewer {
         }
         let mut encoder = g.ctx.device.create_command_encoder(&Default::default());
         let camera = self.camera.camera();
-        g.renderer.render(&mut encoder, &FrameInput { target: &view, size: (g.config.width, g.config.height), camera, time: self.sim_time });
+        g.renderer.render(
+            &mut encoder,
+            &FrameInput {
+                target: &view,
+                size: (g.config.width, g.config.height),
+                camera,
+                time: self.sim_time,
+            },
+        );
         g.egui_renderer.update_buffers(&g.ctx.device, &g.ctx.queue, &mut encoder, &jobs, &screen);
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -314,7 +404,8 @@ impl Viewer {
         let last = self.args.frames.is_some_and(|n| self.frames >= n);
         if self.screenshot_requested || last {
             self.screenshot_requested = false;
-            self.status = self.screenshot(g, camera).unwrap_or_else(|e| format!("screenshot failed: {e:#}"));
+            self.status =
+                self.screenshot(g, camera).unwrap_or_else(|e| format!("screenshot failed: {e:#}"));
             eprintln!("{}", self.status);
         }
         Ok(())
@@ -323,10 +414,14 @@ impl Viewer {
     /// Render the current view (without the panel) at window size to a PNG.
     fn screenshot(&mut self, g: &mut Gfx, camera: Camera) -> Result<String> {
         let (w, h) = (g.config.width, g.config.height);
-        let mut r = Renderer::new(&g.ctx.device, &g.ctx.queue, hydrolux::headless::FORMAT, &self.scene)?;
+        let mut r =
+            Renderer::new(&g.ctx.device, &g.ctx.queue, hydrolux::headless::FORMAT, &self.scene)?;
         let target = hydrolux::headless::HeadlessTarget::new(&g.ctx.device, (w, h));
         let px = target.render(&mut r, camera, self.sim_time);
-        let name = (0..).map(|i| format!("hydrolux-screenshot-{i:03}.png")).find(|n| !std::path::Path::new(n).exists()).unwrap_or_default();
+        let name = (0..)
+            .map(|i| format!("hydrolux-screenshot-{i:03}.png"))
+            .find(|n| !std::path::Path::new(n).exists())
+            .unwrap_or_default();
         crate::output::write_png(std::path::Path::new(&name), w, h, &px)?;
         Ok(format!("wrote {name}"))
     }
@@ -335,21 +430,40 @@ impl Viewer {
 /// A table becomes a collapsible section, an array of tables (`[[objects]]`)
 /// one section per entry, anything else one widget. `id` is unique per
 /// widget; `kind` is the key path without array indices (for the enum list).
-fn edit_entry(ui: &mut egui::Ui, id: &str, kind: &str, label: &str, value: &mut Value, open: bool) -> bool {
+fn edit_entry(
+    ui: &mut egui::Ui,
+    id: &str,
+    kind: &str,
+    label: &str,
+    value: &mut Value,
+    open: bool,
+) -> bool {
     let mut changed = false;
     match value {
         Value::Table(t) => {
             egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
                 for (key, v) in t.iter_mut() {
-                    changed |= edit_entry(ui, &format!("{id}.{key}"), &format!("{kind}.{key}"), key, v, false);
+                    changed |= edit_entry(
+                        ui,
+                        &format!("{id}.{key}"),
+                        &format!("{kind}.{key}"),
+                        key,
+                        v,
+                        false,
+                    );
                 }
             });
         }
         Value::Array(items) if items.first().is_some_and(Value::is_table) => {
             egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
                 for (i, item) in items.iter_mut().enumerate() {
-                    let name = item.get("name").and_then(Value::as_str).filter(|n| !n.is_empty()).map(str::to_string);
-                    let title = name.map_or(format!("{label}[{i}]"), |n| format!("{label}[{i}] {n}"));
+                    let name = item
+                        .get("name")
+                        .and_then(Value::as_str)
+                        .filter(|n| !n.is_empty())
+                        .map(str::to_string);
+                    let title =
+                        name.map_or(format!("{label}[{i}]"), |n| format!("{label}[{i}] {n}"));
                     changed |= edit_entry(ui, &format!("{id}[{i}]"), kind, &title, item, false);
                 }
             });
@@ -420,18 +534,26 @@ impl ApplicationHandler for Viewer {
                     g.surface.configure(&g.ctx.device, &g.config);
                 }
             }
-            WindowEvent::KeyboardInput { event, .. } if !consumed || event.state == ElementState::Released => {
+            WindowEvent::KeyboardInput { event, .. }
+                if !consumed || event.state == ElementState::Released =>
+            {
                 if let PhysicalKey::Code(code) = event.physical_key {
                     if event.state == ElementState::Pressed {
                         self.keys.insert(code);
                         match code {
                             KeyCode::Escape => event_loop.exit(),
                             KeyCode::Space => self.paused = !self.paused,
-                            KeyCode::BracketLeft => self.time_scale = (self.time_scale * 0.5).max(1.0 / 64.0),
-                            KeyCode::BracketRight => self.time_scale = (self.time_scale * 2.0).min(64.0),
+                            KeyCode::BracketLeft => {
+                                self.time_scale = (self.time_scale * 0.5).max(1.0 / 64.0)
+                            }
+                            KeyCode::BracketRight => {
+                                self.time_scale = (self.time_scale * 2.0).min(64.0)
+                            }
                             KeyCode::KeyP => self.screenshot_requested = true,
                             KeyCode::KeyV => self.cycle_option("render", "view", &DebugView::NAMES),
-                            KeyCode::KeyG => self.cycle_option("godrays", "method", &["lines", "march", "off"]),
+                            KeyCode::KeyG => {
+                                self.cycle_option("godrays", "method", &["lines", "march", "off"])
+                            }
                             _ => {}
                         }
                     } else {
@@ -447,7 +569,8 @@ impl ApplicationHandler for Viewer {
                 if self.looking {
                     if let Some((x, y)) = self.last_cursor {
                         self.camera.yaw += (position.x - x) as f32 * 0.003;
-                        self.camera.pitch = (self.camera.pitch - (position.y - y) as f32 * 0.003).clamp(-1.5, 1.5);
+                        self.camera.pitch =
+                            (self.camera.pitch - (position.y - y) as f32 * 0.003).clamp(-1.5, 1.5);
                     }
                     self.last_cursor = Some((position.x, position.y));
                 }
@@ -475,7 +598,9 @@ impl ApplicationHandler for Viewer {
 pub fn run(args: ViewArgs) -> Result<()> {
     args.size.check()?;
     let scene = args.scene.load()?;
-    let event_loop = EventLoop::new().context("cannot open a window: no display (set DISPLAY, or use `hydrolux render` headless)")?;
+    let event_loop = EventLoop::new().context(
+        "cannot open a window: no display (set DISPLAY, or use `hydrolux render` headless)",
+    )?;
     let mut viewer = Viewer {
         table: scene.to_table(),
         camera: FlyCamera::from_scene(&scene),

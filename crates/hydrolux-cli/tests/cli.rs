@@ -12,7 +12,11 @@ fn hydrolux(args: &[&str], dir: &PathBuf) -> (i32, String) {
         .env("XDG_RUNTIME_DIR", std::env::temp_dir())
         .output()
         .expect("run hydrolux");
-    let stderr = String::from_utf8_lossy(&out.stderr).lines().filter(|l| !l.contains("XDG_RUNTIME_DIR")).collect::<Vec<_>>().join("\n");
+    let stderr = String::from_utf8_lossy(&out.stderr)
+        .lines()
+        .filter(|l| !l.contains("XDG_RUNTIME_DIR"))
+        .collect::<Vec<_>>()
+        .join("\n");
     (out.status.code().unwrap_or(-1), stderr)
 }
 
@@ -30,9 +34,21 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     std::fs::write(dir.join("no_mesh.toml"), "[[objects]]\nmesh = \"nope.obj\"\n").unwrap();
     std::fs::write(dir.join("bad.glb"), "not a glb").unwrap();
     std::fs::write(dir.join("bad_mesh.toml"), "[[objects]]\nmesh = \"bad.glb\"\n").unwrap();
-    std::fs::write(dir.join("no_texture.toml"), "[[objects]]\n[objects.material]\ntexture = \"nope.png\"\n").unwrap();
-    std::fs::write(dir.join("refractive_in_water.toml"), "[[objects]]\nprimitive = \"sphere\"\nmaterial = { ior = 1.333 }\n").unwrap();
-    std::fs::write(dir.join("unknown_builtin_mesh.toml"), "[water]\nmodel = \"none\"\n[[objects]]\nmesh = \"builtin:teapot\"\n").unwrap();
+    std::fs::write(
+        dir.join("no_texture.toml"),
+        "[[objects]]\n[objects.material]\ntexture = \"nope.png\"\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("refractive_in_water.toml"),
+        "[[objects]]\nprimitive = \"sphere\"\nmaterial = { ior = 1.333 }\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("unknown_builtin_mesh.toml"),
+        "[water]\nmodel = \"none\"\n[[objects]]\nmesh = \"builtin:teapot\"\n",
+    )
+    .unwrap();
     let cases: &[(&[&str], &str)] = &[
         (&["render", "--scene", "nowhere"], "unknown scene `nowhere`"),
         (&["render", "--scene", "missing.toml"], "cannot read scene file missing.toml"),
@@ -56,13 +72,28 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--dump", "caustics=c.npy"], "the scene has no caustics"),
         (&["render", "--set", "caustics.photons=3"], "`caustics.photons` = 3 is out of range"),
         (&["render", "--set", "water.model=heightfield"], "water.heightfield"),
-        (&["render", "--set", "water.model=heightfield", "--set", "water.heightfield=nope.npy"], "cannot load heightfield nope.npy: no such file"),
-        (&["render", "--set", "water.model=heightfield", "--set", "water.heightfield=broken.toml"], "cannot load heightfield broken.toml: not a .npy file"),
+        (
+            &["render", "--set", "water.model=heightfield", "--set", "water.heightfield=nope.npy"],
+            "cannot load heightfield nope.npy: no such file",
+        ),
+        (
+            &[
+                "render",
+                "--set",
+                "water.model=heightfield",
+                "--set",
+                "water.heightfield=broken.toml",
+            ],
+            "cannot load heightfield broken.toml: not a .npy file",
+        ),
         (&["render", "--set", "godrays.method=rays"], "godrays.method"),
         (&["render", "--set", "godrays.resolution=2"], "`godrays.resolution` = 2 is out of range"),
         (&["render", "--set", "godrays.photons=1"], "`godrays.photons` = 1 is out of range"),
         (&["render", "--set", "air.fog=-0.1"], "`air.fog` = -0.1 is out of range"),
-        (&["render", "--scene", "refractive_in_water.toml"], "refractive objects need water.model = \"none\""),
+        (
+            &["render", "--scene", "refractive_in_water.toml"],
+            "refractive objects need water.model = \"none\"",
+        ),
         (&["render", "--scene", "unknown_builtin_mesh.toml"], "cannot load mesh builtin:teapot"),
         (&["render", "--set", "godrays.method=off", "--dump", "godrays=g.npy"], "god rays are off"),
         (&["render", "--dump", "object_caustics=o.npy"], "no refractive object"),
@@ -75,11 +106,20 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
-    let mut left: Vec<String> = left.into_iter().map(|f| f.to_string_lossy().into_owned()).collect();
+    let mut left: Vec<String> =
+        left.into_iter().map(|f| f.to_string_lossy().into_owned()).collect();
     left.sort();
     assert_eq!(
         left,
-        ["bad.glb", "bad_mesh.toml", "broken.toml", "no_mesh.toml", "no_texture.toml", "refractive_in_water.toml", "unknown_builtin_mesh.toml"],
+        [
+            "bad.glb",
+            "bad_mesh.toml",
+            "broken.toml",
+            "no_mesh.toml",
+            "no_texture.toml",
+            "refractive_in_water.toml",
+            "unknown_builtin_mesh.toml"
+        ],
         "files were written: {left:?}"
     );
 }
@@ -88,7 +128,21 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
 fn render_writes_png_exr_and_npy_dumps() {
     let dir = scratch("good");
     let (code, err) = hydrolux(
-        &["render", "--width", "48", "--height", "32", "--set", "ocean.resolution=64", "--out", "a.png", "--dump", "height=h.npy", "--dump", "jacobian=j.exr"],
+        &[
+            "render",
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--set",
+            "ocean.resolution=64",
+            "--out",
+            "a.png",
+            "--dump",
+            "height=h.npy",
+            "--dump",
+            "jacobian=j.exr",
+        ],
         &dir,
     );
     assert_eq!(code, 0, "{err}");
@@ -98,10 +152,28 @@ fn render_writes_png_exr_and_npy_dumps() {
     let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
     assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (64, 64)"));
     assert_eq!(npy.len(), 10 + hlen + 64 * 64 * 4);
-    let heights: Vec<f32> = npy[10 + hlen..].chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
+    let heights: Vec<f32> = npy[10 + hlen..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
     assert!(heights.iter().any(|h| h.abs() > 0.05), "the sea is flat");
     assert_eq!(&std::fs::read(dir.join("j.exr")).unwrap()[..4], &[0x76, 0x2f, 0x31, 0x01]);
-    let (code, err) = hydrolux(&["render", "--width", "32", "--height", "16", "--out", "s.png", "--frames", "2", "--set", "water.model=flat"], &dir);
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "16",
+            "--out",
+            "s.png",
+            "--frames",
+            "2",
+            "--set",
+            "water.model=flat",
+        ],
+        &dir,
+    );
     assert_eq!(code, 0, "{err}");
     assert!(dir.join("s_0000.png").exists() && dir.join("s_0001.png").exists());
 }
@@ -110,13 +182,34 @@ fn render_writes_png_exr_and_npy_dumps() {
 fn scenes_with_mesh_files_and_every_debug_view_render() {
     let dir = scratch("views");
     // An OBJ without normals, referred to relative to the scene file.
-    std::fs::write(dir.join("tetra.obj"), "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n").unwrap();
+    std::fs::write(
+        dir.join("tetra.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
     let scene = "[floor]\ndepth = 3\n[[objects]]\nmesh = \"tetra.obj\"\nposition = [0, -0.5, -8]\nscale = [2, 2, 2]\n";
     std::fs::write(dir.join("mesh.toml"), scene).unwrap();
     let mut images = Vec::new();
-    for view in ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"] {
+    for view in
+        ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"]
+    {
         let out = format!("{view}.png");
-        let (code, err) = hydrolux(&["render", "--scene", "mesh.toml", "--view", view, "--width", "64", "--height", "36", "--out", &out], &dir);
+        let (code, err) = hydrolux(
+            &[
+                "render",
+                "--scene",
+                "mesh.toml",
+                "--view",
+                view,
+                "--width",
+                "64",
+                "--height",
+                "36",
+                "--out",
+                &out,
+            ],
+            &dir,
+        );
         assert_eq!(code, 0, "{view}: {err}");
         images.push(std::fs::read(dir.join(&out)).unwrap());
     }
@@ -127,7 +220,14 @@ fn scenes_with_mesh_files_and_every_debug_view_render() {
     }
 }
 
-fn write_png(path: &std::path::Path, w: u32, h: u32, color: png::ColorType, depth: png::BitDepth, data: &[u8]) {
+fn write_png(
+    path: &std::path::Path,
+    w: u32,
+    h: u32,
+    color: png::ColorType,
+    depth: png::BitDepth,
+    data: &[u8],
+) {
     let file = std::fs::File::create(path).unwrap();
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
     enc.set_color(color);
@@ -145,7 +245,14 @@ fn heightmap_terrain_and_textured_objects_render() {
             ramp.extend_from_slice(&(x * 9362).to_be_bytes());
         }
     }
-    write_png(&dir.join("ramp.png"), 8, 8, png::ColorType::Grayscale, png::BitDepth::Sixteen, &ramp);
+    write_png(
+        &dir.join("ramp.png"),
+        8,
+        8,
+        png::ColorType::Grayscale,
+        png::BitDepth::Sixteen,
+        &ramp,
+    );
     let red: Vec<u8> = (0..16).flat_map(|_| [220u8, 10, 10]).collect();
     write_png(&dir.join("red.png"), 4, 4, png::ColorType::Rgb, png::BitDepth::Eight, &red);
     let scene = r#"
@@ -172,17 +279,37 @@ albedo = [1, 1, 1]
 texture = "red.png"
 "#;
     std::fs::write(dir.join("assets.toml"), scene).unwrap();
-    let (code, err) = hydrolux(&["render", "--scene", "assets.toml", "--width", "48", "--height", "32", "--out", "a.png"], &dir);
+    let (code, err) = hydrolux(
+        &["render", "--scene", "assets.toml", "--width", "48", "--height", "32", "--out", "a.png"],
+        &dir,
+    );
     assert_eq!(code, 0, "{err}");
-    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(dir.join("a.png")).unwrap()));
+    let decoder =
+        png::Decoder::new(std::io::BufReader::new(std::fs::File::open(dir.join("a.png")).unwrap()));
     let mut reader = decoder.read_info().unwrap();
     let mut buf = vec![0; reader.output_buffer_size().unwrap()];
     let info = reader.next_frame(&mut buf).unwrap();
     let bpp = info.line_size / info.width as usize;
     let centre = &buf[16 * info.line_size + 24 * bpp..][..3];
-    assert!(centre[0] > 2 * centre[1] && centre[0] > 2 * centre[2], "the textured plane is not red: {centre:?}");
+    assert!(
+        centre[0] > 2 * centre[1] && centre[0] > 2 * centre[2],
+        "the textured plane is not red: {centre:?}"
+    );
     // Zero wind is a flat sea, not a crash.
-    let (code, err) = hydrolux(&["render", "--set", "ocean.wind_speed=0", "--width", "16", "--height", "16", "--out", "calm.png"], &dir);
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--set",
+            "ocean.wind_speed=0",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--out",
+            "calm.png",
+        ],
+        &dir,
+    );
     assert_eq!(code, 0, "{err}");
 }
 
@@ -190,14 +317,31 @@ texture = "red.png"
 fn caustics_dump_is_an_m_by_m_float_grid() {
     let dir = scratch("caustics");
     let (code, err) = hydrolux(
-        &["render", "--scene", "pool", "--set", "caustics.map_resolution=32", "--width", "16", "--height", "16", "--dump", "caustics=c.npy", "--out", "p.png"],
+        &[
+            "render",
+            "--scene",
+            "pool",
+            "--set",
+            "caustics.map_resolution=32",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--dump",
+            "caustics=c.npy",
+            "--out",
+            "p.png",
+        ],
         &dir,
     );
     assert_eq!(code, 0, "{err}");
     let npy = std::fs::read(dir.join("c.npy")).unwrap();
     let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
     assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (32, 32)"));
-    let values: Vec<f32> = npy[10 + hlen..].chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+    let values: Vec<f32> = npy[10 + hlen..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
     let mean = values.iter().sum::<f32>() / values.len() as f32;
     // The pool's sun is 58° up: flat water would give T·sin 58° ≈ 0.83 everywhere.
     assert!((mean - 0.83).abs() < 0.02, "mean floor irradiance {mean}");
@@ -210,19 +354,53 @@ fn god_ray_and_object_caustic_dumps_have_their_shapes() {
         let npy = std::fs::read(dir.join(file)).unwrap();
         let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
         let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
-        let values: Vec<f32> = npy[10 + hlen..].chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+        let values: Vec<f32> = npy[10 + hlen..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
         (header, values)
     };
     let (code, err) = hydrolux(
-        &["render", "--scene", "underwater", "--width", "32", "--height", "20", "--set", "godrays.photons=64", "--dump", "godrays=g.npy", "--out", "u.png"],
+        &[
+            "render",
+            "--scene",
+            "underwater",
+            "--width",
+            "32",
+            "--height",
+            "20",
+            "--set",
+            "godrays.photons=64",
+            "--dump",
+            "godrays=g.npy",
+            "--out",
+            "u.png",
+        ],
         &dir,
     );
     assert_eq!(code, 0, "{err}");
     let (header, values) = shape("g.npy");
     assert!(header.contains("'shape': (10, 16, 3)"), "{header}");
-    assert!(values.iter().all(|v| v.is_finite() && *v >= 0.0) && values.iter().any(|v| *v > 0.0), "the buffer holds light");
+    assert!(
+        values.iter().all(|v| v.is_finite() && *v >= 0.0) && values.iter().any(|v| *v > 0.0),
+        "the buffer holds light"
+    );
     let (code, err) = hydrolux(
-        &["render", "--scene", "water_dragon", "--width", "24", "--height", "16", "--set", "godrays.object_resolution=128", "--dump", "object_caustics=o.npy", "--out", "d.png"],
+        &[
+            "render",
+            "--scene",
+            "water_dragon",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--set",
+            "godrays.object_resolution=128",
+            "--dump",
+            "object_caustics=o.npy",
+            "--out",
+            "d.png",
+        ],
         &dir,
     );
     assert_eq!(code, 0, "{err}");

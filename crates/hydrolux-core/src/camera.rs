@@ -21,7 +21,11 @@ impl Camera {
     }
 
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        glam::camera::rh::proj::directx::perspective_infinite_reverse(self.fov_y_deg.to_radians(), aspect, NEAR)
+        glam::camera::rh::proj::directx::perspective_infinite_reverse(
+            self.fov_y_deg.to_radians(),
+            aspect,
+            NEAR,
+        )
     }
 
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
@@ -34,7 +38,8 @@ impl Camera {
     pub fn view_projection_widened(&self, aspect: f32, margin: f32) -> Mat4 {
         let half = (0.5 * self.fov_y_deg.to_radians()).tan() * (1.0 + margin);
         let fov = 2.0 * half.atan();
-        glam::camera::rh::proj::directx::perspective_infinite_reverse(fov, aspect, NEAR) * self.view()
+        glam::camera::rh::proj::directx::perspective_infinite_reverse(fov, aspect, NEAR)
+            * self.view()
     }
 
     /// Unit direction the camera looks along.

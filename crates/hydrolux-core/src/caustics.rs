@@ -42,7 +42,13 @@ pub struct FloorCaustics {
 /// × area it carries per unit of undisplaced surface area (the area the
 /// displaced cell shows the sun, times the Fresnel transmittance). `None`
 /// for a back-facing cell or a ray that does not go down.
-pub fn refracted_photon(s: &SurfaceSample, x0: f32, z0: f32, sun_dir: Vec3, ior: f32) -> Option<(Vec3, Vec3, f32)> {
+pub fn refracted_photon(
+    s: &SurfaceSample,
+    x0: f32,
+    z0: f32,
+    sun_dir: Vec3,
+    ior: f32,
+) -> Option<(Vec3, Vec3, f32)> {
     let tx = Vec3::new(1.0 + s.dxx, s.slope[0], s.dxz);
     let tz = Vec3::new(s.dxz, s.slope[1], 1.0 + s.dzz);
     // Unnormalised normal: its length is the displaced cell's area scale,
@@ -65,7 +71,13 @@ pub fn refracted_photon(s: &SurfaceSample, x0: f32, z0: f32, sun_dir: Vec3, ior:
 /// What one photon brings to the floor: where it lands (x, z) and its
 /// contribution in irradiance × cell area, or `None` (back-facing cell,
 /// total reflection, a ray that never goes down).
-pub fn photon(s: &SurfaceSample, x0: f32, z0: f32, cell_area: f32, p: &PhotonSettings) -> Option<(Vec2, f32)> {
+pub fn photon(
+    s: &SurfaceSample,
+    x0: f32,
+    z0: f32,
+    cell_area: f32,
+    p: &PhotonSettings,
+) -> Option<(Vec2, f32)> {
     let (pos, dir, weight) = refracted_photon(s, x0, z0, p.sun_dir, p.ior)?;
     let hit = pos + dir * ((pos.y + p.floor_depth) / -dir.y);
     Some((Vec2::new(hit.x, hit.z), weight * cell_area))
@@ -90,7 +102,12 @@ impl FloorCaustics {
         let (i0, j0) = (fx.floor(), fz.floor());
         let (ax, az) = (fx - i0, fz - j0);
         let per_cell = energy / self.cell_area();
-        for (di, dj, w) in [(0, 0, (1.0 - ax) * (1.0 - az)), (1, 0, ax * (1.0 - az)), (0, 1, (1.0 - ax) * az), (1, 1, ax * az)] {
+        for (di, dj, w) in [
+            (0, 0, (1.0 - ax) * (1.0 - az)),
+            (1, 0, ax * (1.0 - az)),
+            (0, 1, (1.0 - ax) * az),
+            (1, 1, ax * az),
+        ] {
             let i = (i0 as i64 + di).rem_euclid(m) as usize;
             let j = (j0 as i64 + dj).rem_euclid(m) as usize;
             self.irradiance[j * self.m + i] += per_cell * w;
@@ -105,13 +122,17 @@ impl FloorCaustics {
         let mut rows = vec![0.0; m * m];
         for j in 0..m {
             for i in 0..m {
-                rows[j * m + i] = 0.25 * at(&self.irradiance, i + m - 1, j) + 0.5 * at(&self.irradiance, i, j) + 0.25 * at(&self.irradiance, i + 1, j);
+                rows[j * m + i] = 0.25 * at(&self.irradiance, i + m - 1, j)
+                    + 0.5 * at(&self.irradiance, i, j)
+                    + 0.25 * at(&self.irradiance, i + 1, j);
             }
         }
         let mut out = vec![0.0; m * m];
         for j in 0..m {
             for i in 0..m {
-                out[j * m + i] = 0.25 * at(&rows, i, j + m - 1) + 0.5 * at(&rows, i, j) + 0.25 * at(&rows, i, j + 1);
+                out[j * m + i] = 0.25 * at(&rows, i, j + m - 1)
+                    + 0.5 * at(&rows, i, j)
+                    + 0.25 * at(&rows, i, j + 1);
             }
         }
         FloorCaustics { m, patch: self.patch, irradiance: out }
@@ -125,7 +146,10 @@ impl FloorCaustics {
 /// Trace a photon grid over the patch (undisplaced coordinates, cell
 /// centres) against a surface given by `sample(x, z)`, and splat it on the
 /// floor (unfiltered). Returns the map and the total transmitted energy.
-pub fn trace_floor_caustics(sample: impl Fn(f32, f32) -> SurfaceSample, p: &PhotonSettings) -> (FloorCaustics, f64) {
+pub fn trace_floor_caustics(
+    sample: impl Fn(f32, f32) -> SurfaceSample,
+    p: &PhotonSettings,
+) -> (FloorCaustics, f64) {
     let mut map = FloorCaustics::zeros(p.map_resolution, p.patch);
     let n = p.photons_per_side;
     let cell_area = p.patch[0] * p.patch[1] / (n * n) as f32;
@@ -156,14 +180,22 @@ mod tests {
     use crate::waves::spectrum::{SeaState, SpectrumKind};
 
     fn settings(sun_dir: Vec3, depth: f32) -> PhotonSettings {
-        PhotonSettings { photons_per_side: 256, map_resolution: 64, patch: [16.0, 16.0], floor_depth: depth, ior: 1.333, sun_dir }
+        PhotonSettings {
+            photons_per_side: 256,
+            map_resolution: 64,
+            patch: [16.0, 16.0],
+            floor_depth: depth,
+            ior: 1.333,
+            sun_dir,
+        }
     }
 
     #[test]
     fn flat_water_gives_the_fresnel_transmittance_everywhere() {
         for elevation in [90.0f32, 50.0, 25.0] {
             let sun = crate::sky::sun_direction(elevation, 30.0);
-            let (map, _) = trace_floor_caustics(|_, _| SurfaceSample::default(), &settings(sun, 3.0));
+            let (map, _) =
+                trace_floor_caustics(|_, _| SurfaceSample::default(), &settings(sun, 3.0));
             let want = flat_floor_irradiance(sun, 1.333);
             for v in &map.irradiance {
                 assert!((v - want).abs() < 1e-4, "elevation {elevation}: {v} vs {want}");
@@ -174,7 +206,15 @@ mod tests {
 
     fn ocean(t: f64) -> OceanFields {
         let s = OceanSettings {
-            sea: SeaState { kind: SpectrumKind::Jonswap, wind_speed: 6.0, wind_direction: 0.4, fetch: 20_000.0, depth: 50.0, peak_enhancement: 3.3, spreading: 8.0 },
+            sea: SeaState {
+                kind: SpectrumKind::Jonswap,
+                wind_speed: 6.0,
+                wind_direction: 0.4,
+                fetch: 20_000.0,
+                depth: 50.0,
+                peak_enhancement: 3.3,
+                spreading: 8.0,
+            },
             patch_size: 16.0,
             resolution: 64,
             cascades: 1,
@@ -199,7 +239,11 @@ mod tests {
         // Waves focus light: bright lines well above the mean, dim cells below.
         let max = blurred.irradiance.iter().cloned().fold(0.0, f32::max);
         let min = blurred.irradiance.iter().cloned().fold(f32::MAX, f32::min);
-        assert!(max > 1.5 * blurred.mean() && min < 0.7 * blurred.mean(), "max {max} min {min} mean {}", blurred.mean());
+        assert!(
+            max > 1.5 * blurred.mean() && min < 0.7 * blurred.mean(),
+            "max {max} min {min} mean {}",
+            blurred.mean()
+        );
         // The mean is close to the flat value (the same sunlight gets in).
         let flat = flat_floor_irradiance(sun, 1.333);
         assert!((blurred.mean() - flat).abs() < 0.05 * flat, "{} vs {flat}", blurred.mean());

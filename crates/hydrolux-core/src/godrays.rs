@@ -67,7 +67,10 @@ impl TubeRegion {
         let tan_w = (1.0 - cos_w * cos_w).max(0.0).sqrt() / cos_w;
         let towards_sun = -Vec2::new(travel.x, travel.z).normalize_or_zero();
         let depth = (-eye.y).max(0.0);
-        TubeRegion { centre: Vec2::new(eye.x, eye.z) + towards_sun * depth * tan_w, half: distance * (1.0 + tan_w) + 1.0 }
+        TubeRegion {
+            centre: Vec2::new(eye.x, eye.z) + towards_sun * depth * tan_w,
+            half: distance * (1.0 + tan_w) + 1.0,
+        }
     }
 
     /// Distance between neighbouring photons (m) with `per_side` photons per side.
@@ -78,7 +81,8 @@ impl TubeRegion {
     /// Undisplaced surface point of photon (i, j): the cell centre.
     pub fn photon_origin(&self, per_side: u32, i: u32, j: u32) -> Vec2 {
         let n = per_side.max(1) as f32;
-        self.centre + Vec2::new((i as f32 + 0.5) / n - 0.5, (j as f32 + 0.5) / n - 0.5) * 2.0 * self.half
+        self.centre
+            + Vec2::new((i as f32 + 0.5) / n - 0.5, (j as f32 + 0.5) / n - 0.5) * 2.0 * self.half
     }
 }
 
@@ -105,7 +109,9 @@ pub fn beam_tubes(
     for j in 0..per_side {
         for i in 0..per_side {
             let o = region.photon_origin(per_side, i, j);
-            if let Some((start, dir, weight)) = refracted_photon(&sample(o.x, o.y), o.x, o.y, sun_dir, ior) {
+            if let Some((start, dir, weight)) =
+                refracted_photon(&sample(o.x, o.y), o.x, o.y, sun_dir, ior)
+            {
                 let length = ((start.y + end_depth) / -dir.y).max(0.0);
                 tubes.push(BeamTube { start, dir, length, flux: weight * cell_area });
             }
@@ -142,12 +148,24 @@ pub fn ribbon_hit(tube: &BeamTube, half_width: f32, eye: Vec3, view: Vec3) -> Op
     let d = (dt - b * dv) / denom;
     let gap = (w0 + view * s - tube.dir * d).length();
     let u = gap / half_width;
-    (s > 0.0 && (0.0..=tube.length).contains(&d) && u <= 1.0).then_some(RibbonHit { s, d, u, sin_alpha: denom.sqrt() })
+    (s > 0.0 && (0.0..=tube.length).contains(&d) && u <= 1.0).then_some(RibbonHit {
+        s,
+        d,
+        u,
+        sin_alpha: denom.sqrt(),
+    })
 }
 
 /// Radiance (relative to the sun's irradiance) a ribbon sends along `view`
 /// at `hit` (see the module documentation).
-pub fn ribbon_radiance(medium: &Medium, g: f32, tube: &BeamTube, half_width: f32, view: Vec3, hit: &RibbonHit) -> Vec3 {
+pub fn ribbon_radiance(
+    medium: &Medium,
+    g: f32,
+    tube: &BeamTube,
+    half_width: f32,
+    view: Vec3,
+    hit: &RibbonHit,
+) -> Vec3 {
     let phase = henyey_greenstein(tube.dir.dot(-view), g);
     let profile = (1.0 - hit.u).max(0.0) / (half_width * hit.sin_alpha.max(MIN_SIN_ALPHA));
     medium.scattering * phase * tube.flux * profile * medium.transmittance(hit.d + hit.s)
@@ -155,10 +173,22 @@ pub fn ribbon_radiance(medium: &Medium, g: f32, tube: &BeamTube, half_width: f32
 
 /// What a view ray from `eye` along unit `view` collects from every ribbon
 /// it crosses closer than `max_distance` — one pixel of the GPU's buffer.
-pub fn ribbons_along_ray(medium: &Medium, g: f32, tubes: &[BeamTube], half_width: f32, eye: Vec3, view: Vec3, max_distance: f32) -> Vec3 {
+pub fn ribbons_along_ray(
+    medium: &Medium,
+    g: f32,
+    tubes: &[BeamTube],
+    half_width: f32,
+    eye: Vec3,
+    view: Vec3,
+    max_distance: f32,
+) -> Vec3 {
     tubes
         .iter()
-        .filter_map(|t| ribbon_hit(t, half_width, eye, view).filter(|h| h.s < max_distance).map(|h| ribbon_radiance(medium, g, t, half_width, view, &h)))
+        .filter_map(|t| {
+            ribbon_hit(t, half_width, eye, view)
+                .filter(|h| h.s < max_distance)
+                .map(|h| ribbon_radiance(medium, g, t, half_width, view, &h))
+        })
         .sum()
 }
 
@@ -171,7 +201,15 @@ mod tests {
     fn flat_tubes(sun: Vec3, eye: Vec3, distance: f32, per_side: u32) -> (Vec<BeamTube>, f32) {
         let light = UnderwaterLight::new(sun, Vec3::ONE, Vec3::ZERO, 1.333);
         let region = TubeRegion::around(eye, light.sun_travel, distance);
-        let tubes = beam_tubes(|_, _| SurfaceSample::default(), &region, per_side, sun, 1.333, Some(30.0), deepest_needed(eye, distance));
+        let tubes = beam_tubes(
+            |_, _| SurfaceSample::default(),
+            &region,
+            per_side,
+            sun,
+            1.333,
+            Some(30.0),
+            deepest_needed(eye, distance),
+        );
         (tubes, region.spacing(per_side))
     }
 
@@ -181,7 +219,8 @@ mod tests {
         // over its solid angle must be the closed form of the intensity
         // scattered out of the line, σs·p·Φ·e^(−σk·S)·(1 − e^(−σk·L))/σk / S².
         let medium = MediumPreset::ClearOcean.medium();
-        let tube = BeamTube { start: Vec3::new(0.0, 0.0, 0.0), dir: Vec3::NEG_Y, length: 4.0, flux: 0.3 };
+        let tube =
+            BeamTube { start: Vec3::new(0.0, 0.0, 0.0), dir: Vec3::NEG_Y, length: 4.0, flux: 0.3 };
         let (a, big_s, g) = (0.25, 30.0, 0.0);
         let eye = Vec3::new(0.0, -2.0, big_s);
         // Integrate over a fine grid of view directions (a pinhole image).
@@ -209,14 +248,23 @@ mod tests {
             let d = (i as f32 + 0.5) / steps as f32 * tube.length;
             let p = tube.start + tube.dir * d;
             let s = (p - eye).length();
-            along += medium.scattering * phase * tube.flux * medium.transmittance(d + s) / (s * s) * (tube.length / steps as f32);
+            along += medium.scattering * phase * tube.flux * medium.transmittance(d + s) / (s * s)
+                * (tube.length / steps as f32);
         }
         for c in 0..3 {
-            assert!((sum[c] / along[c] - 1.0).abs() < 0.01, "channel {c}: {} vs {}", sum[c], along[c]);
+            assert!(
+                (sum[c] / along[c] - 1.0).abs() < 0.01,
+                "channel {c}: {} vs {}",
+                sum[c],
+                along[c]
+            );
         }
         // ... and, in the clearest channel where the ends' distances hardly
         // matter, the closed form at the mean distance S.
-        let closed = medium.scattering.z * phase * tube.flux * (1.0 - (-k.z * tube.length).exp()) / k.z * (-k.z * big_s).exp() / (big_s * big_s);
+        let closed = medium.scattering.z * phase * tube.flux * (1.0 - (-k.z * tube.length).exp())
+            / k.z
+            * (-k.z * big_s).exp()
+            / (big_s * big_s);
         assert!((sum.z / closed - 1.0).abs() < 0.01, "{} vs {closed}", sum.z);
     }
 
@@ -228,7 +276,12 @@ mod tests {
         let light = UnderwaterLight::new(sun, Vec3::ONE, Vec3::ZERO, 1.333);
         assert_eq!(tubes.len(), 128 * 128);
         for t in &tubes {
-            assert!((t.dir - light.sun_travel).length() < 1e-5, "{} vs {}", t.dir, light.sun_travel);
+            assert!(
+                (t.dir - light.sun_travel).length() < 1e-5,
+                "{} vs {}",
+                t.dir,
+                light.sun_travel
+            );
             assert!((t.flux - tubes[0].flux).abs() < 1e-6);
         }
         // Flux per unit area across the beam is the refracted sun's irradiance.
@@ -256,7 +309,11 @@ mod tests {
                 continue;
             }
             // Stay under the surface and above the floor.
-            let s_max = if view.y > 0.0 { (-eye.y / view.y).min(distance) } else { ((30.0 + eye.y) / -view.y).min(distance) };
+            let s_max = if view.y > 0.0 {
+                (-eye.y / view.y).min(distance)
+            } else {
+                ((30.0 + eye.y) / -view.y).min(distance)
+            };
             let lines = ribbons_along_ray(&medium, g, &tubes, spacing, eye, view, s_max);
             let uniform = light.sun_in_scatter(&medium, -eye.y, view, 0.0, s_max, g);
             ratios.push(lines.z / uniform.z);
@@ -277,7 +334,11 @@ mod tests {
         let region = TubeRegion::around(eye, Vec3::NEG_Y, 6.0);
         let wave = |x: f32, _z: f32| {
             let k = std::f32::consts::TAU / 4.0;
-            SurfaceSample { displacement: [0.0, 0.1 * (k * x).cos(), 0.0], slope: [-0.1 * k * (k * x).sin(), 0.0], ..Default::default() }
+            SurfaceSample {
+                displacement: [0.0, 0.1 * (k * x).cos(), 0.0],
+                slope: [-0.1 * k * (k * x).sin(), 0.0],
+                ..Default::default()
+            }
         };
         let tubes = beam_tubes(wave, &region, 64, sun, 1.333, None, 8.0);
         let spread = tubes.iter().map(|t| t.dir.x.abs()).fold(0.0f32, f32::max);

@@ -6,7 +6,6 @@ pub mod camera;
 pub mod caustics;
 pub mod geometry;
 pub mod godrays;
-pub mod water_object;
 pub mod medium;
 pub mod npy;
 pub mod optics;
@@ -14,6 +13,7 @@ pub mod projective;
 pub mod scene;
 pub mod sky;
 pub mod tonemap;
+pub mod water_object;
 pub mod waves;
 
 pub use glam;

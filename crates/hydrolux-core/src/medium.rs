@@ -36,7 +36,12 @@ pub struct Medium {
 }
 
 impl MediumPreset {
-    pub const ALL: [MediumPreset; 4] = [MediumPreset::Pure, MediumPreset::ClearOcean, MediumPreset::Coastal, MediumPreset::TurbidHarbor];
+    pub const ALL: [MediumPreset; 4] = [
+        MediumPreset::Pure,
+        MediumPreset::ClearOcean,
+        MediumPreset::Coastal,
+        MediumPreset::TurbidHarbor,
+    ];
 
     /// The preset's coefficients. Scattering of the three natural waters is
     /// seed 000 Table 5.1. The seed keeps pure-water absorption for all of
@@ -145,7 +150,11 @@ impl UnderwaterLight {
         let t = 1.0 - fresnel_exact(cos_sun, IOR_AIR, ior);
         UnderwaterLight {
             sun_travel: travel,
-            sun_irradiance: if cos_sun > 0.0 { sun_illuminance * t * cos_sun / cos_w } else { Vec3::ZERO },
+            sun_irradiance: if cos_sun > 0.0 {
+                sun_illuminance * t * cos_sun / cos_w
+            } else {
+                Vec3::ZERO
+            },
             sky_irradiance: sky_irradiance * DIFFUSE_TRANSMITTANCE,
         }
     }
@@ -175,11 +184,25 @@ impl UnderwaterLight {
     /// The sun's part of [`UnderwaterLight::view_in_scatter`], from distance
     /// `s0` to `s1` along the view ray only: the uniform (unfocused) beam that
     /// god rays replace near the eye (`crate::godrays`).
-    pub fn sun_in_scatter(&self, medium: &Medium, depth: f32, dir: Vec3, s0: f32, s1: f32, g: f32) -> Vec3 {
+    pub fn sun_in_scatter(
+        &self,
+        medium: &Medium,
+        depth: f32,
+        dir: Vec3,
+        s0: f32,
+        s1: f32,
+        g: f32,
+    ) -> Vec3 {
         let cos_w = (-self.sun_travel.y).max(1e-3);
         let d0 = (depth - dir.y * s0).max(0.0);
         let phase = henyey_greenstein(self.sun_travel.dot(-dir), g);
-        medium.transmittance(s0) * medium.in_scatter(self.sun_irradiance * medium.transmittance(d0 / cos_w), phase, -dir.y / cos_w, s1 - s0)
+        medium.transmittance(s0)
+            * medium.in_scatter(
+                self.sun_irradiance * medium.transmittance(d0 / cos_w),
+                phase,
+                -dir.y / cos_w,
+                s1 - s0,
+            )
     }
 
     /// Seed 000 eq. 3.7–3.8 with the viewer inside the water: light scattered
@@ -193,9 +216,15 @@ impl UnderwaterLight {
         let cos_w = (-self.sun_travel.y).max(1e-3);
         // Angle between the light's travel and the direction back to the eye.
         let phase = henyey_greenstein(self.sun_travel.dot(-dir), g);
-        let sun = medium.in_scatter(self.sun_irradiance * medium.transmittance(depth / cos_w), phase, down / cos_w, s);
+        let sun = medium.in_scatter(
+            self.sun_irradiance * medium.transmittance(depth / cos_w),
+            phase,
+            down / cos_w,
+            s,
+        );
         // Diffuse skylight: scalar irradiance E/μ̄, isotropic phase.
-        let sky_start = self.sky_irradiance * medium.transmittance(depth / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
+        let sky_start = self.sky_irradiance * medium.transmittance(depth / DIFFUSE_MEAN_COSINE)
+            / DIFFUSE_MEAN_COSINE;
         let sky = medium.in_scatter(sky_start, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
         sun + sky
     }
@@ -222,7 +251,8 @@ impl FlatWaterView<'_> {
     pub fn radiance(&self, view_dir: Vec3, reflected: Vec3) -> Vec3 {
         let cos_v = (-view_dir.y).clamp(1e-4, 1.0);
         let f = fresnel_exact(cos_v, IOR_AIR, self.ior);
-        let refracted = crate::optics::refract(view_dir, Vec3::Y, IOR_AIR, self.ior).unwrap_or(Vec3::NEG_Y);
+        let refracted =
+            crate::optics::refract(view_dir, Vec3::Y, IOR_AIR, self.ior).unwrap_or(Vec3::NEG_Y);
         let (floor, s) = match self.floor_depth {
             Some(depth) => {
                 let s = depth / (-refracted.y).max(1e-4);
@@ -231,7 +261,8 @@ impl FlatWaterView<'_> {
             }
             None => (Vec3::ZERO, f32::INFINITY),
         };
-        let inscatter = self.light.path_in_scatter(self.medium, refracted, s.min(1e6), self.phase_g);
+        let inscatter =
+            self.light.path_in_scatter(self.medium, refracted, s.min(1e6), self.phase_g);
         f * reflected + (1.0 - f) / (self.ior * self.ior) * (floor + inscatter)
     }
 }
@@ -284,8 +315,18 @@ mod tests {
     #[test]
     fn in_scatter_seen_from_inside_the_water_matches_numerical_integral() {
         let m = MediumPreset::Coastal.medium();
-        let light = UnderwaterLight::new(crate::sky::sun_direction(50.0, 30.0), Vec3::splat(80.0), Vec3::splat(15.0), 1.333);
-        for dir in [Vec3::new(0.3, 0.9, 0.1).normalize(), Vec3::new(0.8, -0.2, 0.1).normalize(), Vec3::NEG_Y, Vec3::X] {
+        let light = UnderwaterLight::new(
+            crate::sky::sun_direction(50.0, 30.0),
+            Vec3::splat(80.0),
+            Vec3::splat(15.0),
+            1.333,
+        );
+        for dir in [
+            Vec3::new(0.3, 0.9, 0.1).normalize(),
+            Vec3::new(0.8, -0.2, 0.1).normalize(),
+            Vec3::NEG_Y,
+            Vec3::X,
+        ] {
             // Paths that rise end before the surface.
             let (depth, g) = (4.0f32, 0.3f32);
             let s = if dir.y > 0.0 { (0.95 * depth / dir.y).min(9.0) } else { 9.0 };
@@ -301,7 +342,9 @@ mod tests {
                 let x = (i as f32 + 0.5) * dx;
                 let z = depth - dir.y * x;
                 let sun = light.sun_irradiance * m.transmittance(z / cos_w) * phase;
-                let sky = light.sky_irradiance / DIFFUSE_MEAN_COSINE * m.transmittance(z / DIFFUSE_MEAN_COSINE) * PHASE_ISOTROPIC;
+                let sky = light.sky_irradiance / DIFFUSE_MEAN_COSINE
+                    * m.transmittance(z / DIFFUSE_MEAN_COSINE)
+                    * PHASE_ISOTROPIC;
                 sum += m.scattering * (sun + sky) * m.transmittance(x) * dx;
             }
             assert!(((closed - sum) / sum).abs().max_element() < 2e-3, "{dir}: {closed} vs {sum}");
@@ -373,21 +416,42 @@ mod tests {
         let colour = |p: MediumPreset| {
             let m = p.medium();
             let light = UnderwaterLight::new(Vec3::Y, Vec3::splat(100.0), Vec3::splat(20.0), 1.333);
-            let view = FlatWaterView { medium: &m, light: &light, ior: 1.333, phase_g: 0.0, floor_depth: None, floor_albedo: Vec3::ZERO };
+            let view = FlatWaterView {
+                medium: &m,
+                light: &light,
+                ior: 1.333,
+                phase_g: 0.0,
+                floor_depth: None,
+                floor_albedo: Vec3::ZERO,
+            };
             view.radiance(Vec3::NEG_Y, Vec3::ZERO)
         };
         let clear = colour(MediumPreset::ClearOcean);
         assert!(clear.z > clear.y && clear.y > clear.x, "clear ocean is blue: {clear}");
         let harbor = colour(MediumPreset::TurbidHarbor);
-        assert!(harbor.y > harbor.z && harbor.y > harbor.x, "turbid harbour is green-brown: {harbor}");
+        assert!(
+            harbor.y > harbor.z && harbor.y > harbor.x,
+            "turbid harbour is green-brown: {harbor}"
+        );
         // Turbid water hides a white floor 3 m down; clear water shows it.
         let floor_share = |p: MediumPreset| {
             let m = p.medium();
             let light = UnderwaterLight::new(Vec3::Y, Vec3::splat(100.0), Vec3::splat(20.0), 1.333);
-            let v = |d| FlatWaterView { medium: &m, light: &light, ior: 1.333, phase_g: 0.0, floor_depth: d, floor_albedo: Vec3::ONE };
-            (v(Some(3.0)).radiance(Vec3::NEG_Y, Vec3::ZERO) - v(None).radiance(Vec3::NEG_Y, Vec3::ZERO)).y
+            let v = |d| FlatWaterView {
+                medium: &m,
+                light: &light,
+                ior: 1.333,
+                phase_g: 0.0,
+                floor_depth: d,
+                floor_albedo: Vec3::ONE,
+            };
+            (v(Some(3.0)).radiance(Vec3::NEG_Y, Vec3::ZERO)
+                - v(None).radiance(Vec3::NEG_Y, Vec3::ZERO))
+            .y
         };
-        assert!(floor_share(MediumPreset::ClearOcean) > 20.0 * floor_share(MediumPreset::TurbidHarbor));
+        assert!(
+            floor_share(MediumPreset::ClearOcean) > 20.0 * floor_share(MediumPreset::TurbidHarbor)
+        );
         for p in MediumPreset::ALL {
             let m = p.medium();
             assert!(m.absorption.min_element() > 0.0 && m.scattering.min_element() > 0.0);
@@ -398,7 +462,14 @@ mod tests {
     fn shallow_white_floor_shows_through() {
         let m = MediumPreset::ClearOcean.medium();
         let light = UnderwaterLight::new(Vec3::Y, Vec3::splat(100.0), Vec3::splat(20.0), 1.333);
-        let view = |d| FlatWaterView { medium: &m, light: &light, ior: 1.333, phase_g: 0.5, floor_depth: d, floor_albedo: Vec3::ONE };
+        let view = |d| FlatWaterView {
+            medium: &m,
+            light: &light,
+            ior: 1.333,
+            phase_g: 0.5,
+            floor_depth: d,
+            floor_albedo: Vec3::ONE,
+        };
         let shallow = view(Some(0.5)).radiance(Vec3::NEG_Y, Vec3::ZERO);
         let deep = view(Some(30.0)).radiance(Vec3::NEG_Y, Vec3::ZERO);
         // Half a metre of water: white floor, red slightly reduced; direct
@@ -406,7 +477,10 @@ mod tests {
         let t = 1.0 - fresnel_exact(1.0, 1.0, 1.333);
         let e = light.irradiance(&m, 0.5, Vec3::Y, 1.0);
         let floor = Vec3::ONE / PI * e * m.transmittance(0.5) * t / (1.333 * 1.333);
-        assert!((shallow - floor).max_element() > 0.0 && ((shallow - floor) / shallow).max_element() < 0.05);
+        assert!(
+            (shallow - floor).max_element() > 0.0
+                && ((shallow - floor) / shallow).max_element() < 0.05
+        );
         assert!(deep.x < 0.05 * shallow.x, "red is gone at 30 m");
     }
 }

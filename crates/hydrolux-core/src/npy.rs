@@ -5,7 +5,8 @@
 pub fn encode_f32(shape: &[usize], data: &[f32]) -> Vec<u8> {
     assert_eq!(shape.iter().product::<usize>(), data.len(), "npy shape does not match data");
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
-    let shape_txt = if dims.len() == 1 { format!("({},)", dims[0]) } else { format!("({})", dims.join(", ")) };
+    let shape_txt =
+        if dims.len() == 1 { format!("({},)", dims[0]) } else { format!("({})", dims.join(", ")) };
     let mut header = format!("{{'descr': '<f4', 'fortran_order': False, 'shape': {shape_txt}, }}");
     // Magic (6) + version (2) + header length (2) + header + '\n' is a multiple of 64.
     let unpadded = 10 + header.len() + 1;
@@ -30,10 +31,14 @@ pub fn decode_f32_2d(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
     }
     let (header_len, start) = match bytes[6] {
         1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
-        2 | 3 if bytes.len() >= 12 => (u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize, 12),
+        2 | 3 if bytes.len() >= 12 => {
+            (u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize, 12)
+        }
         v => return Err(format!("unsupported .npy version {v}")),
     };
-    let header = std::str::from_utf8(bytes.get(start..start + header_len).ok_or("truncated header")?).map_err(|_| "header is not text")?;
+    let header =
+        std::str::from_utf8(bytes.get(start..start + header_len).ok_or("truncated header")?)
+            .map_err(|_| "header is not text")?;
     let wide = if header.contains("'<f4'") {
         false
     } else if header.contains("'<f8'") {
@@ -44,7 +49,11 @@ pub fn decode_f32_2d(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
     if header.contains("'fortran_order': True") {
         return Err("the array must be C-ordered (fortran_order False)".into());
     }
-    let shape_txt = header.split("'shape':").nth(1).and_then(|r| r.split(')').next()).ok_or("no shape in the header")?;
+    let shape_txt = header
+        .split("'shape':")
+        .nth(1)
+        .and_then(|r| r.split(')').next())
+        .ok_or("no shape in the header")?;
     let dims: Vec<usize> = shape_txt
         .trim()
         .trim_start_matches('(')
@@ -62,9 +71,15 @@ pub fn decode_f32_2d(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
         return Err(format!("the data is shorter than the shape ({rows}, {cols}) needs"));
     }
     let data: Vec<f32> = if wide {
-        body.chunks_exact(8).take(rows * cols).map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")) as f32).collect()
+        body.chunks_exact(8)
+            .take(rows * cols)
+            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")) as f32)
+            .collect()
     } else {
-        body.chunks_exact(4).take(rows * cols).map(|b| f32::from_le_bytes(b.try_into().expect("4 bytes"))).collect()
+        body.chunks_exact(4)
+            .take(rows * cols)
+            .map(|b| f32::from_le_bytes(b.try_into().expect("4 bytes")))
+            .collect()
     };
     if data.iter().any(|v| !v.is_finite()) {
         return Err("it contains NaN or infinite heights".into());

@@ -40,11 +40,7 @@ pub fn refract(incident: Vec3, normal: Vec3, n1: f32, n2: f32) -> Option<Vec3> {
     let eta = n1 / n2;
     let cos_i = -incident.dot(normal);
     let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
-    if k < 0.0 {
-        None
-    } else {
-        Some(eta * incident + (eta * cos_i - k.sqrt()) * normal)
-    }
+    if k < 0.0 { None } else { Some(eta * incident + (eta * cos_i - k.sqrt()) * normal) }
 }
 
 /// Critical angle (radians) for light going from `n1` into a less dense `n2`;
@@ -173,7 +169,12 @@ mod tests {
 
     #[test]
     fn every_mode_reflects_between_zero_and_one_with_tir() {
-        let modes = [FresnelMode::Exact, FresnelMode::Schlick, FresnelMode::JensenGolias, FresnelMode::Power(5.0)];
+        let modes = [
+            FresnelMode::Exact,
+            FresnelMode::Schlick,
+            FresnelMode::JensenGolias,
+            FresnelMode::Power(5.0),
+        ];
         let c = critical_angle(IOR_WATER, IOR_AIR).unwrap();
         for m in modes {
             for i in 0..=90 {

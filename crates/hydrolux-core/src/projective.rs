@@ -55,8 +55,18 @@ pub fn clip_to_uv(clip: Vec4) -> Option<Vec2> {
 /// the ray meets the plane y = `height` at Q (above the surface for a viewer
 /// in air, below it for one in the water), and Q's mirror image is projected.
 /// Rays parallel to the plane are followed `max_distance`.
-pub fn reflection_uv(view_proj: &Mat4, p: Vec3, r: Vec3, height: f32, max_distance: f32) -> Option<Vec2> {
-    let t = if r.y.abs() > 1e-4 { ((height - p.y) / r.y).clamp(0.0, max_distance) } else { max_distance };
+pub fn reflection_uv(
+    view_proj: &Mat4,
+    p: Vec3,
+    r: Vec3,
+    height: f32,
+    max_distance: f32,
+) -> Option<Vec2> {
+    let t = if r.y.abs() > 1e-4 {
+        ((height - p.y) / r.y).clamp(0.0, max_distance)
+    } else {
+        max_distance
+    };
     let q = p + r * t;
     clip_to_uv(*view_proj * mirror_matrix() * q.extend(1.0))
 }
@@ -64,14 +74,30 @@ pub fn reflection_uv(view_proj: &Mat4, p: Vec3, r: Vec3, height: f32, max_distan
 /// Where the refraction texture (rendered with `view_proj`) is read for a
 /// surface point `p` whose refracted ray is `t_dir` (pointing down): where the
 /// ray meets the plane y = −`depth` (seed 000 §4.4).
-pub fn refraction_uv_plane(view_proj: &Mat4, p: Vec3, t_dir: Vec3, depth: f32, max_distance: f32) -> Option<Vec2> {
-    let t = if t_dir.y < -1e-4 { ((p.y + depth) / -t_dir.y).clamp(0.0, max_distance) } else { max_distance };
+pub fn refraction_uv_plane(
+    view_proj: &Mat4,
+    p: Vec3,
+    t_dir: Vec3,
+    depth: f32,
+    max_distance: f32,
+) -> Option<Vec2> {
+    let t = if t_dir.y < -1e-4 {
+        ((p.y + depth) / -t_dir.y).clamp(0.0, max_distance)
+    } else {
+        max_distance
+    };
     clip_to_uv(*view_proj * (p + t_dir * t).extend(1.0))
 }
 
 /// Seed 002 eq. 1: W = U + dv·R, with dv the distance from the surface to
 /// what the refraction texture shows behind it, clamped to `max_dv`.
-pub fn refraction_uv_depth(view_proj: &Mat4, p: Vec3, t_dir: Vec3, dv: f32, max_dv: f32) -> Option<Vec2> {
+pub fn refraction_uv_depth(
+    view_proj: &Mat4,
+    p: Vec3,
+    t_dir: Vec3,
+    dv: f32,
+    max_dv: f32,
+) -> Option<Vec2> {
     clip_to_uv(*view_proj * (p + t_dir * dv.clamp(0.0, max_dv)).extend(1.0))
 }
 
@@ -94,7 +120,14 @@ pub fn sun_view_projection(sun_dir: Vec3, min: Vec3, max: Vec3) -> Mat4 {
     let radius = (0.5 * (max - min)).length().max(1e-3);
     let up = if sun_dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
     let view = glam::camera::rh::view::look_at_mat4(centre + sun_dir * 2.0 * radius, centre, up);
-    glam::camera::rh::proj::directx::orthographic(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5) * view
+    glam::camera::rh::proj::directx::orthographic(
+        -radius,
+        radius,
+        -radius,
+        radius,
+        radius * 0.5,
+        radius * 3.5,
+    ) * view
 }
 
 #[cfg(test)]
@@ -104,7 +137,12 @@ mod tests {
     use crate::optics::{reflect, refract};
 
     fn camera() -> Camera {
-        Camera { position: Vec3::new(1.0, 4.0, 6.0), look_at: Vec3::new(0.0, 0.0, -10.0), up: Vec3::Y, fov_y_deg: 50.0 }
+        Camera {
+            position: Vec3::new(1.0, 4.0, 6.0),
+            look_at: Vec3::new(0.0, 0.0, -10.0),
+            up: Vec3::Y,
+            fov_y_deg: 50.0,
+        }
     }
 
     #[test]
@@ -144,7 +182,10 @@ mod tests {
         let (up, down) = (Vec3::new(3.0, 0.5, -2.0), Vec3::new(3.0, -0.5, -2.0));
         assert!(ClipPlane::above(0.0).keeps(up) && !ClipPlane::above(0.0).keeps(down));
         assert!(ClipPlane::below(0.0).keeps(down) && !ClipPlane::below(0.0).keeps(up));
-        assert!(!ClipPlane::below(0.2).keeps(Vec3::new(0.0, 0.3, 0.0)) && ClipPlane::below(0.2).keeps(Vec3::new(0.0, 0.1, 0.0)));
+        assert!(
+            !ClipPlane::below(0.2).keeps(Vec3::new(0.0, 0.3, 0.0))
+                && ClipPlane::below(0.2).keeps(Vec3::new(0.0, 0.1, 0.0))
+        );
         // Mirroring maps the kept half of the reflection pass below the water.
         assert!(!ClipPlane::above(0.0).keeps(mirror_matrix().transform_point3(up)));
         assert!(ClipPlane::none().keeps(Vec3::splat(-1e6)));
@@ -172,7 +213,12 @@ mod tests {
     fn from_below_flat_water_mirrors_the_scene_under_it() {
         // A viewer under the water sees an underwater point's mirror image
         // (total internal reflection) where the mirrored point projects.
-        let cam = Camera { position: Vec3::new(0.0, -3.0, 6.0), look_at: Vec3::new(0.0, 0.0, -10.0), up: Vec3::Y, fov_y_deg: 60.0 };
+        let cam = Camera {
+            position: Vec3::new(0.0, -3.0, 6.0),
+            look_at: Vec3::new(0.0, 0.0, -10.0),
+            up: Vec3::Y,
+            fov_y_deg: 60.0,
+        };
         let vp = cam.view_projection(1.5);
         let x = Vec3::new(1.0, -2.0, -12.0);
         let image = mirror_matrix().transform_point3(x);

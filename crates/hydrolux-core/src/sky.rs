@@ -23,7 +23,8 @@ pub fn sun_direction(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
 
 fn perez(theta_cos: f32, gamma: f32, c: [f32; 5]) -> f32 {
     let cos_t = theta_cos.max(0.01);
-    (1.0 + c[0] * (c[1] / cos_t).exp()) * (1.0 + c[2] * (c[3] * gamma).exp() + c[4] * gamma.cos().powi(2))
+    (1.0 + c[0] * (c[1] / cos_t).exp())
+        * (1.0 + c[2] * (c[3] * gamma).exp() + c[4] * gamma.cos().powi(2))
 }
 
 /// Everything the sky shader needs for one sun position, precomputed.
@@ -48,9 +49,27 @@ pub struct SkyParams {
 impl SkyParams {
     pub fn new(sun_dir: Vec3, turbidity: f32) -> Self {
         let t = turbidity;
-        let cy = [0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771, -0.0670 * t + 0.3703];
-        let cx = [-0.0193 * t - 0.2592, -0.0665 * t + 0.0008, -0.0004 * t + 0.2125, -0.0641 * t - 0.8989, -0.0033 * t + 0.0452];
-        let cyy = [-0.0167 * t - 0.2608, -0.0950 * t + 0.0092, -0.0079 * t + 0.2102, -0.0441 * t - 1.6537, -0.0109 * t + 0.0529];
+        let cy = [
+            0.1787 * t - 1.4630,
+            -0.3554 * t + 0.4275,
+            -0.0227 * t + 5.3251,
+            0.1206 * t - 2.5771,
+            -0.0670 * t + 0.3703,
+        ];
+        let cx = [
+            -0.0193 * t - 0.2592,
+            -0.0665 * t + 0.0008,
+            -0.0004 * t + 0.2125,
+            -0.0641 * t - 0.8989,
+            -0.0033 * t + 0.0452,
+        ];
+        let cyy = [
+            -0.0167 * t - 0.2608,
+            -0.0950 * t + 0.0092,
+            -0.0079 * t + 0.2102,
+            -0.0441 * t - 1.6537,
+            -0.0109 * t + 0.0529,
+        ];
         // The model is fitted for suns above the horizon; keep it there.
         let sun = Vec3::new(sun_dir.x, sun_dir.y.max(0.02), sun_dir.z).normalize();
         let ts = sun.y.clamp(-1.0, 1.0).acos();
@@ -95,7 +114,8 @@ pub fn xyy_to_linear_srgb(x: f32, y: f32, luminance: f32) -> Vec3 {
 /// distant "ground" is sky reflected at grazing angles anyway).
 pub fn sky_radiance(p: &SkyParams, dir: Vec3) -> Vec3 {
     let dir = dir.normalize();
-    let sun = Vec3::new(p.sun_direction[0], p.sun_direction[1].max(0.02), p.sun_direction[2]).normalize();
+    let sun =
+        Vec3::new(p.sun_direction[0], p.sun_direction[1].max(0.02), p.sun_direction[2]).normalize();
     let cos_t = dir.y.max(0.0);
     let gamma = dir.dot(sun).clamp(-1.0, 1.0).acos();
     let c = |v: [f32; 4], e: f32| [v[0], v[1], v[2], v[3], e];
@@ -113,7 +133,8 @@ pub fn sun_illuminance(sun_dir: Vec3, turbidity: f32) -> Vec3 {
         return Vec3::ZERO;
     }
     let zenith = (90.0 - elevation).min(93.0);
-    let air_mass = 1.0 / (zenith.to_radians().cos().max(0.0) + 0.50572 * (96.07995 - zenith).powf(-1.6364));
+    let air_mass =
+        1.0 / (zenith.to_radians().cos().max(0.0) + 0.50572 * (96.07995 - zenith).powf(-1.6364));
     let beta = 0.04608 * turbidity - 0.04586;
     // Wavelengths (µm) standing for the sRGB primaries.
     let lambdas = [0.680f32, 0.550, 0.440];
@@ -136,7 +157,9 @@ pub fn sky_irradiance_up(p: &SkyParams) -> Vec3 {
         for j in 0..np {
             let phi = (j as f32 + 0.5) / np as f32 * std::f32::consts::TAU;
             let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
-            let d_omega = theta.sin() * (std::f32::consts::FRAC_PI_2 / nt as f32) * (std::f32::consts::TAU / np as f32);
+            let d_omega = theta.sin()
+                * (std::f32::consts::FRAC_PI_2 / nt as f32)
+                * (std::f32::consts::TAU / np as f32);
             sum += sky_radiance(p, d) * theta.cos() * d_omega;
         }
     }

@@ -36,7 +36,13 @@ fn sphere_hits(centre: Vec3, radius: f32, origin: Vec3, dir: Vec3) -> Option<(f3
 /// The path of the sunbeam travelling along `travel` (unit) through
 /// `origin` into a sphere of index of refraction `ior`; `None` if it misses
 /// or is totally reflected at the back face (the GPU drops those too).
-pub fn sphere_path(centre: Vec3, radius: f32, ior: f32, origin: Vec3, travel: Vec3) -> Option<LightPath> {
+pub fn sphere_path(
+    centre: Vec3,
+    radius: f32,
+    ior: f32,
+    origin: Vec3,
+    travel: Vec3,
+) -> Option<LightPath> {
     let (t0, _) = sphere_hits(centre, radius, origin, travel)?;
     let p0 = origin + travel * t0;
     let n0 = (p0 - centre) / radius;
@@ -48,7 +54,8 @@ pub fn sphere_path(centre: Vec3, radius: f32, ior: f32, origin: Vec3, travel: Ve
     let n1 = (p1 - centre) / radius;
     let cos1 = inside_dir.dot(n1);
     let exit_dir = refract(inside_dir, -n1, ior, IOR_AIR)?;
-    let transmitted = (1.0 - fresnel_exact(cos0, IOR_AIR, ior)) * (1.0 - fresnel_exact(cos1, ior, IOR_AIR));
+    let transmitted =
+        (1.0 - fresnel_exact(cos0, IOR_AIR, ior)) * (1.0 - fresnel_exact(cos1, ior, IOR_AIR));
     Some(LightPath { p0, p1, exit_dir, transmitted, inside: t1 })
 }
 
@@ -58,7 +65,8 @@ mod tests {
 
     #[test]
     fn a_central_beam_goes_straight_through() {
-        let p = sphere_path(Vec3::ZERO, 1.0, 1.333, Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Y).expect("hits");
+        let p = sphere_path(Vec3::ZERO, 1.0, 1.333, Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Y)
+            .expect("hits");
         assert!((p.p0 - Vec3::Y).length() < 1e-5);
         assert!((p.p1 + Vec3::Y).length() < 1e-5);
         assert!((p.exit_dir - Vec3::NEG_Y).length() < 1e-5);
@@ -72,11 +80,16 @@ mod tests {
         // Paraxial beams cross the axis at the ball lens's back focal
         // distance: f = n R / (2 (n − 1)) from the centre.
         let (n, r) = (1.333f32, 1.0f32);
-        let p = sphere_path(Vec3::ZERO, r, n, Vec3::new(0.05, 5.0, 0.0), Vec3::NEG_Y).expect("hits");
+        let p =
+            sphere_path(Vec3::ZERO, r, n, Vec3::new(0.05, 5.0, 0.0), Vec3::NEG_Y).expect("hits");
         let t = -p.p1.x / p.exit_dir.x;
         let crossing = p.p1 + p.exit_dir * t;
         let focus = n * r / (2.0 * (n - 1.0));
-        assert!((-crossing.y - focus).abs() < 0.01 * focus, "crosses at {} vs {focus}", -crossing.y);
+        assert!(
+            (-crossing.y - focus).abs() < 0.01 * focus,
+            "crosses at {} vs {focus}",
+            -crossing.y
+        );
         // Snell at both faces: the exit angle equals the entry angle.
         let n0 = p.p0.normalize();
         let n1 = p.p1.normalize();
@@ -87,8 +100,11 @@ mod tests {
     fn grazing_beams_lose_most_of_their_power_and_misses_have_no_path() {
         // In a sphere the exit angle equals the entry one, so light always
         // gets out; grazing beams leave with little transmitted power.
-        let p = sphere_path(Vec3::ZERO, 1.0, 1.333, Vec3::new(0.999, 5.0, 0.0), Vec3::NEG_Y).expect("hits");
+        let p = sphere_path(Vec3::ZERO, 1.0, 1.333, Vec3::new(0.999, 5.0, 0.0), Vec3::NEG_Y)
+            .expect("hits");
         assert!(p.transmitted < 0.5, "grazing beam transmits {}", p.transmitted);
-        assert!(sphere_path(Vec3::ZERO, 1.0, 1.333, Vec3::new(1.01, 5.0, 0.0), Vec3::NEG_Y).is_none());
+        assert!(
+            sphere_path(Vec3::ZERO, 1.0, 1.333, Vec3::new(1.01, 5.0, 0.0), Vec3::NEG_Y).is_none()
+        );
     }
 }

@@ -45,7 +45,8 @@ pub fn required_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
 impl GpuContext {
     /// A device with no window. Honours WGPU_BACKEND / WGPU_ADAPTER_NAME.
     pub fn headless() -> Result<Self, ContextError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             compatible_surface: None,
@@ -57,7 +58,10 @@ impl GpuContext {
     }
 
     /// A device on a chosen adapter (the viewer picks one compatible with its window).
-    pub fn from_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self, ContextError> {
+    pub fn from_adapter(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+    ) -> Result<Self, ContextError> {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("hydrolux"),
             required_features: optional_features(&adapter),

@@ -2,7 +2,11 @@
 
 use wgpu::util::DeviceExt;
 
-pub fn uniform_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, value: &T) -> wgpu::Buffer {
+pub fn uniform_buffer<T: bytemuck::Pod>(
+    device: &wgpu::Device,
+    label: &str,
+    value: &T,
+) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents: bytemuck::bytes_of(value),
@@ -11,10 +15,20 @@ pub fn uniform_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, valu
 }
 
 /// A single-level, single-sample 2D texture (size at least 1×1).
-pub fn texture_2d(device: &wgpu::Device, label: &str, size: (u32, u32), format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> wgpu::Texture {
+pub fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width: size.0.max(1),
+            height: size.1.max(1),
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -24,48 +38,88 @@ pub fn texture_2d(device: &wgpu::Device, label: &str, size: (u32, u32), format: 
     })
 }
 
-pub fn layout_entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+pub fn layout_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BindingType,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }
 }
 
 pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    layout_entry(binding, visibility, wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    })
+    layout_entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
 }
 
-pub fn storage_entry(binding: u32, visibility: wgpu::ShaderStages, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    layout_entry(binding, visibility, wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Storage { read_only },
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    })
+pub fn storage_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    )
 }
 
-pub fn texture_entry(binding: u32, visibility: wgpu::ShaderStages, dim: wgpu::TextureViewDimension, filterable: bool) -> wgpu::BindGroupLayoutEntry {
-    layout_entry(binding, visibility, wgpu::BindingType::Texture {
-        sample_type: wgpu::TextureSampleType::Float { filterable },
-        view_dimension: dim,
-        multisampled: false,
-    })
+pub fn texture_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    dim: wgpu::TextureViewDimension,
+    filterable: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable },
+            view_dimension: dim,
+            multisampled: false,
+        },
+    )
 }
 
-pub fn storage_texture_entry(binding: u32, format: wgpu::TextureFormat, dim: wgpu::TextureViewDimension) -> wgpu::BindGroupLayoutEntry {
-    layout_entry(binding, wgpu::ShaderStages::COMPUTE, wgpu::BindingType::StorageTexture {
-        access: wgpu::StorageTextureAccess::WriteOnly,
-        format,
-        view_dimension: dim,
-    })
+pub fn storage_texture_entry(
+    binding: u32,
+    format: wgpu::TextureFormat,
+    dim: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(
+        binding,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: dim,
+        },
+    )
 }
 
 pub fn sampler_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    layout_entry(binding, visibility, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering))
+    layout_entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+    )
 }
 
 pub fn shader(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
-    device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source.into()) })
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
 }
 
 pub fn compute_pipeline(
@@ -76,7 +130,11 @@ pub fn compute_pipeline(
     layouts: &[&wgpu::BindGroupLayout],
 ) -> wgpu::ComputePipeline {
     let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(label), bind_group_layouts: &groups, immediate_size: 0 });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &groups,
+        immediate_size: 0,
+    });
     device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(label),
         layout: Some(&layout),
@@ -87,29 +145,58 @@ pub fn compute_pipeline(
     })
 }
 
-pub fn pipeline_layout(device: &wgpu::Device, label: &str, layouts: &[&wgpu::BindGroupLayout]) -> wgpu::PipelineLayout {
+pub fn pipeline_layout(
+    device: &wgpu::Device,
+    label: &str,
+    layouts: &[&wgpu::BindGroupLayout],
+) -> wgpu::PipelineLayout {
     let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
-    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(label), bind_group_layouts: &groups, immediate_size: 0 })
+    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &groups,
+        immediate_size: 0,
+    })
 }
 
 /// A pipeline drawing one fullscreen triangle (`vs_main`, `fs_main`) into
 /// one colour target, without depth.
-pub fn fullscreen_pipeline(device: &wgpu::Device, label: &str, module: &wgpu::ShaderModule, layouts: &[&wgpu::BindGroupLayout], format: wgpu::TextureFormat) -> wgpu::RenderPipeline {
+pub fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    layouts: &[&wgpu::BindGroupLayout],
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(&pipeline_layout(device, label, layouts)),
-        vertex: wgpu::VertexState { module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
         primitive: wgpu::PrimitiveState::default(),
         depth_stencil: None,
         multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState { module, entry_point: Some("fs_main"), compilation_options: Default::default(), targets: &[Some(format.into())] }),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(format.into())],
+        }),
         multiview_mask: None,
         cache: None,
     })
 }
 
 /// Copy `size` bytes of `source` to the CPU (submits and waits).
-pub fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, source: &wgpu::Buffer, size: u64) -> Vec<u8> {
+pub fn read_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    source: &wgpu::Buffer,
+    size: u64,
+) -> Vec<u8> {
     let staging = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size,
@@ -133,24 +220,49 @@ pub fn map_and_read(device: &wgpu::Device, staging: &wgpu::Buffer) -> Vec<u8> {
 }
 
 /// Copy a 2D texture (one layer, mip 0) to the CPU as tightly packed rows.
-pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32) -> Vec<u8> {
+pub fn read_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    bytes_per_pixel: u32,
+) -> Vec<u8> {
     read_texture_aspect(device, queue, texture, bytes_per_pixel, wgpu::TextureAspect::All)
 }
 
 /// Copy level 0 of one aspect of a texture (e.g. the stencil) to the CPU.
-pub fn read_texture_aspect(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32, aspect: wgpu::TextureAspect) -> Vec<u8> {
+pub fn read_texture_aspect(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    bytes_per_pixel: u32,
+    aspect: wgpu::TextureAspect,
+) -> Vec<u8> {
     read_texture_region(device, queue, texture, bytes_per_pixel, aspect, 0)
 }
 
 /// Copy level 0 of one layer of an array texture to the CPU.
-pub fn read_texture_layer(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32, layer: u32) -> Vec<u8> {
+pub fn read_texture_layer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    bytes_per_pixel: u32,
+    layer: u32,
+) -> Vec<u8> {
     read_texture_region(device, queue, texture, bytes_per_pixel, wgpu::TextureAspect::All, layer)
 }
 
-fn read_texture_region(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32, aspect: wgpu::TextureAspect, layer: u32) -> Vec<u8> {
+fn read_texture_region(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    bytes_per_pixel: u32,
+    aspect: wgpu::TextureAspect,
+    layer: u32,
+) -> Vec<u8> {
     let (w, h) = (texture.width(), texture.height());
     let unpadded = w * bytes_per_pixel;
-    let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded =
+        unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let staging = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("texture readback"),
         size: (padded * h) as u64,
@@ -159,10 +271,18 @@ fn read_texture_region(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgp
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo { aspect, origin: wgpu::Origin3d { x: 0, y: 0, z: layer }, ..texture.as_image_copy() },
+        wgpu::TexelCopyTextureInfo {
+            aspect,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+            ..texture.as_image_copy()
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(h),
+            },
         },
         wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
     );

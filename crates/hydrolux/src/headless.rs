@@ -36,9 +36,17 @@ impl HeadlessTarget {
     }
 
     /// Render one frame and submit it without reading it back.
-    pub fn submit(&self, renderer: &mut Renderer, camera: Camera, time: f64) -> wgpu::SubmissionIndex {
+    pub fn submit(
+        &self,
+        renderer: &mut Renderer,
+        camera: Camera,
+        time: f64,
+    ) -> wgpu::SubmissionIndex {
         let mut encoder = renderer.device().create_command_encoder(&Default::default());
-        renderer.render(&mut encoder, &FrameInput { target: &self.view, size: self.size, camera, time });
+        renderer.render(
+            &mut encoder,
+            &FrameInput { target: &self.view, size: self.size, camera, time },
+        );
         renderer.queue().submit([encoder.finish()])
     }
 }

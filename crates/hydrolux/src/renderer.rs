@@ -4,33 +4,38 @@
 //! scene → water → tonemap (or a debug view).
 
 use crate::gpu_util::*;
-use wgpu::util::DeviceExt;
 use crate::passes::caustics::{CausticMap, CausticsPass};
+use crate::passes::geometry::{
+    GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding,
+};
 use crate::passes::godrays::{GodRayTubes, GodRayUniforms, GodRaysPass, Shafts};
-use crate::passes::water_object::{MARCH_STEPS, ObjectLight, ObjectLightUniforms, WaterObjectPass};
-use crate::passes::geometry::{GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding};
 use crate::passes::mips::Downsampler;
 use crate::passes::ocean::{OceanPass, OceanTooLarge};
 use crate::passes::probe::ProbePass;
 use crate::passes::sky::SkyPass;
 use crate::passes::tonemap::TonemapPass;
 use crate::passes::water::{self, WaterPass};
+use crate::passes::water_object::{MARCH_STEPS, ObjectLight, ObjectLightUniforms, WaterObjectPass};
 use crate::targets::{REFRACTION_MARGIN, TargetSettings, Targets};
 use crate::timing::GpuTimer;
 use crate::uniforms::{FrameUniforms, SurfaceUniforms};
 use hydrolux_core::camera::Camera;
+use hydrolux_core::caustics::flat_floor_irradiance;
 use hydrolux_core::geometry::load::AssetError;
+use hydrolux_core::godrays::{TubeRegion, deepest_needed};
 use hydrolux_core::medium::UnderwaterLight;
 use hydrolux_core::projective::{ClipPlane, mirror_matrix, shadow_space, sun_view_projection};
-use hydrolux_core::caustics::flat_floor_irradiance;
-use hydrolux_core::godrays::{TubeRegion, deepest_needed};
-use hydrolux_core::scene::{CausticMethod, DebugView, GodRayMethod, Fresnel, RefractionLookup, Scene, Tonemap, WaterModel, WaterOptics};
+use hydrolux_core::scene::{
+    CausticMethod, DebugView, Fresnel, GodRayMethod, RefractionLookup, Scene, Tonemap, WaterModel,
+    WaterOptics,
+};
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
 use hydrolux_core::tonemap::exposure_scale;
 use hydrolux_core::waves::SurfaceSample;
 use hydrolux_core::waves::ocean::{OceanSettings, OceanSpectrum, REPEAT_PERIOD_S};
 use hydrolux_core::waves::sines::{MAX_SINE_WAVES, SineWaves};
 use hydrolux_core::waves::spectrum::cox_munk_slope_variance;
+use wgpu::util::DeviceExt;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
@@ -128,8 +133,14 @@ pub struct Renderer {
 
 impl Renderer {
     /// Create every pass for drawing into textures of `target_format`.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, scene: &Scene) -> Result<Self, RenderError> {
-        let (vs, fs, cs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target_format: wgpu::TextureFormat,
+        scene: &Scene,
+    ) -> Result<Self, RenderError> {
+        let (vs, fs, cs) =
+            (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
         let all = vs | fs | cs;
         let globals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("globals"),
@@ -138,12 +149,20 @@ impl Renderer {
                 uniform_entry(1, all),
                 texture_entry(2, all, wgpu::TextureViewDimension::Cube, true),
                 sampler_entry(3, all),
-                layout_entry(4, all, wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                }),
-                layout_entry(5, all, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
+                layout_entry(
+                    4,
+                    all,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
+                layout_entry(
+                    5,
+                    all,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                ),
                 texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(7, all),
                 texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
@@ -166,7 +185,8 @@ impl Renderer {
             ],
         });
         let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
-        let surface_buffer = uniform_buffer(device, "surface", &bytemuck::Zeroable::zeroed() as &SurfaceUniforms);
+        let surface_buffer =
+            uniform_buffer(device, "surface", &bytemuck::Zeroable::zeroed() as &SurfaceUniforms);
         let sky_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("sky"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -185,7 +205,10 @@ impl Renderer {
         let frame_only = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame only"),
             layout: &frame_only_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() }],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buffer.as_entire_binding(),
+            }],
         });
         let main_depth_format = crate::targets::main_depth_format(device);
         let downsampler = Downsampler::new(device);
@@ -201,13 +224,32 @@ impl Renderer {
         // Group 0 of the caustics pass is the frame alone: the globals hold the
         // caustic map it writes.
         let caustics = CausticsPass::new(device, &frame_only_layout, &surface_layout);
-        let caustic_map = caustics.create_map(device, scene.caustics.photons, scene.caustics.map_resolution, scene.caustics.layers);
-        let geometry_pass = GeometryPass::new(device, queue, &globals_layout, &frame_only_layout, main_depth_format);
+        let caustic_map = caustics.create_map(
+            device,
+            scene.caustics.photons,
+            scene.caustics.map_resolution,
+            scene.caustics.layers,
+        );
+        let geometry_pass = GeometryPass::new(
+            device,
+            queue,
+            &globals_layout,
+            &frame_only_layout,
+            main_depth_format,
+        );
         let geometry = geometry_pass.upload(device, queue, scene)?;
-        let godrays = GodRaysPass::new(device, &globals_layout, &frame_only_layout, &surface_layout, crate::targets::HDR_FORMAT);
+        let godrays = GodRaysPass::new(
+            device,
+            &globals_layout,
+            &frame_only_layout,
+            &surface_layout,
+            crate::targets::HDR_FORMAT,
+        );
         let godray_tubes = godrays.create_tubes(device, scene.godrays.photons);
-        let water_object = WaterObjectPass::new(device, &globals_layout, &frame_only_layout, &geometry_pass);
-        let object_light = water_object.create_light(device, &godrays, Self::object_resolution(&geometry, scene));
+        let water_object =
+            WaterObjectPass::new(device, &globals_layout, &frame_only_layout, &geometry_pass);
+        let object_light =
+            water_object.create_light(device, &godrays, Self::object_resolution(&geometry, scene));
         let shadow = Self::build_shadow(
             device,
             &globals_layout,
@@ -221,16 +263,37 @@ impl Renderer {
             main: geometry_pass.view_slot(device, "main view", Winding::Normal),
             reflection: geometry_pass.view_slot(device, "reflection view", Winding::Mirrored),
             refraction: geometry_pass.view_slot(device, "refraction view", Winding::Normal),
-            reflection_under: geometry_pass.view_slot(device, "reflection under view", Winding::Mirrored),
-            refraction_over: geometry_pass.view_slot(device, "refraction over view", Winding::Normal),
+            reflection_under: geometry_pass.view_slot(
+                device,
+                "reflection under view",
+                Winding::Mirrored,
+            ),
+            refraction_over: geometry_pass.view_slot(
+                device,
+                "refraction over view",
+                Winding::Normal,
+            ),
             shadow: geometry_pass.view_slot(device, "shadow view", Winding::Normal),
             object_light: geometry_pass.view_slot(device, "object light view", Winding::Normal),
         };
         let water_inputs_layout = WaterPass::inputs_layout(device);
-        let water = WaterPass::new(device, &globals_layout, &surface_layout, &water_inputs_layout, main_depth_format);
+        let water = WaterPass::new(
+            device,
+            &globals_layout,
+            &surface_layout,
+            &water_inputs_layout,
+            main_depth_format,
+        );
         let tonemap = TonemapPass::new(device, &globals_layout, target_format);
         let probe = ProbePass::new(device, &globals_layout, &surface_layout);
-        let surface = Self::build_surface(device, queue, &downsampler, &surface_layout, &surface_buffer, scene)?;
+        let surface = Self::build_surface(
+            device,
+            queue,
+            &downsampler,
+            &surface_layout,
+            &surface_buffer,
+            scene,
+        )?;
         let timer = GpuTimer::new(device, queue);
         let mut r = Renderer {
             device: device.clone(),
@@ -285,7 +348,11 @@ impl Renderer {
     ) -> ShadowState {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("shadow map"),
-            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: resolution,
+                height: resolution,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -300,13 +367,34 @@ impl Renderer {
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: sky.params.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&sky.cube_view) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(sky_sampler) },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&view) },
-                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(shadow_sampler) },
-                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(caustic_view) },
-                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(caustic_sampler) },
-                wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(object_caustic_view) },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&sky.cube_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(sky_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::Sampler(shadow_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(caustic_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::Sampler(caustic_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: wgpu::BindingResource::TextureView(object_caustic_view),
+                },
             ],
         });
         ShadowState { resolution, view, globals }
@@ -342,14 +430,25 @@ impl Renderer {
         let ocean_settings = scene.ocean_settings();
         let spectrum = OceanSpectrum::new(&ocean_settings);
         let ocean = OceanPass::new(device, &spectrum, downsampler)?;
-        let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
-        let (v1, v2, v3) = (view(&ocean.textures.displacement), view(&ocean.textures.derivative), view(&ocean.textures.moments));
+        let view = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            })
+        };
+        let (v1, v2, v3) = (
+            view(&ocean.textures.displacement),
+            view(&ocean.textures.derivative),
+            view(&ocean.textures.moments),
+        );
         let heightfield = match scene.water.model {
             WaterModel::Heightfield => Some(scene.load_heightfield()?),
             _ => None,
         };
         let heightfield_view = {
-            let (w, h, data) = heightfield.as_ref().map_or((1, 1, vec![0.0f32]), |f| (f.nx as u32, f.nz as u32, f.heights.clone()));
+            let (w, h, data) = heightfield
+                .as_ref()
+                .map_or((1, 1, vec![0.0f32]), |f| (f.nx as u32, f.nz as u32, f.heights.clone()));
             let texture = device.create_texture_with_data(
                 queue,
                 &wgpu::TextureDescriptor {
@@ -372,16 +471,39 @@ impl Renderer {
             layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&v1) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&v2) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&v3) },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&samplers[0]) },
-                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&samplers[1]) },
-                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&heightfield_view) },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&v1),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&v2),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&v3),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&samplers[0]),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::Sampler(&samplers[1]),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&heightfield_view),
+                },
             ],
         });
         let sea = scene.sea_state();
-        let sines = SineWaves::from_sea_state(&sea, scene.sines.count as usize, scene.ocean.seed, scene.sines.gerstner as f64);
+        let sines = SineWaves::from_sea_state(
+            &sea,
+            scene.sines.count as usize,
+            scene.ocean.seed,
+            scene.sines.gerstner as f64,
+        );
         let scale = scene.water.roughness_scale as f64;
         let total = cox_munk_slope_variance(sea.wind_speed, sea.wind_direction).map(|v| v * scale);
         let resolved = match scene.water.model {
@@ -393,7 +515,10 @@ impl Renderer {
                 let mut v = [0.0f64; 2];
                 for j in 0..f.nz {
                     for i in 0..f.nx {
-                        let (x, z) = ((i as f32 / f.nx as f32 - 0.5) * f.size[0], (j as f32 / f.nz as f32 - 0.5) * f.size[1]);
+                        let (x, z) = (
+                            (i as f32 / f.nx as f32 - 0.5) * f.size[0],
+                            (j as f32 / f.nz as f32 - 0.5) * f.size[1],
+                        );
                         let s = f.sample(x, z);
                         v[0] += (s.slope[0] as f64).powi(2) / n;
                         v[1] += (s.slope[1] as f64).powi(2) / n;
@@ -410,14 +535,39 @@ impl Renderer {
         // Crests rarely pass 2·Hs; 3·Hs plus the choppy sideways shift is safe.
         let hs = match scene.water.model {
             WaterModel::Fft => 4.0 * spectrum.expected_variance().sqrt(),
-            WaterModel::Sines => 4.0 * sines.waves.iter().map(|w| w.amplitude * w.amplitude / 2.0).sum::<f64>().sqrt(),
+            WaterModel::Sines => {
+                4.0 * sines
+                    .waves
+                    .iter()
+                    .map(|w| w.amplitude * w.amplitude / 2.0)
+                    .sum::<f64>()
+                    .sqrt()
+            }
             WaterModel::Flat | WaterModel::None => 0.0,
             // Hs = 4σ would undercount a user's steep single waves: use the peak.
-            WaterModel::Heightfield => heightfield.as_ref().map_or(0.0, |f| 2.0 * f.max_abs() as f64),
+            WaterModel::Heightfield => {
+                heightfield.as_ref().map_or(0.0, |f| 2.0 * f.max_abs() as f64)
+            }
         };
-        let bounds_margin = (3.0 * hs * (1.0 + scene.ocean.choppiness as f64 + scene.sines.gerstner as f64) + 1.0) as f32;
-        let vertical_reach = (1.5 * hs * (1.0 + scene.sines.gerstner as f64 * (scene.water.model == WaterModel::Sines) as u8 as f64)) as f32 + 0.1;
-        Ok(SurfaceState { ocean_settings, ocean, group, sines, unresolved_variance, bounds_margin, vertical_reach })
+        let bounds_margin =
+            (3.0 * hs * (1.0 + scene.ocean.choppiness as f64 + scene.sines.gerstner as f64) + 1.0)
+                as f32;
+        let vertical_reach = (1.5
+            * hs
+            * (1.0
+                + scene.sines.gerstner as f64
+                    * (scene.water.model == WaterModel::Sines) as u8 as f64))
+            as f32
+            + 0.1;
+        Ok(SurfaceState {
+            ocean_settings,
+            ocean,
+            group,
+            sines,
+            unresolved_variance,
+            bounds_margin,
+            vertical_reach,
+        })
     }
 
     pub fn device(&self) -> &wgpu::Device {
@@ -447,24 +597,43 @@ impl Renderer {
             || scene.base_dir != self.scene.base_dir
             || scene.render.anisotropy != self.scene.render.anisotropy;
         if surface_changed || scene.ocean_settings() != self.surface.ocean_settings {
-            self.surface = Self::build_surface(&self.device, &self.queue, &self.downsampler, &self.surface_layout, &self.surface_buffer, scene)?;
+            self.surface = Self::build_surface(
+                &self.device,
+                &self.queue,
+                &self.downsampler,
+                &self.surface_layout,
+                &self.surface_buffer,
+                scene,
+            )?;
         }
-        if scene.floor != self.scene.floor || scene.objects != self.scene.objects || scene.base_dir != self.scene.base_dir {
+        if scene.floor != self.scene.floor
+            || scene.objects != self.scene.objects
+            || scene.base_dir != self.scene.base_dir
+        {
             self.geometry = self.geometry_pass.upload(&self.device, &self.queue, scene)?;
             self.targets = None;
         }
         let object_resolution = Self::object_resolution(&self.geometry, scene);
         let object_light_changed = object_resolution != self.object_light.resolution;
         if object_light_changed {
-            self.object_light = self.water_object.create_light(&self.device, &self.godrays, object_resolution);
+            self.object_light =
+                self.water_object.create_light(&self.device, &self.godrays, object_resolution);
         }
         let caustics_changed = scene.caustics.photons != self.caustic_map.photons_per_side
             || scene.caustics.map_resolution != self.caustic_map.resolution
             || scene.caustics.layers != self.caustic_map.layers;
         if caustics_changed {
-            self.caustic_map = self.caustics.create_map(&self.device, scene.caustics.photons, scene.caustics.map_resolution, scene.caustics.layers);
+            self.caustic_map = self.caustics.create_map(
+                &self.device,
+                scene.caustics.photons,
+                scene.caustics.map_resolution,
+                scene.caustics.layers,
+            );
         }
-        if scene.render.shadow_resolution != self.shadow.resolution || caustics_changed || object_light_changed {
+        if scene.render.shadow_resolution != self.shadow.resolution
+            || caustics_changed
+            || object_light_changed
+        {
             self.shadow = Self::build_shadow(
                 &self.device,
                 &self.globals_layout,
@@ -524,7 +693,11 @@ impl Renderer {
         let (lo, hi) = self.geometry.shadow_bounds?;
         let mut bent = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
         for i in 0..8 {
-            let c = glam::Vec3::new(if i & 1 == 0 { lo.x } else { hi.x }, if i & 2 == 0 { lo.y } else { hi.y }, if i & 4 == 0 { lo.z } else { hi.z });
+            let c = glam::Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
             let p = shadow_space(c, sun, travel);
             bent = (bent.0.min(p), bent.1.max(p));
         }
@@ -535,7 +708,10 @@ impl Renderer {
     /// there is a floor to receive them and the sun is up.
     fn caustic_setup(&self) -> Option<([f32; 2], f32)> {
         let s = &self.scene;
-        let on = self.has_water() && s.caustics.method != CausticMethod::Off && s.floor.depth > 0.0 && s.sun_direction().y > 0.0;
+        let on = self.has_water()
+            && s.caustics.method != CausticMethod::Off
+            && s.floor.depth > 0.0
+            && s.sun_direction().y > 0.0;
         on.then(|| (s.surface_patch(), s.floor.depth))
     }
 
@@ -561,18 +737,27 @@ impl Renderer {
         if g.method == GodRayMethod::Off || sun.y <= 0.0 {
             return None;
         }
-        let buffer = (((size.0 as f32 * g.resolution).round() as u32).max(1), ((size.1 as f32 * g.resolution).round() as u32).max(1));
+        let buffer = (
+            ((size.0 as f32 * g.resolution).round() as u32).max(1),
+            ((size.1 as f32 * g.resolution).round() as u32).max(1),
+        );
         let in_water = self.has_water() && camera.position.y < self.surface.vertical_reach;
         if in_water {
             let medium = s.medium();
-            let travel = UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior).sun_travel;
+            let travel = UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior)
+                .sun_travel;
             let region = TubeRegion::around(camera.position, travel, g.distance);
             let deepest = deepest_needed(camera.position, g.distance);
             let end_depth = if s.floor.depth > 0.0 { s.floor.depth.min(deepest) } else { deepest };
             return Some((
                 GodRayUniforms {
                     counts: [g.photons, g.steps, buffer.0, buffer.1],
-                    region: [region.centre.x, region.centre.y, region.half, region.spacing(g.photons)],
+                    region: [
+                        region.centre.x,
+                        region.centre.y,
+                        region.half,
+                        region.spacing(g.photons),
+                    ],
                     limits: [g.distance, end_depth, crate::targets::STENCIL_WATER as f32, 1.0],
                     scattering: medium.scattering.extend(s.water.phase_g).into(),
                     extinction: medium.extinction().extend(0.0).into(),
@@ -602,7 +787,11 @@ impl Renderer {
     fn shafts_from_above(&self, camera: &Camera) -> f32 {
         let g = &self.scene.godrays;
         let above = camera.position.y > -self.surface.vertical_reach;
-        if g.method == GodRayMethod::Off || !above || self.caustic_setup().is_none() { 0.0 } else { g.distance }
+        if g.method == GodRayMethod::Off || !above || self.caustic_setup().is_none() {
+            0.0
+        } else {
+            g.distance
+        }
     }
 
     /// Light-view texels per side for refractive objects (1 without any).
@@ -637,7 +826,12 @@ impl Renderer {
                 inv_view_proj: view_proj.inverse().to_cols_array_2d(),
                 counts: [k, MARCH_STEPS, 0, 0],
                 info: [texel * texel, ior, floor_y, 4.0 * radius],
-                extra: [crate::passes::water_object::FIXED_POINT_SCALE, floor as u32 as f32, 0.0, 0.0],
+                extra: [
+                    crate::passes::water_object::FIXED_POINT_SCALE,
+                    floor as u32 as f32,
+                    0.0,
+                    0.0,
+                ],
             },
         ))
     }
@@ -646,7 +840,8 @@ impl Renderer {
     /// centre): how many texels a reflected ray spread of 2σ covers.
     fn reflection_texels_per_radian(&self, camera: &Camera, size: (u32, u32)) -> f32 {
         let r = &self.scene.render;
-        let height = (size.1 as f32 * r.reflection_resolution * (1.0 + r.fov_margin)).round().max(1.0);
+        let height =
+            (size.1 as f32 * r.reflection_resolution * (1.0 + r.fov_margin)).round().max(1.0);
         let half_tan = (0.5 * camera.fov_y_deg.to_radians()).tan() * (1.0 + r.fov_margin);
         0.5 * height / half_tan
     }
@@ -657,7 +852,8 @@ impl Renderer {
         let object_light = self.object_light_setup();
         let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
         let view_proj = camera.view_projection(aspect);
-        let refl_view_proj = camera.view_projection_widened(aspect, s.render.fov_margin) * mirror_matrix();
+        let refl_view_proj =
+            camera.view_projection_widened(aspect, s.render.fov_margin) * mirror_matrix();
         let refr_view_proj = camera.view_projection_widened(aspect, REFRACTION_MARGIN);
         let sky = self.sky_params();
         let exposure = exposure_scale(s.render.exposure);
@@ -676,11 +872,21 @@ impl Renderer {
         let u = FrameUniforms {
             view_proj: view_proj.to_cols_array_2d(),
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
-            camera_pos: [camera.position.x, camera.position.y, camera.position.z, time.rem_euclid(REPEAT_PERIOD_S) as f32],
+            camera_pos: [
+                camera.position.x,
+                camera.position.y,
+                camera.position.z,
+                time.rem_euclid(REPEAT_PERIOD_S) as f32,
+            ],
             sun_dir: sky.sun_direction,
             sun_illuminance: [sun.x, sun.y, sun.z, sky.sun_illuminance[3]],
             sky_ambient: [amb.x, amb.y, amb.z, exposure],
-            water_body: [s.water.body_color[0], s.water.body_color[1], s.water.body_color[2], s.water.ior],
+            water_body: [
+                s.water.body_color[0],
+                s.water.body_color[1],
+                s.water.body_color[2],
+                s.water.ior,
+            ],
             modes: [
                 match s.water.fresnel {
                     Fresnel::Exact => 0,
@@ -704,7 +910,12 @@ impl Renderer {
                     DebugView::Caustics => 7,
                 },
             ],
-            viewport: [size.0 as f32, size.1 as f32, 1.0 / size.0.max(1) as f32, 1.0 / size.1.max(1) as f32],
+            viewport: [
+                size.0 as f32,
+                size.1 as f32,
+                1.0 / size.0.max(1) as f32,
+                1.0 / size.1.max(1) as f32,
+            ],
             surface_detail: [
                 self.surface.unresolved_variance[0],
                 self.surface.unresolved_variance[1],
@@ -717,13 +928,26 @@ impl Renderer {
             shadow_view_proj: shadow_view_proj.unwrap_or(glam::Mat4::IDENTITY).to_cols_array_2d(),
             absorption: medium.absorption.extend(s.water.phase_g).into(),
             scattering: medium.scattering.extend(s.water.fresnel_power).into(),
-            water_params: [s.water.reflection_height, s.water.refraction_depth, s.water.refraction_max, s.water.simple_attenuation],
+            water_params: [
+                s.water.reflection_height,
+                s.water.refraction_depth,
+                s.water.refraction_max,
+                s.water.simple_attenuation,
+            ],
             reflection_params: [self.reflection_texels_per_radian(camera, size), 0.0, 0.0, 0.0],
             sun_travel: under.sun_travel.extend(-under.sun_travel.y).into(),
             sun_underwater: under.sun_irradiance.extend(0.0).into(),
-            sky_underwater: under.sky_irradiance.extend(if self.geometry.triangle_count > 0 { 1.0 } else { 0.0 }).into(),
+            sky_underwater: under
+                .sky_irradiance
+                .extend(if self.geometry.triangle_count > 0 { 1.0 } else { 0.0 })
+                .into(),
             caustic_params: match self.caustic_setup() {
-                Some((patch, depth)) => [patch[0], patch[1], depth, 1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4)],
+                Some((patch, depth)) => [
+                    patch[0],
+                    patch[1],
+                    depth,
+                    1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4),
+                ],
                 None => [0.0; 4],
             },
             volume: [
@@ -733,7 +957,9 @@ impl Renderer {
                 self.shafts_from_above(camera),
             ],
             fog: [s.air.fog, s.air.fog_g, s.air.fog_distance, s.air.fog_sky],
-            object_light_view_proj: object_light.map_or(glam::Mat4::IDENTITY, |o| o.0).to_cols_array_2d(),
+            object_light_view_proj: object_light
+                .map_or(glam::Mat4::IDENTITY, |o| o.0)
+                .to_cols_array_2d(),
             // Receivers within ~1% of the light box's depth of where the light landed.
             object_params: [object_light.is_some() as u32 as f32, 0.01, 0.0, 0.0],
             modes2: [
@@ -782,8 +1008,15 @@ impl Renderer {
             WaterModel::Heightfield => 3,
         };
         let waves = &self.surface.sines.waves;
-        u.counts = [self.surface.ocean.cascades, model, waves.len().min(MAX_SINE_WAVES) as u32, self.surface.ocean.n];
-        for (i, (w, phase)) in waves.iter().zip(self.surface.sines.phases(time)).enumerate().take(MAX_SINE_WAVES) {
+        u.counts = [
+            self.surface.ocean.cascades,
+            model,
+            waves.len().min(MAX_SINE_WAVES) as u32,
+            self.surface.ocean.n,
+        ];
+        for (i, (w, phase)) in
+            waves.iter().zip(self.surface.sines.phases(time)).enumerate().take(MAX_SINE_WAVES)
+        {
             u.waves[i] = [w.kx as f32, w.kz as f32, w.amplitude as f32, phase];
             let k = (w.kx * w.kx + w.kz * w.kz).sqrt().max(1e-6);
             u.wave_q[i / 4][i % 4] = (w.steepness / k) as f32;
@@ -803,7 +1036,14 @@ impl Renderer {
         }
         if let Some((patch, depth)) = self.caustics_due() {
             self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
-            self.caustics.record(&mut encoder, &self.frame_only, &self.surface.group, &self.caustic_map, self.scene.caustics.method, None);
+            self.caustics.record(
+                &mut encoder,
+                &self.frame_only,
+                &self.surface.group,
+                &self.caustic_map,
+                self.scene.caustics.method,
+                None,
+            );
             self.caustics_current = true;
         }
         self.queue.submit([encoder.finish()]);
@@ -817,7 +1057,13 @@ impl Renderer {
     pub fn read_caustics(&self) -> Option<(u32, Vec<f32>)> {
         self.caustic_setup()?;
         let m = self.caustic_map.resolution;
-        let bytes = read_texture_layer(&self.device, &self.queue, &self.caustic_map.texture, 8, self.caustic_map.layers - 1);
+        let bytes = read_texture_layer(
+            &self.device,
+            &self.queue,
+            &self.caustic_map.texture,
+            8,
+            self.caustic_map.layers - 1,
+        );
         let halves: &[u16] = bytemuck::cast_slice(&bytes);
         Some((m, halves.chunks_exact(4).map(|c| f16_to_f32(c[0])).collect()))
     }
@@ -835,7 +1081,17 @@ impl Renderer {
     pub fn render(&mut self, encoder: &mut wgpu::CommandEncoder, input: &FrameInput) {
         let settings = self.target_settings();
         if self.targets.as_ref().map(|t| (t.size, t.settings)) != Some((input.size, settings)) {
-            self.targets = Some(Targets::new(&self.device, input.size, settings, &self.tonemap, &self.downsampler, &self.water_inputs_layout, &self.shadow.view, &self.godrays, &self.water_object));
+            self.targets = Some(Targets::new(
+                &self.device,
+                input.size,
+                settings,
+                &self.tonemap,
+                &self.downsampler,
+                &self.water_inputs_layout,
+                &self.shadow.view,
+                &self.godrays,
+                &self.water_object,
+            ));
         }
         self.write_frame_uniforms(&input.camera, input.size, input.time);
         self.surface.ocean.prepare(&self.queue, input.time);
@@ -853,19 +1109,30 @@ impl Renderer {
         }
         if let Some((patch, depth)) = caustics_due {
             self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
-            self.caustics.record(encoder, &self.frame_only, &self.surface.group, &self.caustic_map, self.scene.caustics.method, timer.as_deref_mut());
+            self.caustics.record(
+                encoder,
+                &self.frame_only,
+                &self.surface.group,
+                &self.caustic_map,
+                self.scene.caustics.method,
+                timer.as_deref_mut(),
+            );
             self.caustics_current = true;
         }
         let targets = self.targets.as_ref().expect("targets were just created");
         let globals = &self.shadow.globals;
-        let casts_shadows = self.geometry.shadow_bounds.is_some() && self.scene.sun_direction().y > 0.0;
+        let casts_shadows =
+            self.geometry.shadow_bounds.is_some() && self.scene.sun_direction().y > 0.0;
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow map"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &self.shadow.view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes("shadow")),
@@ -873,11 +1140,25 @@ impl Renderer {
                 multiview_mask: None,
             });
             if casts_shadows {
-                self.geometry_pass.record_shadow(&mut pass, &self.frame_only, &self.views.shadow, &self.geometry, Objects::All);
+                self.geometry_pass.record_shadow(
+                    &mut pass,
+                    &self.frame_only,
+                    &self.views.shadow,
+                    &self.geometry,
+                    Objects::All,
+                );
             }
         }
         if object_light_on && !self.object_light_current {
-            self.water_object.record_light(encoder, &self.frame_only, &self.geometry_pass, &self.geometry, &self.views.object_light, &self.object_light, timer.as_deref_mut());
+            self.water_object.record_light(
+                encoder,
+                &self.frame_only,
+                &self.geometry_pass,
+                &self.geometry,
+                &self.views.object_light,
+                &self.object_light,
+                timer.as_deref_mut(),
+            );
             self.object_light_current = true;
         }
         // Reflection and refraction textures: cleared to "nothing here"
@@ -887,14 +1168,25 @@ impl Renderer {
         // wave reach of the surface may see both media, so it gets both.
         let reach = self.surface.vertical_reach;
         let cam_y = input.camera.position.y;
-        let mut offscreen: Vec<(&'static str, &crate::targets::ColorDepth, &ViewSlot, bool)> = Vec::new();
+        let mut offscreen: Vec<(&'static str, &crate::targets::ColorDepth, &ViewSlot, bool)> =
+            Vec::new();
         if cam_y > -reach && has_water {
             offscreen.push(("reflection", &targets.reflection, &self.views.reflection, true));
             offscreen.push(("refraction", &targets.refraction, &self.views.refraction, false));
         }
         if cam_y < reach && has_water {
-            offscreen.push(("reflection under", &targets.reflection_under, &self.views.reflection_under, true));
-            offscreen.push(("refraction over", &targets.refraction_over, &self.views.refraction_over, false));
+            offscreen.push((
+                "reflection under",
+                &targets.reflection_under,
+                &self.views.reflection_under,
+                true,
+            ));
+            offscreen.push((
+                "refraction over",
+                &targets.refraction_over,
+                &self.views.refraction_over,
+                false,
+            ));
         }
         for (name, target, slot, mipmapped) in offscreen {
             {
@@ -904,11 +1196,17 @@ impl Renderer {
                         view: &target.color_view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &target.depth_view,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(0.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
                         stencil_ops: None,
                     }),
                     timestamp_writes: timer.as_deref_mut().and_then(|t| t.render_writes(name)),
@@ -918,14 +1216,20 @@ impl Renderer {
                 self.geometry_pass.record(&mut pass, globals, slot, &self.geometry);
             }
             if let (true, Some(chain)) = (mipmapped, &target.mips) {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("reflection mips"), timestamp_writes: None });
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("reflection mips"),
+                    timestamp_writes: None,
+                });
                 self.downsampler.record(&mut pass, chain);
             }
         }
         // The main view. First classify each pixel's medium into the stencil
         // (seed 000 §4.2; its own pass so that it is timed on its own), then
         // draw the background, the geometry and the water, each per medium.
-        let main_pass = |encoder: &mut wgpu::CommandEncoder, label: &'static str, clear: bool, timer: Option<&mut GpuTimer>| {
+        let main_pass = |encoder: &mut wgpu::CommandEncoder,
+                         label: &'static str,
+                         clear: bool,
+                         timer: Option<&mut GpuTimer>| {
             encoder
                 .begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some(label),
@@ -933,12 +1237,25 @@ impl Renderer {
                         view: &targets.hdr_view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(wgpu::Color::BLACK) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: if clear {
+                                wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+                            } else {
+                                wgpu::LoadOp::Load
+                            },
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &targets.depth_stencil_view,
-                        depth_ops: Some(wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(0.0) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }),
-                        stencil_ops: Some(wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }),
+                        depth_ops: Some(wgpu::Operations {
+                            load: if clear { wgpu::LoadOp::Clear(0.0) } else { wgpu::LoadOp::Load },
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: Some(wgpu::Operations {
+                            load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
+                            store: wgpu::StoreOp::Store,
+                        }),
                     }),
                     timestamp_writes: timer.and_then(|t| t.render_writes(label)),
                     occlusion_query_set: None,
@@ -949,7 +1266,13 @@ impl Renderer {
         {
             let mut pass = main_pass(encoder, "medium", true, timer.as_deref_mut());
             if has_water {
-                self.water.record_medium(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera);
+                self.water.record_medium(
+                    &mut pass,
+                    globals,
+                    &self.surface.group,
+                    &targets.water_inputs,
+                    &input.camera,
+                );
             }
         }
         {
@@ -960,7 +1283,15 @@ impl Renderer {
             self.geometry_pass.record_main(&mut pass, globals, &self.views.main, &self.geometry);
             let aspect = input.size.0.max(1) as f32 / input.size.1.max(1) as f32;
             if has_water {
-                self.water.record(&mut pass, globals, &self.surface.group, &targets.water_inputs, &input.camera, aspect, self.surface.bounds_margin);
+                self.water.record(
+                    &mut pass,
+                    globals,
+                    &self.surface.group,
+                    &targets.water_inputs,
+                    &input.camera,
+                    aspect,
+                    self.surface.bounds_margin,
+                );
             }
         }
         if let Some((g, in_air)) = godray_frame {
@@ -992,7 +1323,13 @@ impl Renderer {
                 timer.as_deref_mut(),
             );
         }
-        self.tonemap.record(encoder, input.target, globals, &targets.tonemap_input, timer.as_deref_mut());
+        self.tonemap.record(
+            encoder,
+            input.target,
+            globals,
+            &targets.tonemap_input,
+            timer.as_deref_mut(),
+        );
         if let Some(t) = timer {
             t.resolve(encoder);
         }
@@ -1004,7 +1341,10 @@ impl Renderer {
         let t = &self.targets.as_ref()?.godrays;
         let bytes = read_texture(&self.device, &self.queue, &t.buffer, 8);
         let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        let px = halves.chunks_exact(4).map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])]).collect();
+        let px = halves
+            .chunks_exact(4)
+            .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
+            .collect();
         Some((t.size.0, t.size.1, px))
     }
 
@@ -1030,7 +1370,13 @@ impl Renderer {
     pub fn read_object_caustics(&self) -> (u32, Vec<[f32; 4]>) {
         let bytes = read_texture(&self.device, &self.queue, &self.object_light.map, 8);
         let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        (self.object_light.resolution, halves.chunks_exact(4).map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])]).collect())
+        (
+            self.object_light.resolution,
+            halves
+                .chunks_exact(4)
+                .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
+                .collect(),
+        )
     }
 
     /// The refractive objects' light view (world → clip) and its texels per
@@ -1043,7 +1389,13 @@ impl Renderer {
     /// near-plane point lies), rows top to bottom.
     pub fn read_medium(&self) -> Option<(u32, u32, Vec<u8>)> {
         let t = self.targets.as_ref()?;
-        let bytes = read_texture_aspect(&self.device, &self.queue, &t.depth_stencil, 1, wgpu::TextureAspect::StencilOnly);
+        let bytes = read_texture_aspect(
+            &self.device,
+            &self.queue,
+            &t.depth_stencil,
+            1,
+            wgpu::TextureAspect::StencilOnly,
+        );
         Some((t.size.0, t.size.1, bytes))
     }
 
@@ -1058,20 +1410,29 @@ impl Renderer {
         let t = self.targets.as_ref()?;
         let bytes = read_texture(&self.device, &self.queue, &t.hdr, 8);
         let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        let px = halves.chunks_exact(4).map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])]).collect();
+        let px = halves
+            .chunks_exact(4)
+            .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
+            .collect();
         Some((t.size.0, t.size.1, px))
     }
 
     /// The FFT fields of every cascade after the last simulation step (see
     /// [`OceanPass::read_fields`]); `None` unless `water.model = "fft"`.
     pub fn read_ocean_fields(&self) -> Option<Vec<[f32; 8]>> {
-        (self.scene.water.model == WaterModel::Fft).then(|| self.surface.ocean.read_fields(&self.device, &self.queue))
+        (self.scene.water.model == WaterModel::Fft)
+            .then(|| self.surface.ocean.read_fields(&self.device, &self.queue))
     }
 
     /// The surface as the renderer samples it (finest level) at undisplaced
     /// points (x, z), after the last simulation step.
     pub fn probe_surface(&self, points: &[[f32; 2]]) -> Vec<SurfaceSample> {
-        self.probe.surface(&self.device, &self.queue, [&self.shadow.globals, &self.surface.group], points)
+        self.probe.surface(
+            &self.device,
+            &self.queue,
+            [&self.shadow.globals, &self.surface.group],
+            points,
+        )
     }
 
     /// Height of the rendered surface above world (x, z): inverts the choppy
@@ -1092,7 +1453,12 @@ impl Renderer {
     /// every mode: [exact, Schlick, Jensen–Goliáš, power (`water.fresnel_power`)].
     /// Needs a frame's uniforms ([`Renderer::simulate`]) for the exponent.
     pub fn probe_fresnel(&self, queries: &[(f32, f32, f32)]) -> Vec<[f32; 4]> {
-        self.probe.fresnel(&self.device, &self.queue, [&self.shadow.globals, &self.surface.group], queries)
+        self.probe.fresnel(
+            &self.device,
+            &self.queue,
+            [&self.shadow.globals, &self.surface.group],
+            queries,
+        )
     }
 
     /// Radiance (kcd/m²) of the baked sky cube map in the given directions.

@@ -24,8 +24,13 @@ pub const STENCIL_WATER: u32 = 1;
 
 /// A depth-stencil state for the main view whose stencil only tests
 /// (`stencil_reference` picks the medium drawn).
-pub fn main_depth_state(format: wgpu::TextureFormat, write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
-    let face = wgpu::StencilFaceState { compare: wgpu::CompareFunction::Equal, ..Default::default() };
+pub fn main_depth_state(
+    format: wgpu::TextureFormat,
+    write: bool,
+    compare: wgpu::CompareFunction,
+) -> wgpu::DepthStencilState {
+    let face =
+        wgpu::StencilFaceState { compare: wgpu::CompareFunction::Equal, ..Default::default() };
     wgpu::DepthStencilState {
         format,
         depth_write_enabled: Some(write),
@@ -93,12 +98,23 @@ use crate::gpu_util::texture_2d as texture;
 impl ColorDepth {
     /// With `downsampler`, the colour gets a mip chain (box-filtered after
     /// each frame's render) so rough water can read it blurred.
-    fn new(device: &wgpu::Device, label: &str, size: (u32, u32), downsampler: Option<&crate::passes::mips::Downsampler>) -> Self {
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        size: (u32, u32),
+        downsampler: Option<&crate::passes::mips::Downsampler>,
+    ) -> Self {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
         let levels = if downsampler.is_some() { size.0.max(size.1).max(1).ilog2() + 1 } else { 1 };
         let color = device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: size.0.max(1),
+                height: size.1.max(1),
+                depth_or_array_layers: 1,
+            },
             mip_level_count: levels,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -135,16 +151,29 @@ impl Targets {
         godrays: &crate::passes::godrays::GodRaysPass,
         water_object: &crate::passes::water_object::WaterObjectPass,
     ) -> Self {
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
         let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
-        let depth_stencil = texture(device, "depth stencil", size, main_depth_format(device), usage);
+        let depth_stencil =
+            texture(device, "depth stencil", size, main_depth_format(device), usage);
         let hdr_view = hdr.create_view(&Default::default());
         let depth_stencil_view = depth_stencil.create_view(&Default::default());
-        let aspect = |aspect| depth_stencil.create_view(&wgpu::TextureViewDescriptor { aspect, ..Default::default() });
-        let (depth_view, stencil_view) = (aspect(wgpu::TextureAspect::DepthOnly), aspect(wgpu::TextureAspect::StencilOnly));
-        let reflection = ColorDepth::new(device, "reflection", scaled(size, settings.reflection_resolution * (1.0 + settings.reflection_margin)), Some(downsampler));
-        let refraction = ColorDepth::new(device, "refraction", scaled(size, 1.0 + REFRACTION_MARGIN), None);
-        let reflection_under = ColorDepth::new(device, "reflection under", reflection.size, Some(downsampler));
+        let aspect = |aspect| {
+            depth_stencil.create_view(&wgpu::TextureViewDescriptor { aspect, ..Default::default() })
+        };
+        let (depth_view, stencil_view) =
+            (aspect(wgpu::TextureAspect::DepthOnly), aspect(wgpu::TextureAspect::StencilOnly));
+        let reflection = ColorDepth::new(
+            device,
+            "reflection",
+            scaled(size, settings.reflection_resolution * (1.0 + settings.reflection_margin)),
+            Some(downsampler),
+        );
+        let refraction =
+            ColorDepth::new(device, "refraction", scaled(size, 1.0 + REFRACTION_MARGIN), None);
+        let reflection_under =
+            ColorDepth::new(device, "reflection under", reflection.size, Some(downsampler));
         let refraction_over = ColorDepth::new(device, "refraction over", refraction.size, None);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("clamp"),
@@ -161,15 +190,36 @@ impl Targets {
                 wgpu::BindGroupEntry { binding: 0, resource: tv(&reflection.sampled_view) },
                 wgpu::BindGroupEntry { binding: 1, resource: tv(&refraction.color_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: tv(&refraction.depth_view) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&sampler) },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
                 wgpu::BindGroupEntry { binding: 4, resource: tv(&reflection_under.sampled_view) },
                 wgpu::BindGroupEntry { binding: 5, resource: tv(&refraction_over.color_view) },
                 wgpu::BindGroupEntry { binding: 6, resource: tv(&refraction_over.depth_view) },
             ],
         });
-        let water_object = settings.refractive_objects.then(|| water_object.create_targets(device, size, &depth_view));
-        let godrays = godrays.create_targets(device, size, settings.godray_resolution, &depth_view, &stencil_view);
-        let tonemap_input = tonemap.input_group(device, [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, shadow_view, &stencil_view]);
+        let water_object = settings
+            .refractive_objects
+            .then(|| water_object.create_targets(device, size, &depth_view));
+        let godrays = godrays.create_targets(
+            device,
+            size,
+            settings.godray_resolution,
+            &depth_view,
+            &stencil_view,
+        );
+        let tonemap_input = tonemap.input_group(
+            device,
+            [
+                &hdr_view,
+                &reflection.color_view,
+                &refraction.color_view,
+                &depth_view,
+                shadow_view,
+                &stencil_view,
+            ],
+        );
         Targets {
             size,
             settings,

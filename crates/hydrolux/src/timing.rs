@@ -19,7 +19,11 @@ impl GpuTimer {
             return None;
         }
         let capacity = Self::MAX_PASSES * 2;
-        let query_set = device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass timestamps"), ty: wgpu::QueryType::Timestamp, count: capacity });
+        let query_set = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("pass timestamps"),
+            ty: wgpu::QueryType::Timestamp,
+            count: capacity,
+        });
         let size = capacity as u64 * 8;
         let resolve = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("timestamp resolve"),
@@ -33,7 +37,14 @@ impl GpuTimer {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Some(GpuTimer { query_set, resolve, staging, names: Vec::new(), capacity, period_ns: queue.get_timestamp_period() })
+        Some(GpuTimer {
+            query_set,
+            resolve,
+            staging,
+            names: Vec::new(),
+            capacity,
+            period_ns: queue.get_timestamp_period(),
+        })
     }
 
     /// Start a new frame's list of passes.
@@ -50,14 +61,28 @@ impl GpuTimer {
         Some(2 * i)
     }
 
-    pub fn compute_writes(&mut self, name: &'static str) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    pub fn compute_writes(
+        &mut self,
+        name: &'static str,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         let i = self.slot(name)?;
-        Some(wgpu::ComputePassTimestampWrites { query_set: &self.query_set, beginning_of_pass_write_index: Some(i), end_of_pass_write_index: Some(i + 1) })
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(i),
+            end_of_pass_write_index: Some(i + 1),
+        })
     }
 
-    pub fn render_writes(&mut self, name: &'static str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    pub fn render_writes(
+        &mut self,
+        name: &'static str,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         let i = self.slot(name)?;
-        Some(wgpu::RenderPassTimestampWrites { query_set: &self.query_set, beginning_of_pass_write_index: Some(i), end_of_pass_write_index: Some(i + 1) })
+        Some(wgpu::RenderPassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(i),
+            end_of_pass_write_index: Some(i + 1),
+        })
     }
 
     /// Encode the resolve; call once after the frame's passes.

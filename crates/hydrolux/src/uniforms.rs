@@ -89,16 +89,44 @@ pub fn layouts() -> Vec<(&'static str, String, usize)> {
     vec![
         ("Frame", crate::passes::water::source(), size_of::<FrameUniforms>()),
         ("SurfaceParams", crate::passes::water::source(), size_of::<SurfaceUniforms>()),
-        ("SkyParams", crate::passes::sky::bake_source(), size_of::<hydrolux_core::sky::SkyParams>()),
+        (
+            "SkyParams",
+            crate::passes::sky::bake_source(),
+            size_of::<hydrolux_core::sky::SkyParams>(),
+        ),
         ("EvolveParams", crate::passes::ocean::spectrum_source(), size_of::<EvolveUniforms>()),
-        ("SpectrumMode", crate::passes::ocean::spectrum_source(), size_of::<hydrolux_core::waves::ocean::SpectrumMode>()),
+        (
+            "SpectrumMode",
+            crate::passes::ocean::spectrum_source(),
+            size_of::<hydrolux_core::waves::ocean::SpectrumMode>(),
+        ),
         ("View", crate::passes::geometry::source(), size_of::<ViewUniforms>()),
-        ("CausticParams", crate::passes::caustics::source(), size_of::<crate::passes::caustics::CausticUniforms>()),
-        ("BeamParams", crate::passes::caustics::beam_source(), size_of::<crate::passes::caustics::CausticUniforms>()),
+        (
+            "CausticParams",
+            crate::passes::caustics::source(),
+            size_of::<crate::passes::caustics::CausticUniforms>(),
+        ),
+        (
+            "BeamParams",
+            crate::passes::caustics::beam_source(),
+            size_of::<crate::passes::caustics::CausticUniforms>(),
+        ),
         ("Object", crate::passes::geometry::source(), size_of::<ObjectUniforms>()),
-        ("GodRayParams", crate::passes::godrays::ribbons_source(), size_of::<crate::passes::godrays::GodRayUniforms>()),
-        ("Tube", crate::passes::godrays::ribbons_source(), crate::passes::godrays::TUBE_BYTES as usize),
-        ("ObjectLightParams", crate::passes::water_object::paths_source(), size_of::<crate::passes::water_object::ObjectLightUniforms>()),
+        (
+            "GodRayParams",
+            crate::passes::godrays::ribbons_source(),
+            size_of::<crate::passes::godrays::GodRayUniforms>(),
+        ),
+        (
+            "Tube",
+            crate::passes::godrays::ribbons_source(),
+            crate::passes::godrays::TUBE_BYTES as usize,
+        ),
+        (
+            "ObjectLightParams",
+            crate::passes::water_object::paths_source(),
+            size_of::<crate::passes::water_object::ObjectLightUniforms>(),
+        ),
         ("AssembleParams", crate::passes::ocean::assemble_source(), size_of::<AssembleUniforms>()),
     ]
 }

@@ -16,7 +16,9 @@ use std::sync::{Mutex, OnceLock};
 fn gpu() -> &'static Mutex<GpuContext> {
     static GPU: OnceLock<Mutex<GpuContext>> = OnceLock::new();
     GPU.get_or_init(|| {
-        Mutex::new(GpuContext::headless().unwrap_or_else(|e| panic!("GPU tests need an adapter (CI installs mesa-vulkan-drivers): {e}")))
+        Mutex::new(GpuContext::headless().unwrap_or_else(|e| {
+            panic!("GPU tests need an adapter (CI installs mesa-vulkan-drivers): {e}")
+        }))
     })
 }
 
@@ -29,7 +31,8 @@ fn renderer(ctx: &GpuContext, scene: &Scene) -> Renderer {
     Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, scene).expect("renderer")
 }
 
-const SMALL_OCEAN: &[&str] = &["ocean.resolution=64", "ocean.cascades=2", "ocean.patch_size=200", "ocean.wind_speed=12"];
+const SMALL_OCEAN: &[&str] =
+    &["ocean.resolution=64", "ocean.cascades=2", "ocean.patch_size=200", "ocean.wind_speed=12"];
 
 #[test]
 fn gpu_fft_ocean_matches_cpu_reference() {
@@ -44,8 +47,15 @@ fn gpu_fft_ocean_matches_cpu_reference() {
         assert_eq!(gpu.len(), cpu.len());
         for field in 0..8 {
             let scale = cpu.iter().map(|t| t[field].abs()).fold(0.0f32, f32::max).max(1e-6);
-            let worst = gpu.iter().zip(&cpu).map(|(g, c)| (g[field] - c[field]).abs()).fold(0.0f32, f32::max);
-            assert!(worst < 2e-4 * scale + 1e-6, "t={t} field {field}: max error {worst} vs scale {scale}");
+            let worst = gpu
+                .iter()
+                .zip(&cpu)
+                .map(|(g, c)| (g[field] - c[field]).abs())
+                .fold(0.0f32, f32::max);
+            assert!(
+                worst < 2e-4 * scale + 1e-6,
+                "t={t} field {field}: max error {worst} vs scale {scale}"
+            );
         }
     }
 }
@@ -58,16 +68,27 @@ fn rendered_surface_and_height_queries_match_cpu() {
     let t = 42.0;
     r.simulate(&s.camera(), (64, 64), t);
     let cpu = OceanFields::evaluate(&OceanSpectrum::new(&s.ocean_settings()), t);
-    let points: Vec<[f32; 2]> = (0..64).map(|i| [i as f32 * 7.31 - 200.0, i as f32 * -3.17 + 50.0]).collect();
+    let points: Vec<[f32; 2]> =
+        (0..64).map(|i| [i as f32 * 7.31 - 200.0, i as f32 * -3.17 + 50.0]).collect();
     let probed = r.probe_surface(&points);
     let hmax = cpu.texels.iter().map(|t| t[1].abs()).fold(0.0f32, f32::max);
     for (p, g) in points.iter().zip(&probed) {
         let c = cpu.sample(p[0] as f64, p[1] as f64);
         for i in 0..3 {
             // Textures are half floats: about 3 significant digits.
-            assert!((g.displacement[i] - c.displacement[i]).abs() < 2e-3 * hmax + 1e-3, "{p:?}[{i}]: {} vs {}", g.displacement[i], c.displacement[i]);
+            assert!(
+                (g.displacement[i] - c.displacement[i]).abs() < 2e-3 * hmax + 1e-3,
+                "{p:?}[{i}]: {} vs {}",
+                g.displacement[i],
+                c.displacement[i]
+            );
         }
-        assert!((g.normal() - c.normal()).length() < 5e-3, "{p:?}: normal {} vs {}", g.normal(), c.normal());
+        assert!(
+            (g.normal() - c.normal()).length() < 5e-3,
+            "{p:?}: normal {} vs {}",
+            g.normal(),
+            c.normal()
+        );
     }
     for p in points.iter().take(6) {
         let (gh, ch) = (r.height_at(p[0], p[1]), cpu.height_at(p[0] as f64, p[1] as f64));
@@ -87,7 +108,12 @@ fn sines_model_matches_cpu_analytic_waves() {
     for (p, g) in points.iter().zip(r.probe_surface(&points)) {
         let c = waves.sample(p[0] as f64, p[1] as f64, t);
         for i in 0..3 {
-            assert!((g.displacement[i] - c.displacement[i]).abs() < 1e-3, "{p:?}: {:?} vs {:?}", g.displacement, c.displacement);
+            assert!(
+                (g.displacement[i] - c.displacement[i]).abs() < 1e-3,
+                "{p:?}: {:?} vs {:?}",
+                g.displacement,
+                c.displacement
+            );
         }
         assert!((g.slope[0] - c.slope[0]).abs() < 1e-3 && (g.slope[1] - c.slope[1]).abs() < 1e-3);
     }
@@ -131,7 +157,12 @@ fn shader_fresnel_matches_cpu_optics_in_every_mode() {
             queries.push((c, n1, n2));
         }
     }
-    let modes = [FresnelMode::Exact, FresnelMode::Schlick, FresnelMode::JensenGolias, FresnelMode::Power(3.5)];
+    let modes = [
+        FresnelMode::Exact,
+        FresnelMode::Schlick,
+        FresnelMode::JensenGolias,
+        FresnelMode::Power(3.5),
+    ];
     for (q, g) in queries.iter().zip(r.probe_fresnel(&queries)) {
         for (m, got) in modes.iter().zip(g) {
             let want = fresnel(*m, q.0, q.1, q.2);
@@ -151,7 +182,13 @@ fn render(scene: &Scene, size: (u32, u32), time: f64) -> (Vec<u8>, Vec<[f32; 4]>
 
 /// Render `s` at `size` and time `t` with `r`, and return a lookup of the
 /// linear HDR pixel under the projection of a world point.
-fn render_and_project(ctx: &GpuContext, r: &mut Renderer, s: &Scene, size: (u32, u32), t: f64) -> impl Fn(glam::Vec3) -> [f32; 4] + use<> {
+fn render_and_project(
+    ctx: &GpuContext,
+    r: &mut Renderer,
+    s: &Scene,
+    size: (u32, u32),
+    t: f64,
+) -> impl Fn(glam::Vec3) -> [f32; 4] + use<> {
     let target = HeadlessTarget::new(&ctx.device, size);
     target.render(r, s.camera(), t);
     let (w, _, hdr) = r.read_hdr().expect("rendered");
@@ -192,13 +229,20 @@ fn same_inputs_give_the_same_image_and_the_tone_map_matches_cpu() {
 
 #[test]
 fn golden_images() {
-    for (name, sets) in [("ocean", vec![]), ("sunset", vec![]), ("calm", vec![]), ("storm", vec![]), ("lake", vec![]), ("pool", vec![]), ("harbor", vec![])] {
+    for (name, sets) in [
+        ("ocean", vec![]),
+        ("sunset", vec![]),
+        ("calm", vec![]),
+        ("storm", vec![]),
+        ("lake", vec![]),
+        ("pool", vec![]),
+        ("harbor", vec![]),
+    ] {
         let s = Scene::load(name, &sets).expect("built-in");
         let (px, _) = render(&s, (160, 90), 10.0);
         golden::check(name, 160, 90, &px);
     }
 }
-
 
 /// A camera straight above flat water over a white floor: the centre pixel
 /// must be what the optics predict (hydrolux_core::medium::FlatWaterView):
@@ -246,9 +290,21 @@ fn flat_water_over_a_white_floor_matches_the_optics() {
         let params = SkyParams::new(s.sun_direction(), s.sky.turbidity);
         let exposure = exposure_scale(s.render.exposure);
         let sun = glam::Vec3::from_slice(&params.sun_illuminance[..3]) * exposure;
-        let light = UnderwaterLight::new(s.sun_direction(), sun, sky_irradiance_up(&params) * exposure, s.water.ior);
+        let light = UnderwaterLight::new(
+            s.sun_direction(),
+            sun,
+            sky_irradiance_up(&params) * exposure,
+            s.water.ior,
+        );
         let m = s.medium();
-        let view = FlatWaterView { medium: &m, light: &light, ior: s.water.ior, phase_g: s.water.phase_g, floor_depth: Some(depth), floor_albedo: glam::Vec3::ONE };
+        let view = FlatWaterView {
+            medium: &m,
+            light: &light,
+            ior: s.water.ior,
+            phase_g: s.water.phase_g,
+            floor_depth: Some(depth),
+            floor_albedo: glam::Vec3::ONE,
+        };
         let sky_up = sky_radiance(&params, glam::Vec3::Y) * exposure;
         let want = if optics == "simple" {
             use hydrolux::core::medium::simple_water_colour;
@@ -257,13 +313,19 @@ fn flat_water_over_a_white_floor_matches_the_optics() {
             let e_down = sky_irradiance_up(&params) * exposure + sun * s.sun_direction().y;
             let water = glam::Vec3::from(s.water.body_color) * e_down / std::f32::consts::PI;
             let f = fresnel_exact(1.0, 1.0, s.water.ior);
-            f * sky_up + (1.0 - f) * simple_water_colour(floor, water, depth, s.water.simple_attenuation)
+            f * sky_up
+                + (1.0 - f) * simple_water_colour(floor, water, depth, s.water.simple_attenuation)
         } else {
             view.radiance(glam::Vec3::NEG_Y, sky_up)
         };
         for c in 0..3 {
             // Half-float targets and a mip-blurred sky: within 3%.
-            assert!((got[c] - want[c]).abs() < 0.03 * want[c] + 2e-3, "{medium} at {depth} m ({mode}), channel {c}: GPU {} CPU {}", got[c], want[c]);
+            assert!(
+                (got[c] - want[c]).abs() < 0.03 * want[c] + 2e-3,
+                "{medium} at {depth} m ({mode}), channel {c}: GPU {} CPU {}",
+                got[c],
+                want[c]
+            );
         }
     }
 }
@@ -298,7 +360,10 @@ fn local_reflection_shows_objects_above_the_water() {
     let face = pixel(glam::Vec3::new(0.0, 1.2, 0.75));
     assert!(face[0] > 3.0 * face[1], "the box's face is not red: {face:?}");
     let image = pixel(glam::Vec3::new(0.0, -1.2, 0.75));
-    assert!(image[0] > 3.0 * image[1] && image[0] > 3.0 * image[2], "mirror image is not red: {image:?}");
+    assert!(
+        image[0] > 3.0 * image[1] && image[0] > 3.0 * image[2],
+        "mirror image is not red: {image:?}"
+    );
     let beside = pixel(glam::Vec3::new(3.0, 0.0, 0.0));
     assert!(beside[2] > beside[0], "open water should reflect the blue sky: {beside:?}");
 }
@@ -311,7 +376,8 @@ fn objects_shadow_the_floor_through_the_water_and_stay_out_of_the_refraction() {
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     // Sun 60° up towards +x: in air the shadow moves 1.5/tan 60° = 0.87 m
     // towards −x, in 1 m of water another tan(asin(sin 30°/1.333)) = 0.41 m.
-    let shadow_x = -(1.5 / 60f32.to_radians().tan()) - (30f32.to_radians().sin() / 1.333).asin().tan();
+    let shadow_x =
+        -(1.5 / 60f32.to_radians().tan()) - (30f32.to_radians().sin() / 1.333).asin().tan();
     let text = format!(
         r#"
         [camera]
@@ -383,7 +449,10 @@ fn pixel_medium_matches_a_cpu_heightfield_test() {
         let mut cpu_water = vec![false; (w * h) as usize];
         for y in 0..h {
             for x in 0..w {
-                let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
+                let ndc = glam::Vec2::new(
+                    (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+                );
                 // Reversed Z: the near plane is at depth 1.
                 let p = inv.project_point3(ndc.extend(1.0));
                 cpu_water[(y * w + x) as usize] = p.y < cpu.height_at(p.x as f64, p.z as f64);
@@ -397,7 +466,8 @@ fn pixel_medium_matches_a_cpu_heightfield_test() {
                 if gpu_water != cpu_water[i] {
                     // Allow disagreement only right at the waterline (half-float
                     // heights, mesh interpolation): a CPU neighbour within 2 rows differs.
-                    let near_line = (y.saturating_sub(2)..(y + 3).min(h)).any(|yy| cpu_water[(yy * w + x) as usize] != cpu_water[i]);
+                    let near_line = (y.saturating_sub(2)..(y + 3).min(h))
+                        .any(|yy| cpu_water[(yy * w + x) as usize] != cpu_water[i]);
                     if !near_line {
                         mismatched_far_from_waterline += 1;
                     }
@@ -408,9 +478,15 @@ fn pixel_medium_matches_a_cpu_heightfield_test() {
         match expect {
             "air" => assert_eq!(water, 0, "camera {offset} m above the surface"),
             "water" => assert_eq!(water, all, "camera {offset} m below the surface"),
-            _ => assert!(water > all / 10 && water < all * 9 / 10, "no waterline across the image: {water} of {all} in water"),
+            _ => assert!(
+                water > all / 10 && water < all * 9 / 10,
+                "no waterline across the image: {water} of {all} in water"
+            ),
         }
-        assert_eq!(mismatched_far_from_waterline, 0, "camera at {offset}: GPU and CPU disagree away from the waterline");
+        assert_eq!(
+            mismatched_far_from_waterline, 0,
+            "camera at {offset}: GPU and CPU disagree away from the waterline"
+        );
     }
 }
 
@@ -447,7 +523,13 @@ fn snells_window_has_the_critical_angle_and_total_reflection_outside() {
             (angle, 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])
         })
         .collect();
-    let at = |deg: f32| profile.iter().min_by(|a, b| (a.0 - deg).abs().total_cmp(&(b.0 - deg).abs())).expect("profile").1;
+    let at = |deg: f32| {
+        profile
+            .iter()
+            .min_by(|a, b| (a.0 - deg).abs().total_cmp(&(b.0 - deg).abs()))
+            .expect("profile")
+            .1
+    };
     let critical = critical_angle(IOR_WATER, IOR_AIR).expect("water is denser").to_degrees();
     let inside = at(critical - 6.0);
     let outside = at(critical + 3.0);
@@ -480,12 +562,19 @@ fn golden_images_below_and_half_submerged() {
 /// into shafts in the fog and a caustic on the floor).
 #[test]
 fn golden_images_of_god_rays_and_the_water_dragon() {
-    for (name, method) in [("underwater-godrays-lines", "lines"), ("underwater-godrays-march", "march")] {
-        let s = Scene::load("underwater", &[format!("godrays.method={method}"), "godrays.resolution=1".into()]).expect("built-in");
+    for (name, method) in
+        [("underwater-godrays-lines", "lines"), ("underwater-godrays-march", "march")]
+    {
+        let s = Scene::load(
+            "underwater",
+            &[format!("godrays.method={method}"), "godrays.resolution=1".into()],
+        )
+        .expect("built-in");
         let (px, _) = render(&s, (160, 90), 10.0);
         golden::check(name, 160, 90, &px);
     }
-    let s = Scene::load("water_dragon", &["godrays.object_resolution=192".into()]).expect("built-in");
+    let s =
+        Scene::load("water_dragon", &["godrays.object_resolution=192".into()]).expect("built-in");
     let (px, _) = render(&s, (160, 108), 0.0);
     golden::check("water_dragon", 160, 108, &px);
 }
@@ -497,7 +586,13 @@ fn golden_images_of_god_rays_and_the_water_dragon() {
 fn floor_caustics_match_the_cpu_photon_tracer() {
     use hydrolux::core::caustics::{PhotonSettings, flat_floor_irradiance, trace_floor_caustics};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
-    let common = ["caustics.photons=256", "caustics.map_resolution=64", "floor.depth=5", "sun.elevation_deg=55", "ocean.patch_size=16"];
+    let common = [
+        "caustics.photons=256",
+        "caustics.map_resolution=64",
+        "floor.depth=5",
+        "sun.elevation_deg=55",
+        "ocean.patch_size=16",
+    ];
 
     // Every method is calibrated on flat water.
     for method in ["photons", "beam", "procedural"] {
@@ -516,14 +611,27 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     }
 
     let mut waves = common.to_vec();
-    waves.extend(["ocean.resolution=64", "ocean.cascades=1", "ocean.wind_speed=6", "ocean.fetch_km=20", "ocean.choppiness=0.5"]);
+    waves.extend([
+        "ocean.resolution=64",
+        "ocean.cascades=1",
+        "ocean.wind_speed=6",
+        "ocean.fetch_km=20",
+        "ocean.choppiness=0.5",
+    ]);
     let s = scene(&waves);
     let mut r = renderer(&ctx, &s);
     let t = 12.0;
     r.simulate(&s.camera(), (16, 16), t);
     let (_, gpu_map) = r.read_caustics().expect("caustics are on");
     let fields = OceanFields::evaluate(&OceanSpectrum::new(&s.ocean_settings()), t);
-    let p = PhotonSettings { photons_per_side: 256, map_resolution: 64, patch: [16.0, 16.0], floor_depth: 5.0, ior: s.water.ior, sun_dir: s.sun_direction() };
+    let p = PhotonSettings {
+        photons_per_side: 256,
+        map_resolution: 64,
+        patch: [16.0, 16.0],
+        floor_depth: 5.0,
+        ior: s.water.ior,
+        sun_dir: s.sun_direction(),
+    };
     let (cpu_map, _) = trace_floor_caustics(|x, z| fields.sample(x as f64, z as f64), &p);
     let cpu_map = cpu_map.blurred().irradiance;
     let (mg, mc, corr) = means_and_correlation(&gpu_map, &cpu_map);
@@ -565,10 +673,13 @@ fn test_heightfield(n: usize, l: f32, tag: &str) -> (std::path::PathBuf, Vec<f32
     let heights: Vec<f32> = (0..n * n)
         .map(|idx| {
             let (x, z) = ((idx % n) as f32 / n as f32 * l, (idx / n) as f32 / n as f32 * l);
-            0.04 * (2.0 * k * x).sin() + 0.03 * (3.0 * k * z + 1.0).sin() + 0.02 * (k * (x + 2.0 * z)).cos()
+            0.04 * (2.0 * k * x).sin()
+                + 0.03 * (3.0 * k * z + 1.0).sin()
+                + 0.02 * (k * (x + 2.0 * z)).cos()
         })
         .collect();
-    let path = std::env::temp_dir().join(format!("hydrolux-heightfield-{tag}-{}.npy", std::process::id()));
+    let path =
+        std::env::temp_dir().join(format!("hydrolux-heightfield-{tag}-{}.npy", std::process::id()));
     std::fs::write(&path, hydrolux::core::npy::encode_f32(&[n, n], &heights)).expect("temp file");
     (path, heights)
 }
@@ -589,7 +700,14 @@ fn caustics_under_a_given_heightfield_match_the_cpu_tracer() {
     r.simulate(&s.camera(), (16, 16), 0.0);
     let (_, gpu_map) = r.read_caustics().expect("caustics are on");
     let field = Heightfield { nx: n, nz: n, size: [l, l], heights };
-    let p = PhotonSettings { photons_per_side: 256, map_resolution: 64, patch: [l, l], floor_depth: 3.0, ior: s.water.ior, sun_dir: s.sun_direction() };
+    let p = PhotonSettings {
+        photons_per_side: 256,
+        map_resolution: 64,
+        patch: [l, l],
+        floor_depth: 3.0,
+        ior: s.water.ior,
+        sun_dir: s.sun_direction(),
+    };
     let cpu_map = trace_floor_caustics(|x, z| field.sample(x, z), &p).0.blurred().irradiance;
     let (mg, mc, corr) = means_and_correlation(&gpu_map, &cpu_map);
     assert!((mg - mc).abs() < 0.02 * mc, "GPU mean {mg}, CPU mean {mc}");
@@ -604,7 +722,8 @@ fn caustics_under_a_given_heightfield_match_the_cpu_tracer() {
 #[test]
 fn objects_cast_caustic_shadows() {
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
-    let shadow_x = -(1.5 / 60f32.to_radians().tan()) - 4.0 * (30f32.to_radians().sin() / 1.333).asin().tan();
+    let shadow_x =
+        -(1.5 / 60f32.to_radians().tan()) - 4.0 * (30f32.to_radians().sin() / 1.333).asin().tan();
     let text = format!(
         r#"
         [camera]
@@ -644,7 +763,13 @@ fn objects_cast_caustic_shadows() {
         let mut v = Vec::new();
         for i in 0..9 {
             for j in 0..9 {
-                v.push(pixel(glam::Vec3::new(x + (i as f32 - 4.0) * 0.1, -4.0, z + (j as f32 - 4.0) * 0.1))[1]);
+                v.push(
+                    pixel(glam::Vec3::new(
+                        x + (i as f32 - 4.0) * 0.1,
+                        -4.0,
+                        z + (j as f32 - 4.0) * 0.1,
+                    ))[1],
+                );
             }
         }
         let mean = v.iter().sum::<f32>() / v.len() as f32;
@@ -654,7 +779,10 @@ fn objects_cast_caustic_shadows() {
     let (shaded, shaded_sd) = patch(shadow_x, 0.0);
     let (lit, lit_sd) = patch(shadow_x + 2.5, 0.0);
     assert!(shaded < 0.5 * lit, "the shadow is not darker: {shaded} vs {lit}");
-    assert!(lit_sd > 3.0 * shaded_sd, "caustics should ripple in the light ({lit_sd}) and not in the shadow ({shaded_sd})");
+    assert!(
+        lit_sd > 3.0 * shaded_sd,
+        "caustics should ripple in the light ({lit_sd}) and not in the shadow ({shaded_sd})"
+    );
 }
 
 /// The god-ray tubes and buffer against the CPU twin (hydrolux_core::godrays)
@@ -662,7 +790,9 @@ fn objects_cast_caustic_shadows() {
 /// then the buffer texel by texel where the view ray ends on the flat floor.
 #[test]
 fn god_ray_tubes_and_ribbons_match_the_cpu_twin() {
-    use hydrolux::core::godrays::{BeamTube, TubeRegion, beam_tubes, deepest_needed, ribbons_along_ray};
+    use hydrolux::core::godrays::{
+        BeamTube, TubeRegion, beam_tubes, deepest_needed, ribbons_along_ray,
+    };
     use hydrolux::core::medium::UnderwaterLight;
     use hydrolux::core::waves::heightfield::Heightfield;
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
@@ -681,9 +811,18 @@ fn god_ray_tubes_and_ribbons_match_the_cpu_twin() {
     let field = Heightfield { nx: n, nz: n, size: [l, l], heights };
     let eye = s.camera().position;
     let sun = s.sun_direction();
-    let travel = UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior).sun_travel;
+    let travel =
+        UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior).sun_travel;
     let region = TubeRegion::around(eye, travel, 6.0);
-    let cpu = beam_tubes(|x, z| field.sample(x, z), &region, 96, sun, s.water.ior, Some(3.0), deepest_needed(eye, 6.0));
+    let cpu = beam_tubes(
+        |x, z| field.sample(x, z),
+        &region,
+        96,
+        sun,
+        s.water.ior,
+        Some(3.0),
+        deepest_needed(eye, 6.0),
+    );
     assert_eq!(cpu.len(), 96 * 96, "every photon of this gentle surface enters the water");
     let mut drawn = Vec::new();
     for (g, c) in gpu_tubes.iter().zip(&cpu) {
@@ -706,20 +845,32 @@ fn god_ray_tubes_and_ribbons_match_the_cpu_twin() {
     let medium = s.medium();
     let sun_e = {
         let sky = hydrolux::core::sky::SkyParams::new(sun, s.sky.turbidity);
-        glam::Vec3::from_slice(&sky.sun_illuminance[..3]) * hydrolux::core::tonemap::exposure_scale(s.render.exposure)
+        glam::Vec3::from_slice(&sky.sun_illuminance[..3])
+            * hydrolux::core::tonemap::exposure_scale(s.render.exposure)
     };
     let spacing = region.spacing(96);
     let (mut ratios, mut checked) = (Vec::new(), 0);
     for y in (2..h - 2).step_by(3) {
         for x in (2..w - 2).step_by(3) {
-            let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
+            let ndc = glam::Vec2::new(
+                (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+            );
             let far = vp_inv.project_point3(ndc.extend(0.5));
             let view = (far - eye).normalize();
             if view.y > -0.05 {
                 continue;
             }
             let s_floor = (3.0 + eye.y) / -view.y;
-            let want = ribbons_along_ray(&medium, s.water.phase_g, &drawn, spacing, eye, view, s_floor.min(6.0)) * sun_e;
+            let want = ribbons_along_ray(
+                &medium,
+                s.water.phase_g,
+                &drawn,
+                spacing,
+                eye,
+                view,
+                s_floor.min(6.0),
+            ) * sun_e;
             let got = buffer[(y * w + x) as usize];
             checked += 1;
             ratios.push(got[2] / want.z);
@@ -740,7 +891,14 @@ fn god_ray_tubes_and_ribbons_match_the_cpu_twin() {
 /// and no god rays at all give the same image, pixel by pixel.
 #[test]
 fn flat_water_has_no_shafts_and_every_method_gives_the_closed_form() {
-    let base = ["water.model=flat", "water.medium=clear_ocean", "floor.depth=8", "sun.elevation_deg=55", "godrays.distance=12", "godrays.photons=192"];
+    let base = [
+        "water.model=flat",
+        "water.medium=clear_ocean",
+        "floor.depth=8",
+        "sun.elevation_deg=55",
+        "godrays.distance=12",
+        "godrays.photons=192",
+    ];
     let image = |method: &str, position: [f32; 3], look_at: [f32; 3]| {
         let mut sets: Vec<String> = base.iter().map(|s| s.to_string()).collect();
         sets.push(format!("godrays.method={method}"));
@@ -764,7 +922,8 @@ fn flat_water_has_no_shafts_and_every_method_gives_the_closed_form() {
     let (from, to) = ([0.0, 3.0, 6.0], [0.0, -4.0, -8.0]);
     let off = image("off", from, to);
     let with = image("lines", from, to);
-    let worst = off.iter().zip(&with).map(|(a, b)| ((b[2] - a[2]) / a[2]).abs()).fold(0.0f32, f32::max);
+    let worst =
+        off.iter().zip(&with).map(|(a, b)| ((b[2] - a[2]) / a[2]).abs()).fold(0.0f32, f32::max);
     assert!(worst < 0.03, "from above: worst relative difference {worst}");
 }
 
@@ -775,7 +934,12 @@ fn god_rays_come_from_the_waves_and_move_with_them() {
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let buffer_at = |model: &str, t: f64| {
         let mut sets: Vec<String> = SMALL_OCEAN.iter().map(|s| s.to_string()).collect();
-        sets.extend([format!("water.model={model}"), "water.medium=clear_ocean".into(), "floor.depth=10".into(), "sun.elevation_deg=60".into()]);
+        sets.extend([
+            format!("water.model={model}"),
+            "water.medium=clear_ocean".into(),
+            "floor.depth=10".into(),
+            "sun.elevation_deg=60".into(),
+        ]);
         sets.extend(["godrays.photons=192".into(), "godrays.distance=12".into()]);
         let mut s = Scene::load("ocean", &sets).expect("scene");
         s.camera.position = [0.0, -4.0, 0.0];
@@ -803,11 +967,20 @@ fn god_rays_come_from_the_waves_and_move_with_them() {
     assert!(rw > 4.0 * rf, "waves ripple {rw}, flat {rf}");
     // The shafts' pattern (differences between neighbouring columns, which
     // removes the smooth in-scattering they ride on) decorrelates.
-    let pattern = |b: &[f32]| b.windows(2).enumerate().filter(|(i, _)| i % 32 != 31).map(|(_, p)| p[1] - p[0]).collect::<Vec<f32>>();
+    let pattern = |b: &[f32]| {
+        b.windows(2)
+            .enumerate()
+            .filter(|(i, _)| i % 32 != 31)
+            .map(|(_, p)| p[1] - p[0])
+            .collect::<Vec<f32>>()
+    };
     let (_, _, same) = means_and_correlation(&pattern(&waves), &pattern(&buffer_at("fft", 0.0)));
     let (_, _, moved) = means_and_correlation(&pattern(&waves), &pattern(&later));
     assert!(same > 0.999, "the same instant renders the same shafts: {same}");
-    assert!(moved < 0.5, "the shafts should move: pattern correlation {moved} between t = 0 and 1.5 s");
+    assert!(
+        moved < 0.5,
+        "the shafts should move: pattern correlation {moved} between t = 0 and 1.5 s"
+    );
 }
 
 /// Seed 004's light paths through a water sphere: the GPU marches the
@@ -829,12 +1002,18 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
     let paths = r.read_object_paths();
     let inv = view_proj.inverse();
     let sun = s.sun_direction();
-    let texel = (inv.project_point3(glam::Vec3::new(1.0, 0.0, 0.5)) - inv.project_point3(glam::Vec3::new(1.0 - 2.0 / k as f32, 0.0, 0.5))).length();
-    let (mut checked, mut worst, mut ratios, mut dir_errors, mut land_errors) = (0, 0.0f32, Vec::new(), Vec::new(), Vec::new());
+    let texel = (inv.project_point3(glam::Vec3::new(1.0, 0.0, 0.5))
+        - inv.project_point3(glam::Vec3::new(1.0 - 2.0 / k as f32, 0.0, 0.5)))
+    .length();
+    let (mut checked, mut worst, mut ratios, mut dir_errors, mut land_errors) =
+        (0, 0.0f32, Vec::new(), Vec::new(), Vec::new());
     for j in 0..k {
         for i in 0..k {
             let g = paths[(j * k + i) as usize];
-            let ndc = glam::Vec2::new((i as f32 + 0.5) / k as f32 * 2.0 - 1.0, 1.0 - (j as f32 + 0.5) / k as f32 * 2.0);
+            let ndc = glam::Vec2::new(
+                (i as f32 + 0.5) / k as f32 * 2.0 - 1.0,
+                1.0 - (j as f32 + 0.5) / k as f32 * 2.0,
+            );
             let origin = inv.project_point3(ndc.extend(0.0));
             // The sphere primitive has diameter 1 (radius 0.5); its mesh is
             // a 64 × 32 tessellation, so stay off the rim.
@@ -848,7 +1027,12 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
             let dir = glam::Vec3::new(g[4], g[5], g[6]);
             let miss = (p1 - want.p1).length();
             worst = worst.max(miss / texel);
-            assert!(miss < 2.5 * texel, "texel ({i}, {j}): p1 {p1} vs analytic {} ({} texels)", want.p1, miss / texel);
+            assert!(
+                miss < 2.5 * texel,
+                "texel ({i}, {j}): p1 {p1} vs analytic {} ({} texels)",
+                want.p1,
+                miss / texel
+            );
             dir_errors.push((dir - want.exit_dir).length());
             // Where it lands: on the floor plane, where the analytic path does.
             let p2 = p1 + dir * g[3];
@@ -860,28 +1044,43 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
     }
     assert!(checked > 1000, "{checked} paths checked");
     ratios.sort_by(|a, b| a.total_cmp(b));
-    let (p5, median, p95) = (ratios[ratios.len() / 20], ratios[ratios.len() / 2], ratios[ratios.len() * 19 / 20]);
-    eprintln!("{checked} paths; worst p1 error {worst:.2} texels; flux GPU/analytic {p5:.3} {median:.3} {p95:.3}");
+    let (p5, median, p95) =
+        (ratios[ratios.len() / 20], ratios[ratios.len() / 2], ratios[ratios.len() * 19 / 20]);
+    eprintln!(
+        "{checked} paths; worst p1 error {worst:.2} texels; flux GPU/analytic {p5:.3} {median:.3} {p95:.3}"
+    );
     assert!((median - 1.0).abs() < 0.02, "median flux ratio {median}");
     // The exit direction follows the back face's normal, which the GPU reads
     // from a texel of the tessellated mesh: close on the whole, looser at worst.
     dir_errors.sort_by(|a, b| a.total_cmp(b));
-    let (dir_median, dir_p95) = (dir_errors[dir_errors.len() / 2], dir_errors[dir_errors.len() * 19 / 20]);
+    let (dir_median, dir_p95) =
+        (dir_errors[dir_errors.len() / 2], dir_errors[dir_errors.len() * 19 / 20]);
     eprintln!("exit direction error: median {dir_median:.4}, 95th percentile {dir_p95:.4}");
-    assert!(dir_median < 0.02 && dir_p95 < 0.08, "exit direction error median {dir_median}, 95th percentile {dir_p95}");
+    assert!(
+        dir_median < 0.02 && dir_p95 < 0.08,
+        "exit direction error median {dir_median}, 95th percentile {dir_p95}"
+    );
 
     // The caustic map holds all the light that came through (the splat and
     // its filter conserve it): Σ map = Σ transmitted × tint over the paths.
     let (_, map) = r.read_object_caustics();
-    let through: f32 = paths.iter().filter(|g| g[7] > 0.0).map(|g| g[7] / (texel * texel) * g[10]).sum();
+    let through: f32 =
+        paths.iter().filter(|g| g[7] > 0.0).map(|g| g[7] / (texel * texel) * g[10]).sum();
     let landed: f32 = map.iter().map(|m| m[2]).sum();
     let peak = map.iter().map(|m| m[2]).fold(0.0f32, f32::max);
     eprintln!("light through {through}, landed {landed}, peak {peak}");
     land_errors.sort_by(|a, b| a.total_cmp(b));
-    eprintln!("landing error median {} p95 {}", land_errors[land_errors.len() / 2], land_errors[land_errors.len() * 19 / 20]);
+    eprintln!(
+        "landing error median {} p95 {}",
+        land_errors[land_errors.len() / 2],
+        land_errors[land_errors.len() * 19 / 20]
+    );
     assert!((landed / through - 1.0).abs() < 0.02, "landed {landed} vs through {through}");
     // A water ball 0.5 m above the floor is a lens focused near the floor.
     assert!(peak > 10.0, "the ball lens should focus the sunlight: peak {peak}× the sun");
-    assert!(land_errors[land_errors.len() / 2] < 0.05, "paths land within 5 cm of the analytic landing point (median)");
+    assert!(
+        land_errors[land_errors.len() / 2] < 0.05,
+        "paths land within 5 cm of the analytic landing point (median)"
+    );
     assert!(p5 > 0.9 && p95 < 1.1, "flux ratio 5th–95th percentile {p5}–{p95}");
 }

@@ -22,13 +22,18 @@ fn exists(what: &'static str, path: &Path) -> Result<(), AssetError> {
 }
 
 fn err(what: &'static str, path: &Path, reason: impl ToString) -> AssetError {
-    AssetError { what, path: path.display().to_string(), reason: reason.to_string().lines().next().unwrap_or_default().to_string() }
+    AssetError {
+        what,
+        path: path.display().to_string(),
+        reason: reason.to_string().lines().next().unwrap_or_default().to_string(),
+    }
 }
 
 /// Load a mesh file by extension (`.obj`, `.gltf`, `.glb`).
 pub fn load_mesh(path: &Path) -> Result<Mesh, AssetError> {
     exists("mesh", path)?;
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
+    let ext =
+        path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     let mesh = match ext.as_str() {
         "obj" => load_obj(path)?,
         "gltf" | "glb" => load_gltf(path)?,
@@ -43,10 +48,19 @@ pub fn builtin_mesh(name: &str) -> Result<Mesh, AssetError> {
     let path = Path::new(name);
     let text = match name {
         "bunny" => include_str!("../../../../assets/bunny.obj"),
-        _ => return Err(err("mesh", Path::new(&format!("builtin:{name}")), "unknown built-in mesh: use builtin:bunny")),
+        _ => {
+            return Err(err(
+                "mesh",
+                Path::new(&format!("builtin:{name}")),
+                "unknown built-in mesh: use builtin:bunny",
+            ));
+        }
     };
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
-    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Err(tobj::LoadError::OpenFileFailed)).map_err(|e| err("mesh", path, e))?;
+    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| err("mesh", path, e))?;
     finish_mesh(obj_models_to_mesh(&models, path)?, path)
 }
 
@@ -84,8 +98,16 @@ fn obj_models_to_mesh(models: &[tobj::Model], path: &Path) -> Result<Mesh, Asset
         all_have_normals &= has_normals;
         let part = Mesh {
             positions: m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect(),
-            normals: if has_normals { m.normals.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect() } else { vec![Vec3::ZERO; n] },
-            uvs: if m.texcoords.len() == 2 * n { m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], 1.0 - t[1])).collect() } else { vec![Vec2::ZERO; n] },
+            normals: if has_normals {
+                m.normals.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect()
+            } else {
+                vec![Vec3::ZERO; n]
+            },
+            uvs: if m.texcoords.len() == 2 * n {
+                m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], 1.0 - t[1])).collect()
+            } else {
+                vec![Vec2::ZERO; n]
+            },
             indices: m.indices.clone(),
         };
         if part.indices.iter().any(|&i| i as usize >= n) {
@@ -103,7 +125,10 @@ fn load_gltf(path: &Path) -> Result<Mesh, AssetError> {
     let (doc, buffers, _images) = gltf::import(path).map_err(|e| err("mesh", path, e))?;
     let mut out = Mesh::default();
     let mut all_have_normals = true;
-    let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| err("mesh", path, "it has no scene"))?;
+    let scene = doc
+        .default_scene()
+        .or_else(|| doc.scenes().next())
+        .ok_or_else(|| err("mesh", path, "it has no scene"))?;
     let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
     while let Some((node, parent)) = stack.pop() {
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
@@ -115,18 +140,27 @@ fn load_gltf(path: &Path) -> Result<Mesh, AssetError> {
                 }
                 let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
                 let Some(positions) = reader.read_positions() else { continue };
-                let positions: Vec<Vec3> = positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
+                let positions: Vec<Vec3> =
+                    positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
                 let n = positions.len();
                 let normals: Vec<Vec3> = match reader.read_normals() {
-                    Some(ns) => ns.map(|v| normal_matrix.transform_vector3(Vec3::from(v)).normalize_or_zero()).collect(),
+                    Some(ns) => ns
+                        .map(|v| normal_matrix.transform_vector3(Vec3::from(v)).normalize_or_zero())
+                        .collect(),
                     None => {
                         all_have_normals = false;
                         vec![Vec3::ZERO; n]
                     }
                 };
-                let uvs = reader.read_tex_coords(0).map_or_else(|| vec![Vec2::ZERO; n], |t| t.into_f32().map(Vec2::from).collect());
-                let indices: Vec<u32> = reader.read_indices().map_or_else(|| (0..n as u32).collect(), |i| i.into_u32().collect());
-                if indices.iter().any(|&i| i as usize >= n) || normals.len() != n || uvs.len() != n {
+                let uvs = reader.read_tex_coords(0).map_or_else(
+                    || vec![Vec2::ZERO; n],
+                    |t| t.into_f32().map(Vec2::from).collect(),
+                );
+                let indices: Vec<u32> = reader
+                    .read_indices()
+                    .map_or_else(|| (0..n as u32).collect(), |i| i.into_u32().collect());
+                if indices.iter().any(|&i| i as usize >= n) || normals.len() != n || uvs.len() != n
+                {
                     return Err(err("mesh", path, "a primitive's accessors disagree in length"));
                 }
                 let mut part = Mesh { positions, normals, uvs, indices };
@@ -186,7 +220,8 @@ mod tests {
 
     #[test]
     fn obj_without_normals_gets_them_and_drops_degenerates() {
-        let p = temp("quad.obj", b"v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 3 2\nf 1 4 3\nf 1 1 2\n");
+        let p =
+            temp("quad.obj", b"v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 3 2\nf 1 4 3\nf 1 1 2\n");
         let m = load_mesh(&p).unwrap();
         assert_eq!(m.triangle_count(), 2);
         for n in &m.normals {
@@ -200,7 +235,10 @@ mod tests {
         assert!(e.contains("/nonexistent/teapot.obj"), "{e}");
         let p = temp("junk.glb", b"this is not a glb file");
         let e = load_mesh(&p).unwrap_err().to_string();
-        assert!(e.starts_with("cannot load mesh") && e.contains("junk.glb") && !e.contains('\n'), "{e}");
+        assert!(
+            e.starts_with("cannot load mesh") && e.contains("junk.glb") && !e.contains('\n'),
+            "{e}"
+        );
         let p = temp("empty.obj", b"# nothing\n");
         assert!(load_mesh(&p).unwrap_err().to_string().contains("no (non-degenerate) triangles"));
         let p = temp("model.stl", b"solid");
@@ -238,7 +276,9 @@ mod tests {
         const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
         let mut s = String::new();
         for c in data.chunks(3) {
-            let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
+            let n = (c[0] as u32) << 16
+                | (*c.get(1).unwrap_or(&0) as u32) << 8
+                | *c.get(2).unwrap_or(&0) as u32;
             for i in 0..4 {
                 if i <= c.len() {
                     s.push(A[(n >> (18 - 6 * i) & 63) as usize] as char);

@@ -52,7 +52,8 @@ impl Mesh {
         let mut n = vec![Vec3::ZERO; self.positions.len()];
         for t in self.indices.chunks_exact(3) {
             let (a, b, c) = (t[0] as usize, t[1] as usize, t[2] as usize);
-            let face = (self.positions[b] - self.positions[a]).cross(self.positions[c] - self.positions[a]);
+            let face = (self.positions[b] - self.positions[a])
+                .cross(self.positions[c] - self.positions[a]);
             n[a] += face;
             n[b] += face;
             n[c] += face;
@@ -105,7 +106,11 @@ mod tests {
 
     #[test]
     fn computed_normals_face_the_counter_clockwise_side() {
-        let mut m = Mesh { positions: vec![Vec3::ZERO, Vec3::Z, Vec3::X], indices: vec![0, 1, 2], ..Default::default() };
+        let mut m = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::Z, Vec3::X],
+            indices: vec![0, 1, 2],
+            ..Default::default()
+        };
         m.compute_normals();
         for n in &m.normals {
             assert!((*n - Vec3::Y).length() < 1e-6, "{n}");

@@ -8,7 +8,12 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
 
 pub fn plane() -> Mesh {
-    let positions = vec![Vec3::new(-0.5, 0.0, -0.5), Vec3::new(-0.5, 0.0, 0.5), Vec3::new(0.5, 0.0, 0.5), Vec3::new(0.5, 0.0, -0.5)];
+    let positions = vec![
+        Vec3::new(-0.5, 0.0, -0.5),
+        Vec3::new(-0.5, 0.0, 0.5),
+        Vec3::new(0.5, 0.0, 0.5),
+        Vec3::new(0.5, 0.0, -0.5),
+    ];
     Mesh {
         uvs: positions.iter().map(|p| Vec2::new(p.x + 0.5, p.z + 0.5)).collect(),
         positions,
@@ -86,7 +91,11 @@ pub fn cylinder(segments: u32) -> Mesh {
         }
         for s in 0..segments {
             let (a, b) = (centre + 1 + s, centre + 2 + s);
-            if y > 0.0 { m.indices.extend([centre, a, b]) } else { m.indices.extend([centre, b, a]) }
+            if y > 0.0 {
+                m.indices.extend([centre, a, b])
+            } else {
+                m.indices.extend([centre, b, a])
+            }
         }
     }
     m
@@ -104,7 +113,8 @@ mod tests {
         for t in m.indices.chunks_exact(3) {
             let [a, b, c] = [t[0], t[1], t[2]].map(|i| m.positions[i as usize]);
             let face = (b - a).cross(c - a);
-            let avg_n = m.normals[t[0] as usize] + m.normals[t[1] as usize] + m.normals[t[2] as usize];
+            let avg_n =
+                m.normals[t[0] as usize] + m.normals[t[1] as usize] + m.normals[t[2] as usize];
             assert!(face.dot(avg_n) > 0.0, "triangle {t:?} winds against its normals");
             signed += a.dot(b.cross(c)) / 6.0;
         }

@@ -30,7 +30,9 @@ pub struct BasinParams {
 }
 
 fn hash(ix: i32, iz: i32, seed: u64) -> f32 {
-    let mut h = (ix as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (iz as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F) ^ seed.wrapping_mul(0x1656_67B1_9E37_79F9);
+    let mut h = (ix as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (iz as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+        ^ seed.wrapping_mul(0x1656_67B1_9E37_79F9);
     h ^= h >> 33;
     h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
     h ^= h >> 33;
@@ -91,7 +93,15 @@ impl Terrain {
 
     /// From a heightmap (values in [0, 1], rows top to bottom = −z to +z):
     /// y = −depth + value · relief, resampled to `resolution`².
-    pub fn from_heightmap(width: u32, height: u32, values: &[f32], size: f32, depth: f32, relief: f32, resolution: usize) -> Terrain {
+    pub fn from_heightmap(
+        width: u32,
+        height: u32,
+        values: &[f32],
+        size: f32,
+        depth: f32,
+        relief: f32,
+        resolution: usize,
+    ) -> Terrain {
         let n = resolution.max(2);
         let (w, h) = (width as usize, height as usize);
         let at = |x: usize, y: usize| values[y.min(h - 1) * w + x.min(w - 1)];
@@ -136,8 +146,10 @@ impl Terrain {
         for j in 0..n {
             for i in 0..n {
                 let (x, z) = (i as f32 * cell - 0.5 * self.size, j as f32 * cell - 0.5 * self.size);
-                let dx = (self.grid(i + 1, j) - self.grid(i.saturating_sub(1), j)) / (cell * if i == 0 || i == n - 1 { 1.0 } else { 2.0 });
-                let dz = (self.grid(i, j + 1) - self.grid(i, j.saturating_sub(1))) / (cell * if j == 0 || j == n - 1 { 1.0 } else { 2.0 });
+                let dx = (self.grid(i + 1, j) - self.grid(i.saturating_sub(1), j))
+                    / (cell * if i == 0 || i == n - 1 { 1.0 } else { 2.0 });
+                let dz = (self.grid(i, j + 1) - self.grid(i, j.saturating_sub(1)))
+                    / (cell * if j == 0 || j == n - 1 { 1.0 } else { 2.0 });
                 m.positions.push(Vec3::new(x, self.grid(i, j), z));
                 m.normals.push(Vec3::new(-dx, 1.0, -dz).normalize());
                 m.uvs.push(Vec2::new(x, z));
@@ -146,7 +158,14 @@ impl Terrain {
         let idx = |i: usize, j: usize| (j * n + i) as u32;
         for j in 0..n - 1 {
             for i in 0..n - 1 {
-                m.indices.extend([idx(i, j), idx(i, j + 1), idx(i + 1, j + 1), idx(i, j), idx(i + 1, j + 1), idx(i + 1, j)]);
+                m.indices.extend([
+                    idx(i, j),
+                    idx(i, j + 1),
+                    idx(i + 1, j + 1),
+                    idx(i, j),
+                    idx(i + 1, j + 1),
+                    idx(i + 1, j),
+                ]);
             }
         }
         if skirt > 0.5 * self.size {
@@ -184,7 +203,15 @@ mod tests {
 
     #[test]
     fn basin_is_deep_in_the_middle_and_dry_at_the_shore() {
-        let t = Terrain::basin(&BasinParams { size: 200.0, resolution: 129, depth: 8.0, shore_radius: 60.0, shore_height: 4.0, relief: 1.0, seed: 3 });
+        let t = Terrain::basin(&BasinParams {
+            size: 200.0,
+            resolution: 129,
+            depth: 8.0,
+            shore_radius: 60.0,
+            shore_height: 4.0,
+            relief: 1.0,
+            seed: 3,
+        });
         assert!(t.height_at(0.0, 0.0) < -6.0, "{}", t.height_at(0.0, 0.0));
         assert!(t.height_at(95.0, 95.0) > 2.0, "{}", t.height_at(95.0, 95.0));
         let m = t.to_mesh(2000.0);

@@ -29,14 +29,25 @@ impl Scene {
         match f.terrain {
             TerrainKind::None if f.depth > 0.0 => {
                 let e = FLOOR_EXTENT;
-                let positions = vec![Vec3::new(-e, -f.depth, -e), Vec3::new(-e, -f.depth, e), Vec3::new(e, -f.depth, e), Vec3::new(e, -f.depth, -e)];
+                let positions = vec![
+                    Vec3::new(-e, -f.depth, -e),
+                    Vec3::new(-e, -f.depth, e),
+                    Vec3::new(e, -f.depth, e),
+                    Vec3::new(e, -f.depth, -e),
+                ];
                 let mesh = Mesh {
                     uvs: positions.iter().map(|p| Vec2::new(p.x, p.z)).collect(),
                     positions,
                     normals: vec![Vec3::Y; 4],
                     indices: vec![0, 1, 2, 0, 2, 3],
                 };
-                out.push(SceneObject { name: "floor".into(), mesh, transform: Mat4::IDENTITY, material: f.material.clone(), shadow_bounds: None });
+                out.push(SceneObject {
+                    name: "floor".into(),
+                    mesh,
+                    transform: Mat4::IDENTITY,
+                    material: f.material.clone(),
+                    shadow_bounds: None,
+                });
             }
             TerrainKind::None => {}
             TerrainKind::Noise | TerrainKind::Heightmap => {
@@ -52,9 +63,20 @@ impl Scene {
                     })
                 } else {
                     let (w, h, v) = load_heightmap(&self.resolve_path(&f.heightmap))?;
-                    Terrain::from_heightmap(w, h, &v, f.size, f.depth, f.relief, f.resolution as usize)
+                    Terrain::from_heightmap(
+                        w,
+                        h,
+                        &v,
+                        f.size,
+                        f.depth,
+                        f.relief,
+                        f.resolution as usize,
+                    )
                 };
-                let (lo, hi) = terrain.heights.iter().fold((f32::MAX, f32::MIN), |(a, b), &h| (a.min(h), b.max(h)));
+                let (lo, hi) = terrain
+                    .heights
+                    .iter()
+                    .fold((f32::MAX, f32::MIN), |(a, b), &h| (a.min(h), b.max(h)));
                 let half = 0.5 * f.size;
                 let bounds = (Vec3::new(-half, lo, -half), Vec3::new(half, hi, half));
                 out.push(SceneObject {
@@ -82,7 +104,13 @@ impl Scene {
             let transform = Scene::object_transform(o);
             let shadow_bounds = mesh.bounds(&transform);
             let name = if o.name.is_empty() { format!("objects[{i}]") } else { o.name.clone() };
-            out.push(SceneObject { name, mesh, transform, material: o.material.clone(), shadow_bounds });
+            out.push(SceneObject {
+                name,
+                mesh,
+                transform,
+                material: o.material.clone(),
+                shadow_bounds,
+            });
         }
         Ok(out)
     }

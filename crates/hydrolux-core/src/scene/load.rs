@@ -79,14 +79,23 @@ fn suggestion(key: &str, schema: &Table) -> String {
         Some((d, k)) if d <= 3.max(key.len() / 3) => format!("; did you mean `{k}`?"),
         _ => {
             let sections: Vec<&String> = schema.keys().collect();
-            format!(" (sections are {})", sections.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", "))
+            format!(
+                " (sections are {})",
+                sections.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+            )
         }
     }
 }
 
 /// Check every key of `user` exists in `schema` with a compatible type;
 /// integers given where numbers are expected become floats.
-fn check_against_schema(user: &mut Table, schema: &Table, prefix: &str, origin: &str, root: &Table) -> Result<(), SceneError> {
+fn check_against_schema(
+    user: &mut Table,
+    schema: &Table,
+    prefix: &str,
+    origin: &str,
+    root: &Table,
+) -> Result<(), SceneError> {
     for (k, v) in user.iter_mut() {
         let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
         if path == "objects" {
@@ -94,7 +103,11 @@ fn check_against_schema(user: &mut Table, schema: &Table, prefix: &str, origin: 
             continue;
         }
         let Some(expected) = schema.get(k) else {
-            return Err(SceneError::UnknownKey { origin: origin.into(), key: path.clone(), suggestion: suggestion(&path, root) });
+            return Err(SceneError::UnknownKey {
+                origin: origin.into(),
+                key: path.clone(),
+                suggestion: suggestion(&path, root),
+            });
         };
         check_value(v, expected, &path, origin, root)?;
     }
@@ -103,7 +116,8 @@ fn check_against_schema(user: &mut Table, schema: &Table, prefix: &str, origin: 
 
 /// `[[objects]]`: an array of tables, each checked against a default object.
 fn check_objects(v: &mut Value, origin: &str) -> Result<(), SceneError> {
-    let schema = toml::Table::try_from(super::ObjectDesc::default()).expect("an object always serialises");
+    let schema =
+        toml::Table::try_from(super::ObjectDesc::default()).expect("an object always serialises");
     let Value::Array(items) = v else {
         return Err(SceneError::WrongType {
             origin: origin.into(),
@@ -115,7 +129,12 @@ fn check_objects(v: &mut Value, origin: &str) -> Result<(), SceneError> {
     for (i, item) in items.iter_mut().enumerate() {
         let path = format!("objects[{i}]");
         let Value::Table(t) = item else {
-            return Err(SceneError::WrongType { origin: origin.into(), key: path, expected: "a table".into(), got: type_name(item).into() });
+            return Err(SceneError::WrongType {
+                origin: origin.into(),
+                key: path,
+                expected: "a table".into(),
+                got: type_name(item).into(),
+            });
         };
         for (k, v) in t.iter_mut() {
             let key = format!("{path}.{k}");
@@ -125,7 +144,10 @@ fn check_objects(v: &mut Value, origin: &str) -> Result<(), SceneError> {
                 let near = keys.iter().min_by_key(|c| levenshtein(k, c));
                 let suggestion = match near {
                     Some(c) if levenshtein(k, c) <= 3 => format!("; did you mean `{path}.{c}`?"),
-                    _ => format!(" (object keys are {})", schema.keys().cloned().collect::<Vec<_>>().join(", ")),
+                    _ => format!(
+                        " (object keys are {})",
+                        schema.keys().cloned().collect::<Vec<_>>().join(", ")
+                    ),
                 };
                 return Err(SceneError::UnknownKey { origin: origin.into(), key, suggestion });
             };
@@ -135,7 +157,13 @@ fn check_objects(v: &mut Value, origin: &str) -> Result<(), SceneError> {
     Ok(())
 }
 
-fn check_value(v: &mut Value, expected: &Value, path: &str, origin: &str, root: &Table) -> Result<(), SceneError> {
+fn check_value(
+    v: &mut Value,
+    expected: &Value,
+    path: &str,
+    origin: &str,
+    root: &Table,
+) -> Result<(), SceneError> {
     let wrong = |v: &Value, what: String| SceneError::WrongType {
         origin: origin.into(),
         key: path.into(),
@@ -163,7 +191,9 @@ fn check_value(v: &mut Value, expected: &Value, path: &str, origin: &str, root: 
             }
             Ok(())
         }
-        (Value::Integer(_), Value::Integer(i)) if *i < 0 => Err(wrong(v, "a whole number ≥ 0".into())),
+        (Value::Integer(_), Value::Integer(i)) if *i < 0 => {
+            Err(wrong(v, "a whole number ≥ 0".into()))
+        }
         (e, u) if std::mem::discriminant(e) == std::mem::discriminant(u) => Ok(()),
         (e, u) => Err(wrong(u, type_name(e).to_string())),
     }
@@ -181,10 +211,19 @@ pub fn parse_override(text: &str) -> Result<(Vec<String>, Value), SceneError> {
     let value = match format!("v = {raw}").parse::<Table>() {
         Ok(mut t) => t.remove("v").ok_or_else(|| bad("no value"))?,
         // Bare words (names, file paths) are strings.
-        Err(_) if !raw.is_empty() && raw.chars().all(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | '.' | '/')) => {
+        Err(_)
+            if !raw.is_empty()
+                && raw
+                    .chars()
+                    .all(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | '.' | '/')) =>
+        {
             Value::String(raw.to_string())
         }
-        Err(_) => return Err(bad(&format!("`{raw}` is not a TOML value (quote strings, arrays look like [1, 2, 3])"))),
+        Err(_) => {
+            return Err(bad(&format!(
+                "`{raw}` is not a TOML value (quote strings, arrays look like [1, 2, 3])"
+            )));
+        }
     };
     Ok((path, value))
 }
@@ -215,7 +254,12 @@ impl Scene {
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Scene, SceneError> {
         let mut user: Table = text.parse().map_err(|e: toml::de::Error| {
             let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
-            SceneError::Syntax { origin: origin.into(), line, column, message: e.message().trim().to_string() }
+            SceneError::Syntax {
+                origin: origin.into(),
+                line,
+                column,
+                message: e.message().trim().to_string(),
+            }
         })?;
         let schema = Scene::default().to_table();
         check_against_schema(&mut user, &schema, "", origin, &schema)?;
@@ -234,12 +278,18 @@ impl Scene {
             let (path_again, value) = flatten_single(&one, &path);
             apply_override(&mut user, &path_again, value);
         }
-        let scene: Scene = Value::Table(user.clone()).try_into().map_err(|e: toml::de::Error| {
-            // After the checks above only enum names can fail: find the key.
-            let msg = e.message().trim().to_string();
-            let key = find_string_key(&user, "", &msg).unwrap_or_else(|| "scene".into());
-            SceneError::WrongType { origin: origin.into(), key, expected: "one of the listed names".into(), got: msg }
-        })?;
+        let scene: Scene =
+            Value::Table(user.clone()).try_into().map_err(|e: toml::de::Error| {
+                // After the checks above only enum names can fail: find the key.
+                let msg = e.message().trim().to_string();
+                let key = find_string_key(&user, "", &msg).unwrap_or_else(|| "scene".into());
+                SceneError::WrongType {
+                    origin: origin.into(),
+                    key,
+                    expected: "one of the listed names".into(),
+                    got: msg,
+                }
+            })?;
         scene.validate()?;
         Ok(scene)
     }
@@ -268,12 +318,22 @@ impl Scene {
             if ok && v.is_finite() {
                 Ok(())
             } else {
-                Err(SceneError::OutOfRange { key: key.into(), value: v.to_string(), allowed: allowed.into() })
+                Err(SceneError::OutOfRange {
+                    key: key.into(),
+                    value: v.to_string(),
+                    allowed: allowed.into(),
+                })
             }
         }
         let c = &self.camera;
-        range("camera.fov_y_deg", c.fov_y_deg, c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0, "must be in (0, 180)")?;
-        let (p, t, up) = (glam::Vec3::from(c.position), glam::Vec3::from(c.look_at), glam::Vec3::from(c.up));
+        range(
+            "camera.fov_y_deg",
+            c.fov_y_deg,
+            c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0,
+            "must be in (0, 180)",
+        )?;
+        let (p, t, up) =
+            (glam::Vec3::from(c.position), glam::Vec3::from(c.look_at), glam::Vec3::from(c.up));
         if (t - p).length() < 1e-4 || !(p.is_finite() && t.is_finite()) {
             return Err(SceneError::OutOfRange {
                 key: "camera.look_at".into(),
@@ -289,15 +349,45 @@ impl Scene {
             });
         }
         let s = &self.sun;
-        range("sun.elevation_deg", s.elevation_deg, (-10.0..=90.0).contains(&s.elevation_deg), "must be in [-10, 90]")?;
-        range("sun.azimuth_deg", s.azimuth_deg, s.azimuth_deg.is_finite(), "must be a finite angle")?;
-        range("sky.turbidity", self.sky.turbidity, (1.7..=10.0).contains(&self.sky.turbidity), "must be in [1.7, 10]")?;
+        range(
+            "sun.elevation_deg",
+            s.elevation_deg,
+            (-10.0..=90.0).contains(&s.elevation_deg),
+            "must be in [-10, 90]",
+        )?;
+        range(
+            "sun.azimuth_deg",
+            s.azimuth_deg,
+            s.azimuth_deg.is_finite(),
+            "must be a finite angle",
+        )?;
+        range(
+            "sky.turbidity",
+            self.sky.turbidity,
+            (1.7..=10.0).contains(&self.sky.turbidity),
+            "must be in [1.7, 10]",
+        )?;
         let o = &self.ocean;
-        range("ocean.wind_speed", o.wind_speed, (0.0..=40.0).contains(&o.wind_speed), "must be in [0, 40] m/s")?;
+        range(
+            "ocean.wind_speed",
+            o.wind_speed,
+            (0.0..=40.0).contains(&o.wind_speed),
+            "must be in [0, 40] m/s",
+        )?;
         range("ocean.wind_direction_deg", o.wind_direction_deg, true, "must be a finite angle")?;
-        range("ocean.fetch_km", o.fetch_km, o.fetch_km > 0.0 && o.fetch_km <= 10_000.0, "must be in (0, 10000] km")?;
+        range(
+            "ocean.fetch_km",
+            o.fetch_km,
+            o.fetch_km > 0.0 && o.fetch_km <= 10_000.0,
+            "must be in (0, 10000] km",
+        )?;
         range("ocean.depth", o.depth, o.depth > 0.0, "must be > 0 m")?;
-        range("ocean.patch_size", o.patch_size, (1.0..=20_000.0).contains(&o.patch_size), "must be in [1, 20000] m")?;
+        range(
+            "ocean.patch_size",
+            o.patch_size,
+            (1.0..=20_000.0).contains(&o.patch_size),
+            "must be in [1, 20000] m",
+        )?;
         if !o.resolution.is_power_of_two() || !(64..=1024).contains(&o.resolution) {
             return Err(SceneError::OutOfRange {
                 key: "ocean.resolution".into(),
@@ -312,13 +402,33 @@ impl Scene {
                 allowed: "must be 1 to 4".into(),
             });
         }
-        range("ocean.choppiness", o.choppiness, (0.0..=3.0).contains(&o.choppiness), "must be in [0, 3]")?;
-        range("ocean.peak_enhancement", o.peak_enhancement, (1.0..=10.0).contains(&o.peak_enhancement), "must be in [1, 10]")?;
-        range("ocean.spreading", o.spreading, (0.0..=100.0).contains(&o.spreading), "must be in [0, 100]")?;
+        range(
+            "ocean.choppiness",
+            o.choppiness,
+            (0.0..=3.0).contains(&o.choppiness),
+            "must be in [0, 3]",
+        )?;
+        range(
+            "ocean.peak_enhancement",
+            o.peak_enhancement,
+            (1.0..=10.0).contains(&o.peak_enhancement),
+            "must be in [1, 10]",
+        )?;
+        range(
+            "ocean.spreading",
+            o.spreading,
+            (0.0..=100.0).contains(&o.spreading),
+            "must be in [0, 100]",
+        )?;
         let w = &self.water;
         range("water.ior", w.ior, (1.0..=3.0).contains(&w.ior), "must be in [1, 3]")?;
         for (i, v) in w.body_color.iter().enumerate() {
-            range(&format!("water.body_color[{i}]"), *v, (0.0..=1.0).contains(v), "must be in [0, 1]")?;
+            range(
+                &format!("water.body_color[{i}]"),
+                *v,
+                (0.0..=1.0).contains(v),
+                "must be in [0, 1]",
+            )?;
         }
         if self.water.model == WaterModel::Sines && !(1..=64).contains(&self.sines.count) {
             return Err(SceneError::OutOfRange {
@@ -327,7 +437,12 @@ impl Scene {
                 allowed: "must be 1 to 64".into(),
             });
         }
-        range("sines.gerstner", self.sines.gerstner, (0.0..=1.0).contains(&self.sines.gerstner), "must be in [0, 1]")?;
+        range(
+            "sines.gerstner",
+            self.sines.gerstner,
+            (0.0..=1.0).contains(&self.sines.gerstner),
+            "must be in [0, 1]",
+        )?;
         if self.render.anisotropy > 16 {
             return Err(SceneError::OutOfRange {
                 key: "render.anisotropy".into(),
@@ -335,7 +450,12 @@ impl Scene {
                 allowed: "must be 0 (automatic) or 1 to 16".into(),
             });
         }
-        range("render.exposure", self.render.exposure, (-10.0..=30.0).contains(&self.render.exposure), "must be in [-10, 30] EV")?;
+        range(
+            "render.exposure",
+            self.render.exposure,
+            (-10.0..=30.0).contains(&self.render.exposure),
+            "must be in [-10, 30] EV",
+        )?;
         let r = &self.render;
         if !(256..=8192).contains(&r.shadow_resolution) {
             return Err(SceneError::OutOfRange {
@@ -344,8 +464,18 @@ impl Scene {
                 allowed: "must be 256 to 8192".into(),
             });
         }
-        range("render.reflection_resolution", r.reflection_resolution, r.reflection_resolution > 0.05 && r.reflection_resolution <= 1.0, "must be in (0.05, 1]")?;
-        range("render.fov_margin", r.fov_margin, (0.0..=2.0).contains(&r.fov_margin), "must be in [0, 2]")?;
+        range(
+            "render.reflection_resolution",
+            r.reflection_resolution,
+            r.reflection_resolution > 0.05 && r.reflection_resolution <= 1.0,
+            "must be in (0.05, 1]",
+        )?;
+        range(
+            "render.fov_margin",
+            r.fov_margin,
+            (0.0..=2.0).contains(&r.fov_margin),
+            "must be in [0, 2]",
+        )?;
         if w.model == WaterModel::Heightfield && w.heightfield.is_empty() {
             return Err(SceneError::OutOfRange {
                 key: "water.heightfield".into(),
@@ -354,29 +484,98 @@ impl Scene {
             });
         }
         for (i, v) in w.size.iter().enumerate() {
-            range(&format!("water.size[{i}]"), *v, *v > 0.0 && *v <= 100_000.0, "must be in (0, 100000] m")?;
+            range(
+                &format!("water.size[{i}]"),
+                *v,
+                *v > 0.0 && *v <= 100_000.0,
+                "must be in (0, 100000] m",
+            )?;
         }
-        range("water.fresnel_power", w.fresnel_power, w.fresnel_power > 0.0 && w.fresnel_power <= 50.0, "must be in (0, 50]")?;
+        range(
+            "water.fresnel_power",
+            w.fresnel_power,
+            w.fresnel_power > 0.0 && w.fresnel_power <= 50.0,
+            "must be in (0, 50]",
+        )?;
         for (name, v) in [("absorption", w.absorption), ("scattering", w.scattering)] {
             for (i, c) in v.iter().enumerate() {
-                range(&format!("water.{name}[{i}]"), *c, (0.0..=100.0).contains(c), "must be in [0, 100] per metre")?;
+                range(
+                    &format!("water.{name}[{i}]"),
+                    *c,
+                    (0.0..=100.0).contains(c),
+                    "must be in [0, 100] per metre",
+                )?;
             }
         }
-        range("water.phase_g", w.phase_g, (-0.99..=0.99).contains(&w.phase_g), "must be in [-0.99, 0.99]")?;
-        range("water.simple_attenuation", w.simple_attenuation, (0.0..=100.0).contains(&w.simple_attenuation), "must be in [0, 100] per metre")?;
-        range("water.refraction_depth", w.refraction_depth, w.refraction_depth > 0.0 && w.refraction_depth <= 1000.0, "must be in (0, 1000] m")?;
-        range("water.refraction_max", w.refraction_max, w.refraction_max > 0.0 && w.refraction_max <= 1000.0, "must be in (0, 1000] m")?;
-        range("water.roughness_scale", w.roughness_scale, (0.0..=4.0).contains(&w.roughness_scale), "must be in [0, 4]")?;
-        range("water.reflection_height", w.reflection_height, (0.0..=1000.0).contains(&w.reflection_height), "must be in [0, 1000] m")?;
+        range(
+            "water.phase_g",
+            w.phase_g,
+            (-0.99..=0.99).contains(&w.phase_g),
+            "must be in [-0.99, 0.99]",
+        )?;
+        range(
+            "water.simple_attenuation",
+            w.simple_attenuation,
+            (0.0..=100.0).contains(&w.simple_attenuation),
+            "must be in [0, 100] per metre",
+        )?;
+        range(
+            "water.refraction_depth",
+            w.refraction_depth,
+            w.refraction_depth > 0.0 && w.refraction_depth <= 1000.0,
+            "must be in (0, 1000] m",
+        )?;
+        range(
+            "water.refraction_max",
+            w.refraction_max,
+            w.refraction_max > 0.0 && w.refraction_max <= 1000.0,
+            "must be in (0, 1000] m",
+        )?;
+        range(
+            "water.roughness_scale",
+            w.roughness_scale,
+            (0.0..=4.0).contains(&w.roughness_scale),
+            "must be in [0, 4]",
+        )?;
+        range(
+            "water.reflection_height",
+            w.reflection_height,
+            (0.0..=1000.0).contains(&w.reflection_height),
+            "must be in [0, 1000] m",
+        )?;
         let f = &self.floor;
-        range("floor.depth", f.depth, (0.0..=10_000.0).contains(&f.depth), "must be in [0, 10000] m (0 = no floor)")?;
-        range("floor.size", f.size, f.size > 0.0 && f.size <= 100_000.0, "must be in (0, 100000] m")?;
+        range(
+            "floor.depth",
+            f.depth,
+            (0.0..=10_000.0).contains(&f.depth),
+            "must be in [0, 10000] m (0 = no floor)",
+        )?;
+        range(
+            "floor.size",
+            f.size,
+            f.size > 0.0 && f.size <= 100_000.0,
+            "must be in (0, 100000] m",
+        )?;
         if !(2..=2048).contains(&f.resolution) {
-            return Err(SceneError::OutOfRange { key: "floor.resolution".into(), value: f.resolution.to_string(), allowed: "must be 2 to 2048".into() });
+            return Err(SceneError::OutOfRange {
+                key: "floor.resolution".into(),
+                value: f.resolution.to_string(),
+                allowed: "must be 2 to 2048".into(),
+            });
         }
-        range("floor.relief", f.relief, (0.0..=10_000.0).contains(&f.relief), "must be in [0, 10000] m")?;
+        range(
+            "floor.relief",
+            f.relief,
+            (0.0..=10_000.0).contains(&f.relief),
+            "must be in [0, 10000] m",
+        )?;
         range("floor.shore_radius", f.shore_radius, f.shore_radius > 0.0, "must be > 0 m")?;
-        range("floor.shore_height", f.shore_height, f.shore_height.abs() <= 10_000.0, "must be in [-10000, 10000] m")?;
+        range(
+            "floor.shore_height",
+            f.shore_height,
+            f.shore_height.abs() <= 10_000.0,
+            "must be in [-10000, 10000] m",
+        )?;
         if f.terrain == super::TerrainKind::Heightmap && f.heightmap.is_empty() {
             return Err(SceneError::OutOfRange {
                 key: "floor.heightmap".into(),
@@ -394,10 +593,18 @@ impl Scene {
         validate_material("floor.material", &f.material)?;
         let c = &self.caustics;
         if !(16..=4096).contains(&c.photons) {
-            return Err(SceneError::OutOfRange { key: "caustics.photons".into(), value: c.photons.to_string(), allowed: "must be 16 to 4096 (per side)".into() });
+            return Err(SceneError::OutOfRange {
+                key: "caustics.photons".into(),
+                value: c.photons.to_string(),
+                allowed: "must be 16 to 4096 (per side)".into(),
+            });
         }
         if !(1..=32).contains(&c.layers) {
-            return Err(SceneError::OutOfRange { key: "caustics.layers".into(), value: c.layers.to_string(), allowed: "must be 1 to 32".into() });
+            return Err(SceneError::OutOfRange {
+                key: "caustics.layers".into(),
+                value: c.layers.to_string(),
+                allowed: "must be 1 to 32".into(),
+            });
         }
         if !(16..=2048).contains(&c.map_resolution) {
             return Err(SceneError::OutOfRange {
@@ -410,18 +617,45 @@ impl Scene {
         range("air.fog", a.fog, (0.0..=1.0).contains(&a.fog), "must be 0 to 1 per metre")?;
         range("air.fog_g", a.fog_g, a.fog_g > -1.0 && a.fog_g < 1.0, "must be between -1 and 1")?;
         range("air.fog_sky", a.fog_sky, (0.0..=1.0).contains(&a.fog_sky), "must be 0 to 1")?;
-        range("air.fog_distance", a.fog_distance, a.fog_distance > 0.0 && a.fog_distance <= 10_000.0, "must be > 0 and at most 10000 m")?;
+        range(
+            "air.fog_distance",
+            a.fog_distance,
+            a.fog_distance > 0.0 && a.fog_distance <= 10_000.0,
+            "must be > 0 and at most 10000 m",
+        )?;
         if self.floor.material.ior != 0.0 {
-            return Err(SceneError::OutOfRange { key: "floor.material.ior".into(), value: self.floor.material.ior.to_string(), allowed: "must be 0: the floor is opaque".into() });
+            return Err(SceneError::OutOfRange {
+                key: "floor.material.ior".into(),
+                value: self.floor.material.ior.to_string(),
+                allowed: "must be 0: the floor is opaque".into(),
+            });
         }
         let g = &self.godrays;
         if !(4..=2048).contains(&g.photons) {
-            return Err(SceneError::OutOfRange { key: "godrays.photons".into(), value: g.photons.to_string(), allowed: "must be 4 to 2048 (per side)".into() });
+            return Err(SceneError::OutOfRange {
+                key: "godrays.photons".into(),
+                value: g.photons.to_string(),
+                allowed: "must be 4 to 2048 (per side)".into(),
+            });
         }
-        range("godrays.resolution", g.resolution, g.resolution > 0.0 && g.resolution <= 1.0, "must be > 0 and at most 1 (a fraction of the output size)")?;
-        range("godrays.distance", g.distance, g.distance > 0.0 && g.distance <= 1000.0, "must be > 0 and at most 1000 m")?;
+        range(
+            "godrays.resolution",
+            g.resolution,
+            g.resolution > 0.0 && g.resolution <= 1.0,
+            "must be > 0 and at most 1 (a fraction of the output size)",
+        )?;
+        range(
+            "godrays.distance",
+            g.distance,
+            g.distance > 0.0 && g.distance <= 1000.0,
+            "must be > 0 and at most 1000 m",
+        )?;
         if !(4..=512).contains(&g.steps) {
-            return Err(SceneError::OutOfRange { key: "godrays.steps".into(), value: g.steps.to_string(), allowed: "must be 4 to 512".into() });
+            return Err(SceneError::OutOfRange {
+                key: "godrays.steps".into(),
+                value: g.steps.to_string(),
+                allowed: "must be 4 to 512".into(),
+            });
         }
         if !(16..=2048).contains(&g.object_resolution) {
             return Err(SceneError::OutOfRange {
@@ -430,22 +664,38 @@ impl Scene {
                 allowed: "must be 16 to 2048".into(),
             });
         }
-        if let Some(i) = self.objects.iter().position(|o| o.material.ior > 0.0).filter(|_| self.water.model != super::WaterModel::None) {
+        if let Some(i) = self
+            .objects
+            .iter()
+            .position(|o| o.material.ior > 0.0)
+            .filter(|_| self.water.model != super::WaterModel::None)
+        {
             return Err(SceneError::OutOfRange {
                 key: format!("objects[{i}].material.ior"),
                 value: self.objects[i].material.ior.to_string(),
-                allowed: "refractive objects need water.model = \"none\" (they are lit through air)".into(),
+                allowed:
+                    "refractive objects need water.model = \"none\" (they are lit through air)"
+                        .into(),
             });
         }
         if self.objects.len() > 1024 {
-            return Err(SceneError::OutOfRange { key: "objects".into(), value: self.objects.len().to_string(), allowed: "at most 1024 objects".into() });
+            return Err(SceneError::OutOfRange {
+                key: "objects".into(),
+                value: self.objects.len().to_string(),
+                allowed: "at most 1024 objects".into(),
+            });
         }
         for (i, o) in self.objects.iter().enumerate() {
             for (j, c) in o.scale.iter().enumerate() {
                 range(&format!("objects[{i}].scale[{j}]"), *c, c.abs() > 1e-6, "must be non-zero")?;
             }
             for (j, c) in o.position.iter().chain(&o.rotation_deg).enumerate() {
-                range(&format!("objects[{i}].{}", if j < 3 { "position" } else { "rotation_deg" }), *c, true, "must be finite")?;
+                range(
+                    &format!("objects[{i}].{}", if j < 3 { "position" } else { "rotation_deg" }),
+                    *c,
+                    true,
+                    "must be finite",
+                )?;
             }
             validate_material(&format!("objects[{i}].material"), &o.material)?;
         }
@@ -457,18 +707,34 @@ fn validate_material(key: &str, m: &super::MaterialDesc) -> Result<(), SceneErro
     for (name, v) in [("albedo", m.albedo), ("pattern_color", m.pattern_color)] {
         for (i, c) in v.iter().enumerate() {
             if !(0.0..=1.0).contains(c) {
-                return Err(SceneError::OutOfRange { key: format!("{key}.{name}[{i}]"), value: c.to_string(), allowed: "must be in [0, 1]".into() });
+                return Err(SceneError::OutOfRange {
+                    key: format!("{key}.{name}[{i}]"),
+                    value: c.to_string(),
+                    allowed: "must be in [0, 1]".into(),
+                });
             }
         }
     }
     if !(m.tile_size > 0.0 && m.tile_size.is_finite()) {
-        return Err(SceneError::OutOfRange { key: format!("{key}.tile_size"), value: m.tile_size.to_string(), allowed: "must be > 0 m".into() });
+        return Err(SceneError::OutOfRange {
+            key: format!("{key}.tile_size"),
+            value: m.tile_size.to_string(),
+            allowed: "must be > 0 m".into(),
+        });
     }
     if !(m.ior == 0.0 || (1.0..=3.0).contains(&m.ior)) {
-        return Err(SceneError::OutOfRange { key: format!("{key}.ior"), value: m.ior.to_string(), allowed: "must be 0 (opaque) or 1 to 3 (refractive)".into() });
+        return Err(SceneError::OutOfRange {
+            key: format!("{key}.ior"),
+            value: m.ior.to_string(),
+            allowed: "must be 0 (opaque) or 1 to 3 (refractive)".into(),
+        });
     }
     if !(m.uv_scale.is_finite() && m.uv_scale != 0.0) {
-        return Err(SceneError::OutOfRange { key: format!("{key}.uv_scale"), value: m.uv_scale.to_string(), allowed: "must be finite and non-zero".into() });
+        return Err(SceneError::OutOfRange {
+            key: format!("{key}.uv_scale"),
+            value: m.uv_scale.to_string(),
+            allowed: "must be finite and non-zero".into(),
+        });
     }
     Ok(())
 }
@@ -513,7 +779,11 @@ mod tests {
     fn overrides_take_toml_values_and_bare_words() {
         let s = Scene::load(
             "ocean",
-            &["ocean.wind_speed=14".into(), "ocean.spectrum=phillips".into(), "camera.position=[1, 20, 3]".into()],
+            &[
+                "ocean.wind_speed=14".into(),
+                "ocean.spectrum=phillips".into(),
+                "camera.position=[1, 20, 3]".into(),
+            ],
         )
         .unwrap();
         assert_eq!(s.ocean.wind_speed, 14.0);
@@ -528,7 +798,11 @@ mod tests {
             ("ocean", &["ocean.wind_sped=3"], "did you mean `ocean.wind_speed`?"),
             ("ocean", &["ocean.wind_speed=-3"], "`ocean.wind_speed` = -3 is out of range"),
             ("ocean", &["ocean.resolution=300"], "power of two from 64 to 1024"),
-            ("ocean", &["ocean.wind_speed=fast"], "`ocean.wind_speed` must be a number, got a string \"fast\""),
+            (
+                "ocean",
+                &["ocean.wind_speed=fast"],
+                "`ocean.wind_speed` must be a number, got a string \"fast\"",
+            ),
             ("ocean", &["ocean.spectrum=foo"], "ocean.spectrum"),
             ("ocean", &["camera.fov_y_deg=180"], "must be in (0, 180)"),
             ("ocean", &["camera.position=[1, 2]"], "an array of 3 numbers"),
@@ -550,14 +824,27 @@ mod tests {
         assert_eq!(s.objects.len(), 1);
         assert_eq!(s.objects[0].primitive, super::super::Primitive::Sphere);
         assert_eq!(s.objects[0].material.albedo, [0.9, 0.1, 0.1]);
-        let e = Scene::from_toml("[[objects]]\npositon = [0, 1, 2]\n", "x.toml", &[]).unwrap_err().to_string();
-        assert!(e.contains("`objects[0].positon`") && e.contains("did you mean `objects[0].position`"), "{e}");
-        let e = Scene::from_toml("[[objects]]\nscale = [1, 0, 1]\n", "x.toml", &[]).unwrap_err().to_string();
+        let e = Scene::from_toml("[[objects]]\npositon = [0, 1, 2]\n", "x.toml", &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("`objects[0].positon`") && e.contains("did you mean `objects[0].position`"),
+            "{e}"
+        );
+        let e = Scene::from_toml("[[objects]]\nscale = [1, 0, 1]\n", "x.toml", &[])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("objects[0].scale[1]"), "{e}");
-        let e = Scene::from_toml("[water]\nmedium = \"swamp\"\n", "x.toml", &[]).unwrap_err().to_string();
-        assert!(e.contains("water.medium") && e.contains("clear_ocean") && e.contains("turbid_harbor"), "{e}");
+        let e = Scene::from_toml("[water]\nmedium = \"swamp\"\n", "x.toml", &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("water.medium") && e.contains("clear_ocean") && e.contains("turbid_harbor"),
+            "{e}"
+        );
         // Coefficients alone make a custom medium.
-        let s = Scene::from_toml("[water]\nabsorption = [0.5, 0.1, 0.05]\n", "x.toml", &[]).unwrap();
+        let s =
+            Scene::from_toml("[water]\nabsorption = [0.5, 0.1, 0.05]\n", "x.toml", &[]).unwrap();
         assert_eq!(s.water.medium, super::super::MediumName::Custom);
         assert_eq!(s.medium().absorption, glam::Vec3::new(0.5, 0.1, 0.05));
         let s = Scene::from_toml("[water]\nmedium = \"pure\"\n", "x.toml", &[]).unwrap();
@@ -566,7 +853,8 @@ mod tests {
 
     #[test]
     fn syntax_errors_name_line_and_column() {
-        let e = Scene::from_toml("[ocean]\nwind_speed = = 3\n", "x.toml", &[]).unwrap_err().to_string();
+        let e =
+            Scene::from_toml("[ocean]\nwind_speed = = 3\n", "x.toml", &[]).unwrap_err().to_string();
         assert!(e.starts_with("x.toml:2:"), "{e}");
         assert!(!e.contains('\n'));
     }

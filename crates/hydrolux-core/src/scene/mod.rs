@@ -286,7 +286,12 @@ pub struct CausticsDesc {
 
 impl Default for CausticsDesc {
     fn default() -> Self {
-        CausticsDesc { method: CausticMethod::Photons, photons: 512, map_resolution: 256, layers: 8 }
+        CausticsDesc {
+            method: CausticMethod::Photons,
+            photons: 512,
+            map_resolution: 256,
+            layers: 8,
+        }
     }
 }
 
@@ -324,7 +329,14 @@ pub struct GodRaysDesc {
 
 impl Default for GodRaysDesc {
     fn default() -> Self {
-        GodRaysDesc { method: GodRayMethod::Lines, photons: 256, resolution: 0.5, distance: 20.0, steps: 48, object_resolution: 256 }
+        GodRaysDesc {
+            method: GodRayMethod::Lines,
+            photons: 256,
+            resolution: 0.5,
+            distance: 20.0,
+            steps: 48,
+            object_resolution: 256,
+        }
     }
 }
 
@@ -429,7 +441,8 @@ pub enum DebugView {
 }
 
 impl DebugView {
-    pub const NAMES: [&'static str; 8] = ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"];
+    pub const NAMES: [&'static str; 8] =
+        ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"];
 }
 
 impl Default for Scene {
@@ -455,7 +468,12 @@ impl Default for Scene {
 
 impl Default for CameraDesc {
     fn default() -> Self {
-        CameraDesc { position: [0.0, 6.0, 0.0], look_at: [0.0, 2.0, -60.0], up: [0.0, 1.0, 0.0], fov_y_deg: 55.0 }
+        CameraDesc {
+            position: [0.0, 6.0, 0.0],
+            look_at: [0.0, 2.0, -60.0],
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg: 55.0,
+        }
     }
 }
 
@@ -517,7 +535,15 @@ impl Default for WaterDesc {
 
 impl Default for MaterialDesc {
     fn default() -> Self {
-        MaterialDesc { albedo: [0.6, 0.6, 0.6], texture: String::new(), uv_scale: 1.0, pattern: Pattern::None, pattern_color: [0.1, 0.1, 0.1], tile_size: 0.25, ior: 0.0 }
+        MaterialDesc {
+            albedo: [0.6, 0.6, 0.6],
+            texture: String::new(),
+            uv_scale: 1.0,
+            pattern: Pattern::None,
+            pattern_color: [0.1, 0.1, 0.1],
+            tile_size: 0.25,
+            ior: 0.0,
+        }
     }
 }
 
@@ -633,28 +659,52 @@ impl Scene {
             MediumName::Coastal => P::Coastal,
             MediumName::TurbidHarbor => P::TurbidHarbor,
             MediumName::Custom => {
-                return Medium { absorption: self.water.absorption.into(), scattering: self.water.scattering.into() };
+                return Medium {
+                    absorption: self.water.absorption.into(),
+                    scattering: self.water.scattering.into(),
+                };
             }
         };
         preset.medium()
     }
 
     /// Load `water.heightfield` (for `water.model = "heightfield"`).
-    pub fn load_heightfield(&self) -> Result<crate::waves::heightfield::Heightfield, crate::geometry::load::AssetError> {
+    pub fn load_heightfield(
+        &self,
+    ) -> Result<crate::waves::heightfield::Heightfield, crate::geometry::load::AssetError> {
         let path = self.resolve_path(&self.water.heightfield);
-        let fail = |reason: String| crate::geometry::load::AssetError { what: "heightfield", path: path.display().to_string(), reason };
-        let bytes = std::fs::read(&path).map_err(|e| fail(if e.kind() == std::io::ErrorKind::NotFound { "no such file".into() } else { e.to_string() }))?;
+        let fail = |reason: String| crate::geometry::load::AssetError {
+            what: "heightfield",
+            path: path.display().to_string(),
+            reason,
+        };
+        let bytes = std::fs::read(&path).map_err(|e| {
+            fail(if e.kind() == std::io::ErrorKind::NotFound {
+                "no such file".into()
+            } else {
+                e.to_string()
+            })
+        })?;
         let (rows, cols, heights) = crate::npy::decode_f32_2d(&bytes).map_err(fail)?;
         if rows < 2 || cols < 2 {
             return Err(fail(format!("it must be at least 2×2, not {rows}×{cols}")));
         }
-        Ok(crate::waves::heightfield::Heightfield { nx: cols, nz: rows, size: self.water.size, heights })
+        Ok(crate::waves::heightfield::Heightfield {
+            nx: cols,
+            nz: rows,
+            size: self.water.size,
+            heights,
+        })
     }
 
     /// The periodic patch the caustic map covers (m): the heightfield's, or
     /// the largest FFT cascade's.
     pub fn surface_patch(&self) -> [f32; 2] {
-        if self.water.model == WaterModel::Heightfield { self.water.size } else { [self.ocean.patch_size; 2] }
+        if self.water.model == WaterModel::Heightfield {
+            self.water.size
+        } else {
+            [self.ocean.patch_size; 2]
+        }
     }
 
     /// A path from the scene, relative to the scene file's folder.
@@ -665,7 +715,9 @@ impl Scene {
     /// An object's model matrix: translate · rotate (x, then y, then z) · scale.
     pub fn object_transform(o: &ObjectDesc) -> glam::Mat4 {
         let r = o.rotation_deg.map(f32::to_radians);
-        let rotation = glam::Quat::from_rotation_z(r[2]) * glam::Quat::from_rotation_y(r[1]) * glam::Quat::from_rotation_x(r[0]);
+        let rotation = glam::Quat::from_rotation_z(r[2])
+            * glam::Quat::from_rotation_y(r[1])
+            * glam::Quat::from_rotation_x(r[0]);
         glam::Mat4::from_scale_rotation_translation(o.scale.into(), rotation, o.position.into())
     }
 

@@ -9,11 +9,7 @@ pub const GRAVITY: f64 = 9.81;
 /// `depth` metres. Deep water (k·h > 20) uses ω² = g·k exactly.
 pub fn omega(k: f64, depth: f64) -> f64 {
     let kh = k * depth;
-    if kh > 20.0 {
-        (GRAVITY * k).sqrt()
-    } else {
-        (GRAVITY * k * kh.tanh()).sqrt()
-    }
+    if kh > 20.0 { (GRAVITY * k).sqrt() } else { (GRAVITY * k * kh.tanh()).sqrt() }
 }
 
 /// dω/dk at `k`, the group speed.

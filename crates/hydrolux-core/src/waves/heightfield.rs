@@ -62,7 +62,9 @@ mod tests {
     fn a_sampled_sine_is_reproduced_and_tiles() {
         let (n, l) = (64usize, 8.0f32);
         let k = std::f32::consts::TAU / l;
-        let heights = (0..n * n).map(|idx| 0.1 * (k * ((idx % n) as f32 / n as f32 - 0.5) * l).sin()).collect();
+        let heights = (0..n * n)
+            .map(|idx| 0.1 * (k * ((idx % n) as f32 / n as f32 - 0.5) * l).sin())
+            .collect();
         let h = Heightfield { nx: n, nz: n, size: [l, l], heights };
         for x in [-3.9f32, -1.0, 0.3, 2.5] {
             let s = h.sample(x, 1.0);

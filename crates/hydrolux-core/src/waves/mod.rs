@@ -25,7 +25,13 @@ pub struct SurfaceSample {
 impl SurfaceSample {
     /// From the packed field order [Dx, h, Dz, hx, hz, Dxx, Dzz, Dxz].
     pub fn from_fields(f: [f32; 8]) -> Self {
-        SurfaceSample { displacement: [f[0], f[1], f[2]], slope: [f[3], f[4]], dxx: f[5], dzz: f[6], dxz: f[7] }
+        SurfaceSample {
+            displacement: [f[0], f[1], f[2]],
+            slope: [f[3], f[4]],
+            dxx: f[5],
+            dzz: f[6],
+            dxz: f[7],
+        }
     }
 
     /// Unit normal of the displaced surface: the cross product of the

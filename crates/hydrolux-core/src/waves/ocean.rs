@@ -13,9 +13,9 @@
 //! after hours, and is exactly periodic with period T. The rounding changes no
 //! frequency by more than 2π/T ≈ 1e-4 rad/s.
 
+use super::SurfaceSample;
 use super::dispersion::omega;
 use super::spectrum::{SeaState, Spreading};
-use super::SurfaceSample;
 use rustfft::{FftPlanner, num_complex::Complex};
 use std::f64::consts::PI;
 
@@ -120,7 +120,8 @@ pub fn quantized_omega(omega_cycles: u32) -> f64 {
 
 impl OceanSettings {
     pub fn cascades(&self) -> Vec<Cascade> {
-        let sizes: Vec<f64> = (0..self.cascades).map(|i| self.patch_size / CASCADE_RATIO.powi(i as i32)).collect();
+        let sizes: Vec<f64> =
+            (0..self.cascades).map(|i| self.patch_size / CASCADE_RATIO.powi(i as i32)).collect();
         (0..self.cascades)
             .map(|i| Cascade {
                 patch_size: sizes[i],
@@ -293,7 +294,11 @@ impl OceanFields {
                 }
             }
         }
-        OceanFields { resolution: n, patch_sizes: spectrum.cascades.iter().map(|c| c.patch_size).collect(), texels }
+        OceanFields {
+            resolution: n,
+            patch_sizes: spectrum.cascades.iter().map(|c| c.patch_size).collect(),
+            texels,
+        }
     }
 
     /// Bilinear, periodic sample of one cascade at world (x, z), as a GPU
@@ -346,7 +351,9 @@ impl OceanFields {
         let mut out = Vec::with_capacity(n * n);
         for z in 0..n {
             for x in 0..n {
-                out.push(self.sample(x as f64 * l / n as f64, z as f64 * l / n as f64).displacement[1]);
+                out.push(
+                    self.sample(x as f64 * l / n as f64, z as f64 * l / n as f64).displacement[1],
+                );
             }
         }
         out
@@ -410,7 +417,8 @@ mod tests {
             let fields = OceanFields::evaluate(&OceanSpectrum::new(&s), 1234.5);
             let nn = 128 * 128;
             for c in 0..3 {
-                let heights: Vec<f64> = fields.texels[c * nn..(c + 1) * nn].iter().map(|t| t[1] as f64).collect();
+                let heights: Vec<f64> =
+                    fields.texels[c * nn..(c + 1) * nn].iter().map(|t| t[1] as f64).collect();
                 let mean = heights.iter().sum::<f64>() / nn as f64;
                 var += heights.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / nn as f64;
             }
@@ -499,13 +507,18 @@ mod tests {
             let s = fields.sample(px, pz);
             let (wx, wz) = (px + s.displacement[0] as f64, pz + s.displacement[2] as f64);
             let h = fields.height_at(wx, wz);
-            assert!((h - s.displacement[1]).abs() < 0.02, "at ({wx},{wz}): {h} vs {}", s.displacement[1]);
+            assert!(
+                (h - s.displacement[1]).abs() < 0.02,
+                "at ({wx},{wz}): {h} vs {}",
+                s.displacement[1]
+            );
         }
     }
 
     #[test]
     fn a_dead_calm_is_a_flat_sea_not_a_crash() {
-        for kind in [SpectrumKind::Phillips, SpectrumKind::PiersonMoskowitz, SpectrumKind::Jonswap] {
+        for kind in [SpectrumKind::Phillips, SpectrumKind::PiersonMoskowitz, SpectrumKind::Jonswap]
+        {
             let s = settings(kind, 0.0, 32, 2);
             let spectrum = OceanSpectrum::new(&s);
             let v = spectrum.expected_variance();

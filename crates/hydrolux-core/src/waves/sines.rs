@@ -52,7 +52,10 @@ impl SineWaves {
         };
         let waves = (0..count)
             .map(|i| {
-                let (a, b) = (lo + (hi - lo) * i as f64 / count as f64, lo + (hi - lo) * (i + 1) as f64 / count as f64);
+                let (a, b) = (
+                    lo + (hi - lo) * i as f64 / count as f64,
+                    lo + (hi - lo) * (i + 1) as f64 / count as f64,
+                );
                 let w = (lo + (hi - lo) * (i as f64 + 0.5) / count as f64).exp();
                 let dw = b.exp() - a.exp();
                 let amplitude = (2.0 * sea.frequency_spectrum(w) * dw).sqrt();
@@ -126,7 +129,11 @@ impl SineWaves {
 
     pub fn height_at(&self, x: f64, z: f64, t: f64) -> f32 {
         let phases = self.phases(t);
-        super::height_at_displaced(|px, pz| self.sample_with_phases(&phases, px as f32, pz as f32), x, z)
+        super::height_at_displaced(
+            |px, pz| self.sample_with_phases(&phases, px as f32, pz as f32),
+            x,
+            z,
+        )
     }
 }
 

@@ -43,7 +43,9 @@ impl SeaState {
         let u = self.wind_speed.max(1e-3);
         match self.kind {
             SpectrumKind::PiersonMoskowitz | SpectrumKind::Phillips => 0.855 * GRAVITY / u,
-            SpectrumKind::Jonswap => 22.0 * (GRAVITY * GRAVITY / (u * self.effective_fetch())).powf(1.0 / 3.0),
+            SpectrumKind::Jonswap => {
+                22.0 * (GRAVITY * GRAVITY / (u * self.effective_fetch())).powf(1.0 / 3.0)
+            }
         }
     }
 
@@ -74,7 +76,9 @@ impl SeaState {
                 let alpha = 0.076 * (u * u / (self.effective_fetch() * g)).powf(0.22);
                 let sigma = if w <= wp { 0.07 } else { 0.09 };
                 let r = (-(w - wp).powi(2) / (2.0 * sigma * sigma * wp * wp)).exp();
-                alpha * g * g / w.powi(5) * (-1.25 * (wp / w).powi(4)).exp() * self.peak_enhancement.powf(r)
+                alpha * g * g / w.powi(5)
+                    * (-1.25 * (wp / w).powi(4)).exp()
+                    * self.peak_enhancement.powf(r)
             }
             SpectrumKind::Phillips => {
                 let k = super::dispersion::wave_number(w, self.depth);
@@ -240,7 +244,8 @@ mod tests {
         let sp = Spreading::new(6.0);
         let n = 10_000;
         let d = 2.0 * std::f64::consts::PI / n as f64;
-        let total: f64 = (0..n).map(|i| sp.density(-std::f64::consts::PI + (i as f64 + 0.5) * d) * d).sum();
+        let total: f64 =
+            (0..n).map(|i| sp.density(-std::f64::consts::PI + (i as f64 + 0.5) * d) * d).sum();
         assert!((total - 1.0).abs() < 1e-6);
         assert!(sp.density(0.0) > sp.density(1.0));
         assert!(sp.density(std::f64::consts::PI) < 1e-9);

@@ -22,7 +22,12 @@ impl Downsampler {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("downsample"),
             entries: &[
-                texture_entry(0, wgpu::ShaderStages::COMPUTE, wgpu::TextureViewDimension::D2Array, false),
+                texture_entry(
+                    0,
+                    wgpu::ShaderStages::COMPUTE,
+                    wgpu::TextureViewDimension::D2Array,
+                    false,
+                ),
                 storage_texture_entry(1, FORMAT, wgpu::TextureViewDimension::D2Array),
             ],
         });
@@ -47,11 +52,18 @@ impl Downsampler {
                     label: Some("downsample level"),
                     layout: &self.layout,
                     entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view(level - 1)) },
-                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view(level)) },
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: wgpu::BindingResource::TextureView(&view(level - 1)),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&view(level)),
+                        },
                     ],
                 });
-                let size = [(texture.width() >> level).max(1), (texture.height() >> level).max(1), layers];
+                let size =
+                    [(texture.width() >> level).max(1), (texture.height() >> level).max(1), layers];
                 (bg, size)
             })
             .collect();
@@ -68,7 +80,12 @@ impl Downsampler {
 }
 
 /// A mipmapped rgba16float 2D array texture usable as storage and for sampling.
-pub fn storage_array_texture(device: &wgpu::Device, label: &str, size: u32, layers: u32) -> wgpu::Texture {
+pub fn storage_array_texture(
+    device: &wgpu::Device,
+    label: &str,
+    size: u32,
+    layers: u32,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: layers },
@@ -76,7 +93,9 @@ pub fn storage_array_texture(device: &wgpu::Device, label: &str, size: u32, laye
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: FORMAT,
-        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     })
 }

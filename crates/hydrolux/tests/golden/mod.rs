@@ -73,7 +73,11 @@ fn lab(rgb: [f32; 3]) -> [f32; 3] {
 
 /// ΔE per pixel between two RGBA8 sRGB images.
 pub fn delta_e(w: usize, h: usize, a: &[u8], b: &[u8]) -> Vec<f32> {
-    let lin = |img: &[u8]| -> Vec<[f32; 3]> { img.chunks_exact(4).map(|p| [srgb_to_linear(p[0]), srgb_to_linear(p[1]), srgb_to_linear(p[2])]).collect() };
+    let lin = |img: &[u8]| -> Vec<[f32; 3]> {
+        img.chunks_exact(4)
+            .map(|p| [srgb_to_linear(p[0]), srgb_to_linear(p[1]), srgb_to_linear(p[2])])
+            .collect()
+    };
     let (ba, bb) = (blur(&lin(a), w, h), blur(&lin(b), w, h));
     ba.iter()
         .zip(&bb)
@@ -104,12 +108,18 @@ pub fn check(name: &str, w: u32, h: u32, actual: &[u8]) {
         let dir = failure_dir();
         std::fs::create_dir_all(&dir).expect("failure dir");
         write_png(&dir.join(format!("{name}.actual.png")), w, h, actual);
-        let diff: Vec<u8> = de.iter().flat_map(|d| {
-            let v = (d * 20.0).min(255.0) as u8;
-            [v, v, v, 255]
-        }).collect();
+        let diff: Vec<u8> = de
+            .iter()
+            .flat_map(|d| {
+                let v = (d * 20.0).min(255.0) as u8;
+                [v, v, v, 255]
+            })
+            .collect();
         write_png(&dir.join(format!("{name}.diff.png")), w, h, &diff);
-        panic!("{name}: mean ΔE {mean:.2} (max {MEAN_DELTA_E}), 99th percentile {p99:.2} (max {P99_DELTA_E}); see {}", dir.display());
+        panic!(
+            "{name}: mean ΔE {mean:.2} (max {MEAN_DELTA_E}), 99th percentile {p99:.2} (max {P99_DELTA_E}); see {}",
+            dir.display()
+        );
     }
 }
 

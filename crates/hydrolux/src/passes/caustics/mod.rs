@@ -15,11 +15,24 @@ pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const FIXED_POINT_SCALE: f32 = 65536.0;
 
 pub fn beam_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SURFACE, include_str!("beam.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::OPTICS,
+        shaders::SURFACE,
+        include_str!("beam.wgsl"),
+    ])
 }
 
 pub fn source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SURFACE, shaders::PHOTON, include_str!("caustics.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::OPTICS,
+        shaders::SURFACE,
+        shaders::PHOTON,
+        include_str!("caustics.wgsl"),
+    ])
 }
 
 /// WGSL `CausticParams` (and `BeamParams`, the same layout).
@@ -57,24 +70,47 @@ pub struct CausticsPass {
 }
 
 impl CausticsPass {
-    pub fn new(device: &wgpu::Device, frame_only: &wgpu::BindGroupLayout, surface: &wgpu::BindGroupLayout) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        frame_only: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+    ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("caustics"),
-            entries: &[uniform_entry(0, cs), storage_entry(1, cs, false), storage_texture_entry(2, MAP_FORMAT, wgpu::TextureViewDimension::D2Array)],
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, false),
+                storage_texture_entry(2, MAP_FORMAT, wgpu::TextureViewDimension::D2Array),
+            ],
         });
         let module = shader(device, "caustics", &source());
-        let p = |entry| compute_pipeline(device, entry, &module, entry, &[frame_only, surface, &layout]);
+        let p = |entry| {
+            compute_pipeline(device, entry, &module, entry, &[frame_only, surface, &layout])
+        };
         let beam_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("caustics beam"),
             entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT)],
         });
         let beam_module = shader(device, "caustics beam", &beam_source());
-        let add = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+        let add = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
         let beam = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("caustics beam"),
-            layout: Some(&pipeline_layout(device, "caustics beam", &[frame_only, surface, &beam_layout])),
-            vertex: wgpu::VertexState { module: &beam_module, entry_point: Some("vs_beam"), compilation_options: Default::default(), buffers: &[] },
+            layout: Some(&pipeline_layout(
+                device,
+                "caustics beam",
+                &[frame_only, surface, &beam_layout],
+            )),
+            vertex: wgpu::VertexState {
+                module: &beam_module,
+                entry_point: Some("vs_beam"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: None,
             multisample: Default::default(),
@@ -82,26 +118,54 @@ impl CausticsPass {
                 module: &beam_module,
                 entry_point: Some("fs_beam"),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState { format: MAP_FORMAT, blend: Some(wgpu::BlendState { color: add, alpha: add }), write_mask: wgpu::ColorWrites::ALL })],
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: MAP_FORMAT,
+                    blend: Some(wgpu::BlendState { color: add, alpha: add }),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
             }),
             multiview_mask: None,
             cache: None,
         });
-        CausticsPass { clear: p("clear"), splat: p("splat"), resolve: p("resolve"), procedural: p("procedural"), layout, beam_layout, beam }
+        CausticsPass {
+            clear: p("clear"),
+            splat: p("splat"),
+            resolve: p("resolve"),
+            procedural: p("procedural"),
+            layout,
+            beam_layout,
+            beam,
+        }
     }
 
-    pub fn create_map(&self, device: &wgpu::Device, photons_per_side: u32, resolution: u32, layers: u32) -> CausticMap {
+    pub fn create_map(
+        &self,
+        device: &wgpu::Device,
+        photons_per_side: u32,
+        resolution: u32,
+        layers: u32,
+    ) -> CausticMap {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("caustic map"),
-            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: layers },
+            size: wgpu::Extent3d {
+                width: resolution,
+                height: resolution,
+                depth_or_array_layers: layers,
+            },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: MAP_FORMAT,
-            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::RENDER_ATTACHMENT,
             view_formats: &[],
         });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), ..Default::default() });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
         let accum = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("caustic accumulator"),
             size: (resolution * resolution * layers * 4) as u64,
@@ -115,7 +179,10 @@ impl CausticsPass {
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: accum.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&view) },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
             ],
         });
         let beam_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -133,11 +200,27 @@ impl CausticsPass {
                 })
             })
             .collect();
-        CausticMap { photons_per_side, resolution, layers, texture, view, layer_views, params, group, beam_group }
+        CausticMap {
+            photons_per_side,
+            resolution,
+            layers,
+            texture,
+            view,
+            layer_views,
+            params,
+            group,
+            beam_group,
+        }
     }
 
     /// Set the patch (m) and the floor depth (m) the light lands on.
-    pub fn prepare(&self, queue: &wgpu::Queue, map: &CausticMap, patch: [f32; 2], floor_depth: f32) {
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        map: &CausticMap,
+        patch: [f32; 2],
+        floor_depth: f32,
+    ) {
         let u = CausticUniforms {
             counts: [map.photons_per_side, map.resolution, Self::beam_cells(map), map.layers],
             extent: [patch[0], patch[1], floor_depth, FIXED_POINT_SCALE],
@@ -172,10 +255,17 @@ impl CausticsPass {
                         view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: None,
-                    timestamp_writes: if layer == 0 { timer.take().and_then(|t| t.render_writes("caustics")) } else { None },
+                    timestamp_writes: if layer == 0 {
+                        timer.take().and_then(|t| t.render_writes("caustics"))
+                    } else {
+                        None
+                    },
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });

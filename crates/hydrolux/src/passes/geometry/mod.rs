@@ -34,7 +34,13 @@ pub fn source() -> String {
 /// Source of the shadow pipeline: without the shadow map's bindings (it is
 /// the attachment being written).
 pub fn shadow_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::SHADOW_SPACE, include_str!("geometry_common.wgsl"), include_str!("geometry_shadow.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::SHADOW_SPACE,
+        include_str!("geometry_common.wgsl"),
+        include_str!("geometry_shadow.wgsl"),
+    ])
 }
 
 /// Which way a view's triangles wind: mirrored views flip them.
@@ -53,7 +59,8 @@ pub struct ViewSlot {
 
 impl ViewSlot {
     pub fn write(&self, queue: &wgpu::Queue, view_proj: glam::Mat4, clip_plane: glam::Vec4) {
-        let u = ViewUniforms { view_proj: view_proj.to_cols_array_2d(), clip_plane: clip_plane.into() };
+        let u =
+            ViewUniforms { view_proj: view_proj.to_cols_array_2d(), clip_plane: clip_plane.into() };
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&u));
     }
 }
@@ -110,8 +117,13 @@ pub struct GeometryPass {
 }
 
 pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
-    const ATTRS: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
-    wgpu::VertexBufferLayout { array_stride: 32, step_mode: wgpu::VertexStepMode::Vertex, attributes: &ATTRS }
+    const ATTRS: [wgpu::VertexAttribute; 3] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
+    wgpu::VertexBufferLayout {
+        array_stride: 32,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &ATTRS,
+    }
 }
 
 impl GeometryPass {
@@ -129,7 +141,11 @@ impl GeometryPass {
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("geometry object"),
-            entries: &[uniform_entry(0, vs | fs), texture_entry(1, fs, wgpu::TextureViewDimension::D2, true), sampler_entry(2, fs)],
+            entries: &[
+                uniform_entry(0, vs | fs),
+                texture_entry(1, fs, wgpu::TextureViewDimension::D2, true),
+                sampler_entry(2, fs),
+            ],
         });
         let module = shader(device, "geometry", &source());
         let layout = pipeline_layout(device, "geometry", &[globals, &view_layout, &object_layout]);
@@ -140,13 +156,26 @@ impl GeometryPass {
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let main_depth = crate::targets::main_depth_state(main_depth_format, true, wgpu::CompareFunction::Greater);
+        let main_depth = crate::targets::main_depth_state(
+            main_depth_format,
+            true,
+            wgpu::CompareFunction::Greater,
+        );
         let colour = |front_face, depth_stencil: &wgpu::DepthStencilState, fs: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("geometry"),
                 layout: Some(&layout),
-                vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[Some(vertex_layout())] },
-                primitive: wgpu::PrimitiveState { front_face, cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(vertex_layout())],
+                },
+                primitive: wgpu::PrimitiveState {
+                    front_face,
+                    cull_mode: Some(wgpu::Face::Back),
+                    ..Default::default()
+                },
                 depth_stencil: Some(depth_stencil.clone()),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
@@ -160,11 +189,17 @@ impl GeometryPass {
             })
         };
         let shadow_module = shader(device, "geometry shadow", &shadow_source());
-        let shadow_layout = pipeline_layout(device, "geometry shadow", &[frame_only, &view_layout, &object_layout]);
+        let shadow_layout =
+            pipeline_layout(device, "geometry shadow", &[frame_only, &view_layout, &object_layout]);
         let shadow = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("shadow map"),
             layout: Some(&shadow_layout),
-            vertex: wgpu::VertexState { module: &shadow_module, entry_point: Some("vs_shadow"), compilation_options: Default::default(), buffers: &[Some(vertex_layout())] },
+            vertex: wgpu::VertexState {
+                module: &shadow_module,
+                entry_point: Some("vs_shadow"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout())],
+            },
             // Both faces: open meshes (planes) must cast too.
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
@@ -213,7 +248,12 @@ impl GeometryPass {
     }
 
     /// Build every mesh, texture and per-object uniform of `scene`.
-    pub fn upload(&self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<SceneGeometry, AssetError> {
+    pub fn upload(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+    ) -> Result<SceneGeometry, AssetError> {
         let built = scene.build_geometry()?;
         let (mut vertices, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
         let mut shadow_bounds: Option<(glam::Vec3, glam::Vec3)> = None;
@@ -221,16 +261,20 @@ impl GeometryPass {
         for o in &built {
             let base_vertex = vertices.len() as i32;
             let first = indices.len() as u32;
-            vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).zip(&o.mesh.uvs).map(|((p, n), uv)| Vertex {
-                position: p.to_array(),
-                normal: n.to_array(),
-                uv: uv.to_array(),
-            }));
+            vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).zip(&o.mesh.uvs).map(
+                |((p, n), uv)| Vertex {
+                    position: p.to_array(),
+                    normal: n.to_array(),
+                    uv: uv.to_array(),
+                },
+            ));
             indices.extend_from_slice(&o.mesh.indices);
             if let Some((lo, hi)) = o.shadow_bounds {
-                shadow_bounds = Some(shadow_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+                shadow_bounds =
+                    Some(shadow_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
                 if o.material.ior > 0.0 {
-                    refractive_bounds = Some(refractive_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+                    refractive_bounds =
+                        Some(refractive_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
                 }
             }
             let m = &o.material;
@@ -243,9 +287,18 @@ impl GeometryPass {
             let normal = glam::Mat3::from_mat4(o.transform).inverse().transpose();
             let u = ObjectUniforms {
                 model: o.transform.to_cols_array_2d(),
-                normal_matrix: [normal.x_axis.extend(0.0).into(), normal.y_axis.extend(0.0).into(), normal.z_axis.extend(0.0).into()],
+                normal_matrix: [
+                    normal.x_axis.extend(0.0).into(),
+                    normal.y_axis.extend(0.0).into(),
+                    normal.z_axis.extend(0.0).into(),
+                ],
                 albedo: [m.albedo[0], m.albedo[1], m.albedo[2], m.uv_scale],
-                pattern_color: [m.pattern_color[0], m.pattern_color[1], m.pattern_color[2], m.tile_size],
+                pattern_color: [
+                    m.pattern_color[0],
+                    m.pattern_color[1],
+                    m.pattern_color[2],
+                    m.tile_size,
+                ],
                 flags: [
                     match m.pattern {
                         Pattern::None => 0,
@@ -264,19 +317,46 @@ impl GeometryPass {
                 layout: &self.object_layout,
                 entries: &[
                     wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(texture.as_ref().unwrap_or(&self.white)) },
-                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(
+                            texture.as_ref().unwrap_or(&self.white),
+                        ),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::Sampler(&self.sampler),
+                    },
                 ],
             });
-            objects.push(GpuObject { indices: first..indices.len() as u32, base_vertex, group, refractive: m.ior > 0.0 });
+            objects.push(GpuObject {
+                indices: first..indices.len() as u32,
+                base_vertex,
+                group,
+                refractive: m.ior > 0.0,
+            });
         }
         // wgpu wants non-empty buffers.
         vertices.push(bytemuck::Zeroable::zeroed());
         indices.push(0);
-        let init = |label, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let init = |label, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
         Ok(SceneGeometry {
-            vertices: init("scene vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX),
-            indices: init("scene indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
+            vertices: init(
+                "scene vertices",
+                bytemuck::cast_slice(&vertices),
+                wgpu::BufferUsages::VERTEX,
+            ),
+            indices: init(
+                "scene indices",
+                bytemuck::cast_slice(&indices),
+                wgpu::BufferUsages::INDEX,
+            ),
             triangle_count: (indices.len() - 1) / 3,
             objects,
             shadow_bounds,
@@ -285,16 +365,35 @@ impl GeometryPass {
     }
 
     /// Draw every object into an offscreen `view` (reflection, refraction).
-    pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry) {
-        pass.set_pipeline(if view.winding == Winding::Mirrored { &self.offscreen_mirrored } else { &self.offscreen });
+    pub fn record(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        globals: &wgpu::BindGroup,
+        view: &ViewSlot,
+        geometry: &SceneGeometry,
+    ) {
+        pass.set_pipeline(if view.winding == Winding::Mirrored {
+            &self.offscreen_mirrored
+        } else {
+            &self.offscreen
+        });
         pass.set_bind_group(0, globals, &[]);
         self.draw_objects(pass, view, geometry, Objects::Opaque);
     }
 
     /// Draw every object into the main view, once per medium: pixels whose
     /// stencil says air, then those that look out from inside the water.
-    pub fn record_main(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry) {
-        for (pipeline, medium) in [(&self.main_air, crate::targets::STENCIL_AIR), (&self.main_water, crate::targets::STENCIL_WATER)] {
+    pub fn record_main(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        globals: &wgpu::BindGroup,
+        view: &ViewSlot,
+        geometry: &SceneGeometry,
+    ) {
+        for (pipeline, medium) in [
+            (&self.main_air, crate::targets::STENCIL_AIR),
+            (&self.main_water, crate::targets::STENCIL_WATER),
+        ] {
             pass.set_pipeline(pipeline);
             pass.set_stencil_reference(medium);
             pass.set_bind_group(0, globals, &[]);
@@ -303,7 +402,14 @@ impl GeometryPass {
     }
 
     /// Draw `which` objects into a depth map from the sun (the shadow map).
-    pub fn record_shadow(&self, pass: &mut wgpu::RenderPass<'_>, frame_only: &wgpu::BindGroup, view: &ViewSlot, geometry: &SceneGeometry, which: Objects) {
+    pub fn record_shadow(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        frame_only: &wgpu::BindGroup,
+        view: &ViewSlot,
+        geometry: &SceneGeometry,
+        which: Objects,
+    ) {
         pass.set_pipeline(&self.shadow);
         pass.set_bind_group(0, frame_only, &[]);
         self.draw_objects(pass, view, geometry, which);
@@ -319,7 +425,13 @@ impl GeometryPass {
 
     /// Draw `which` objects with the caller's pipeline (groups 1 and 2 are
     /// the view and each object; the caller sets group 0 and any after 2).
-    pub fn draw_objects(&self, pass: &mut wgpu::RenderPass<'_>, view: &ViewSlot, geometry: &SceneGeometry, which: Objects) {
+    pub fn draw_objects(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        view: &ViewSlot,
+        geometry: &SceneGeometry,
+        which: Objects,
+    ) {
         if geometry.objects.is_empty() {
             return;
         }
@@ -342,7 +454,14 @@ impl GeometryPass {
 }
 
 /// An sRGB texture with a full mip chain (box-filtered in linear light on the CPU).
-fn upload_rgba8(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8]) -> wgpu::TextureView {
+fn upload_rgba8(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> wgpu::TextureView {
     let levels = 32 - width.max(height).leading_zeros();
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -358,23 +477,36 @@ fn upload_rgba8(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: 
         let c = c as f32 / 255.0;
         if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
     };
-    let mut level: Vec<[f32; 4]> = rgba.chunks_exact(4).map(|p| [to_linear(p[0]), to_linear(p[1]), to_linear(p[2]), p[3] as f32 / 255.0]).collect();
+    let mut level: Vec<[f32; 4]> = rgba
+        .chunks_exact(4)
+        .map(|p| [to_linear(p[0]), to_linear(p[1]), to_linear(p[2]), p[3] as f32 / 255.0])
+        .collect();
     let (mut w, mut h) = (width, height);
     for mip in 0..levels {
         let bytes: Vec<u8> = level
             .iter()
             .flat_map(|p| {
                 let enc = |c: f32| {
-                    let s = if c <= 0.0031308 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+                    let s =
+                        if c <= 0.0031308 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
                     (s.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
                 };
                 [enc(p[0]), enc(p[1]), enc(p[2]), (p[3].clamp(0.0, 1.0) * 255.0 + 0.5) as u8]
             })
             .collect();
         queue.write_texture(
-            wgpu::TexelCopyTextureInfo { texture: &texture, mip_level: mip, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: mip,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
             &bytes,
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * w), rows_per_image: Some(h) },
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * w),
+                rows_per_image: Some(h),
+            },
             wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         );
         let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));

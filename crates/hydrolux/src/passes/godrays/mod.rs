@@ -35,7 +35,17 @@ fn base() -> Vec<&'static str> {
 }
 
 pub fn tubes_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, shaders::TUBE, COMMON, shaders::OPTICS, shaders::SURFACE, shaders::PHOTON, include_str!("tubes.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::MEDIUM,
+        shaders::TUBE,
+        COMMON,
+        shaders::OPTICS,
+        shaders::SURFACE,
+        shaders::PHOTON,
+        include_str!("tubes.wgsl"),
+    ])
 }
 
 pub fn ribbons_source() -> String {
@@ -46,7 +56,13 @@ pub fn ribbons_source() -> String {
 
 pub fn march_source() -> String {
     let mut parts = base();
-    parts.extend([shaders::FULLSCREEN, shaders::SHADOW_SPACE, shaders::SHADOW_LOOKUP, shaders::CAUSTICS_LOOKUP, include_str!("march.wgsl")]);
+    parts.extend([
+        shaders::FULLSCREEN,
+        shaders::SHADOW_SPACE,
+        shaders::SHADOW_LOOKUP,
+        shaders::CAUSTICS_LOOKUP,
+        include_str!("march.wgsl"),
+    ]);
     compose(&parts)
 }
 
@@ -121,7 +137,11 @@ pub struct GodRayFrame {
     pub uniforms: GodRayUniforms,
 }
 
-const ADD: wgpu::BlendComponent = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+const ADD: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::One,
+    operation: wgpu::BlendOperation::Add,
+};
 
 fn render_pipeline(
     device: &wgpu::Device,
@@ -135,7 +155,12 @@ fn render_pipeline(
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(&pipeline_layout(device, label, layouts)),
-        vertex: wgpu::VertexState { module, entry_point: Some(entries.0), compilation_options: Default::default(), buffers: &[] },
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(entries.0),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
         primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
         depth_stencil: None,
         multisample: Default::default(),
@@ -162,7 +187,8 @@ impl GodRaysPass {
         surface: &wgpu::BindGroupLayout,
         hdr_format: wgpu::TextureFormat,
     ) -> Self {
-        let (vs, fs, cs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
+        let (vs, fs, cs) =
+            (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
         let build_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("god-ray tubes (build)"),
             entries: &[uniform_entry(0, cs), storage_entry(1, cs, false)],
@@ -176,11 +202,15 @@ impl GodRaysPass {
             entries: &[texture_entry(0, fs, wgpu::TextureViewDimension::D2, false)],
         });
         let depth_texture = |binding| {
-            layout_entry(binding, fs, wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Depth,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            })
+            layout_entry(
+                binding,
+                fs,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+            )
         };
         let reduce_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("god-ray reduce"),
@@ -192,24 +222,74 @@ impl GodRaysPass {
                 depth_texture(0),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
-                layout_entry(3, fs, wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Uint,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                }),
+                layout_entry(
+                    3,
+                    fs,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
                 uniform_entry(4, fs),
             ],
         });
         let tubes_module = shader(device, "god-ray tubes", &tubes_source());
-        let build = compute_pipeline(device, "god-ray tubes", &tubes_module, "build", &[frame_only, surface, &build_layout]);
+        let build = compute_pipeline(
+            device,
+            "god-ray tubes",
+            &tubes_module,
+            "build",
+            &[frame_only, surface, &build_layout],
+        );
         let ribbons_module = shader(device, "god-ray ribbons", &ribbons_source());
-        let ribbons = render_pipeline(device, "god-ray ribbons", &ribbons_module, ("vs_ribbon", "fs_ribbon"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, true);
+        let ribbons = render_pipeline(
+            device,
+            "god-ray ribbons",
+            &ribbons_module,
+            ("vs_ribbon", "fs_ribbon"),
+            &[globals, &draw_layout, &depth_layout],
+            BUFFER_FORMAT,
+            true,
+        );
         let march_module = shader(device, "god-ray march", &march_source());
-        let march = render_pipeline(device, "god-ray march", &march_module, ("vs_main", "fs_main"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, false);
-        let fog = render_pipeline(device, "god-ray fog", &march_module, ("vs_main", "fs_fog"), &[globals, &draw_layout, &depth_layout], BUFFER_FORMAT, false);
+        let march = render_pipeline(
+            device,
+            "god-ray march",
+            &march_module,
+            ("vs_main", "fs_main"),
+            &[globals, &draw_layout, &depth_layout],
+            BUFFER_FORMAT,
+            false,
+        );
+        let fog = render_pipeline(
+            device,
+            "god-ray fog",
+            &march_module,
+            ("vs_main", "fs_fog"),
+            &[globals, &draw_layout, &depth_layout],
+            BUFFER_FORMAT,
+            false,
+        );
         let resolve_module = shader(device, "god-ray resolve", &resolve_source());
-        let reduce = render_pipeline(device, "god-ray reduce", &resolve_module, ("vs_main", "fs_reduce"), &[frame_only, &reduce_layout], DEPTH_FORMAT, false);
-        let composite = render_pipeline(device, "god-ray composite", &resolve_module, ("vs_main", "fs_composite"), &[frame_only, &composite_layout], hdr_format, true);
+        let reduce = render_pipeline(
+            device,
+            "god-ray reduce",
+            &resolve_module,
+            ("vs_main", "fs_reduce"),
+            &[frame_only, &reduce_layout],
+            DEPTH_FORMAT,
+            false,
+        );
+        let composite = render_pipeline(
+            device,
+            "god-ray composite",
+            &resolve_module,
+            ("vs_main", "fs_composite"),
+            &[frame_only, &composite_layout],
+            hdr_format,
+            true,
+        );
         GodRaysPass {
             params: uniform_buffer(device, "god-ray params", &GodRayUniforms::default()),
             build_layout,
@@ -243,7 +323,12 @@ impl GodRaysPass {
                 ],
             })
         };
-        GodRayTubes { per_side, build_group: group(&self.build_layout, "god-ray tubes (build)"), draw_group: group(&self.draw_layout, "god-ray tubes"), buffer }
+        GodRayTubes {
+            per_side,
+            build_group: group(&self.build_layout, "god-ray tubes (build)"),
+            draw_group: group(&self.draw_layout, "god-ray tubes"),
+            buffer,
+        }
     }
 
     /// The buffer (`scale` × the output size) and its bind groups, reading
@@ -256,8 +341,13 @@ impl GodRaysPass {
         main_depth: &wgpu::TextureView,
         main_medium: &wgpu::TextureView,
     ) -> GodRayTargets {
-        let size = (((output.0 as f32 * scale).round() as u32).max(1), ((output.1 as f32 * scale).round() as u32).max(1));
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let size = (
+            ((output.0 as f32 * scale).round() as u32).max(1),
+            ((output.1 as f32 * scale).round() as u32).max(1),
+        );
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
         let texture = |label, format| texture_2d(device, label, size, format, usage);
         let buffer = texture("god-ray buffer", BUFFER_FORMAT);
         let depth = texture("god-ray depth", DEPTH_FORMAT);
@@ -272,7 +362,10 @@ impl GodRaysPass {
         let reduce_input = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("god-ray reduce"),
             layout: &self.reduce_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: tv(main_depth) }, wgpu::BindGroupEntry { binding: 4, resource: self.params.as_entire_binding() }],
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: tv(main_depth) },
+                wgpu::BindGroupEntry { binding: 4, resource: self.params.as_entire_binding() },
+            ],
         });
         let composite_input = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("god-ray composite"),
@@ -285,7 +378,15 @@ impl GodRaysPass {
                 wgpu::BindGroupEntry { binding: 4, resource: self.params.as_entire_binding() },
             ],
         });
-        GodRayTargets { size, buffer, buffer_view, depth_view, depth_input, reduce_input, composite_input }
+        GodRayTargets {
+            size,
+            buffer,
+            buffer_view,
+            depth_view,
+            depth_input,
+            reduce_input,
+            composite_input,
+        }
     }
 
     /// Write this frame's parameters (before recording).
@@ -312,7 +413,9 @@ impl GodRaysPass {
         if matches!(shafts, Shafts::Water(GodRayMethod::Lines)) {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("god-ray tubes"),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.compute_writes("god-ray tubes")),
+                timestamp_writes: timer
+                    .as_deref_mut()
+                    .and_then(|t| t.compute_writes("god-ray tubes")),
             });
             pass.set_pipeline(&self.build);
             pass.set_bind_group(0, frame_only, &[]);
@@ -321,7 +424,10 @@ impl GodRaysPass {
             let n = tubes.per_side.div_ceil(8);
             pass.dispatch_workgroups(n, n, 1);
         }
-        let target = |encoder: &mut wgpu::CommandEncoder, label: &'static str, view, timer: Option<&mut GpuTimer>| {
+        let target = |encoder: &mut wgpu::CommandEncoder,
+                      label: &'static str,
+                      view,
+                      timer: Option<&mut GpuTimer>| {
             encoder
                 .begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some(label),
@@ -329,7 +435,10 @@ impl GodRaysPass {
                         view,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
                     })],
                     depth_stencil_attachment: None,
                     timestamp_writes: timer.and_then(|t| t.render_writes(label)),
@@ -339,7 +448,8 @@ impl GodRaysPass {
                 .forget_lifetime()
         };
         {
-            let mut pass = target(encoder, "god-ray depth", &targets.depth_view, timer.as_deref_mut());
+            let mut pass =
+                target(encoder, "god-ray depth", &targets.depth_view, timer.as_deref_mut());
             pass.set_pipeline(&self.reduce);
             pass.set_bind_group(0, frame_only, &[]);
             pass.set_bind_group(1, &targets.reduce_input, &[]);
@@ -390,8 +500,17 @@ impl GodRaysPass {
     }
 
     /// Read the tubes back (start xyz, length, dir xyz, flux per tube).
-    pub fn read_tubes(&self, device: &wgpu::Device, queue: &wgpu::Queue, tubes: &GodRayTubes) -> Vec<[f32; 12]> {
-        let bytes = read_buffer(device, queue, &tubes.buffer, (tubes.per_side as u64).pow(2) * TUBE_BYTES);
-        bytemuck::cast_slice::<u8, f32>(&bytes).chunks_exact(12).map(|c| c.try_into().unwrap_or([0.0; 12])).collect()
+    pub fn read_tubes(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tubes: &GodRayTubes,
+    ) -> Vec<[f32; 12]> {
+        let bytes =
+            read_buffer(device, queue, &tubes.buffer, (tubes.per_side as u64).pow(2) * TUBE_BYTES);
+        bytemuck::cast_slice::<u8, f32>(&bytes)
+            .chunks_exact(12)
+            .map(|c| c.try_into().unwrap_or([0.0; 12]))
+            .collect()
     }
 }

@@ -77,14 +77,24 @@ pub struct OceanPass {
 }
 
 impl OceanPass {
-    pub fn new(device: &wgpu::Device, spectrum: &OceanSpectrum, downsampler: &Downsampler) -> Result<Self, OceanTooLarge> {
+    pub fn new(
+        device: &wgpu::Device,
+        spectrum: &OceanSpectrum,
+        downsampler: &Downsampler,
+    ) -> Result<Self, OceanTooLarge> {
         let n = spectrum.settings.resolution as u32;
         let cascades = spectrum.cascades.len() as u32;
         let limits = device.limits();
-        let need = fields_bytes(n, cascades).max(std::mem::size_of_val(spectrum.modes.as_slice()) as u64);
+        let need =
+            fields_bytes(n, cascades).max(std::mem::size_of_val(spectrum.modes.as_slice()) as u64);
         let max = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
         if need > max {
-            return Err(OceanTooLarge { n, cascades, need_mib: need.div_ceil(1 << 20), max_mib: max >> 20 });
+            return Err(OceanTooLarge {
+                n,
+                cascades,
+                need_mib: need.div_ceil(1 << 20),
+                max_mib: max >> 20,
+            });
         }
         let modes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("ocean initial spectrum"),
@@ -99,12 +109,20 @@ impl OceanPass {
         });
         let choppiness = spectrum.settings.choppiness as f32;
         let evolve_uniforms = uniform_buffer(device, "ocean evolve", &EvolveUniforms::default());
-        let assemble_uniforms = uniform_buffer(device, "ocean assemble", &AssembleUniforms { n, cascades, _pad: [0; 2] });
+        let assemble_uniforms = uniform_buffer(
+            device,
+            "ocean assemble",
+            &AssembleUniforms { n, cascades, _pad: [0; 2] },
+        );
 
         let cs = wgpu::ShaderStages::COMPUTE;
         let evolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ocean evolve"),
-            entries: &[uniform_entry(0, cs), storage_entry(1, cs, true), storage_entry(2, cs, false)],
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, true),
+                storage_entry(2, cs, false),
+            ],
         });
         let fft_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ocean fft"),
@@ -124,10 +142,24 @@ impl OceanPass {
         let spectrum_module = shader(device, "ocean spectrum", &spectrum_source());
         let fft_module = shader(device, "ocean fft", &fft_source(n));
         let assemble_module = shader(device, "ocean assemble", &assemble_source());
-        let evolve = compute_pipeline(device, "ocean evolve", &spectrum_module, "evolve", &[&evolve_layout]);
-        let fft_rows = compute_pipeline(device, "ocean fft rows", &fft_module, "fft_rows", &[&fft_layout]);
-        let fft_columns = compute_pipeline(device, "ocean fft columns", &fft_module, "fft_columns", &[&fft_layout]);
-        let assemble = compute_pipeline(device, "ocean assemble", &assemble_module, "assemble", &[&assemble_layout]);
+        let evolve =
+            compute_pipeline(device, "ocean evolve", &spectrum_module, "evolve", &[&evolve_layout]);
+        let fft_rows =
+            compute_pipeline(device, "ocean fft rows", &fft_module, "fft_rows", &[&fft_layout]);
+        let fft_columns = compute_pipeline(
+            device,
+            "ocean fft columns",
+            &fft_module,
+            "fft_columns",
+            &[&fft_layout],
+        );
+        let assemble = compute_pipeline(
+            device,
+            "ocean assemble",
+            &assemble_module,
+            "assemble",
+            &[&assemble_layout],
+        );
 
         let textures = SurfaceTextures {
             displacement: storage_array_texture(device, "ocean displacement", n, cascades),
@@ -135,7 +167,12 @@ impl OceanPass {
             moments: storage_array_texture(device, "ocean slope moments", n, cascades),
         };
         let mip0 = |t: &wgpu::Texture| {
-            t.create_view(&wgpu::TextureViewDescriptor { dimension: Some(d2a), base_mip_level: 0, mip_level_count: Some(1), ..Default::default() })
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(d2a),
+                base_mip_level: 0,
+                mip_level_count: Some(1),
+                ..Default::default()
+            })
         };
         fn buffer(b: u32, buf: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry { binding: b, resource: buf.as_entire_binding() }
@@ -145,17 +182,31 @@ impl OceanPass {
             layout: &evolve_layout,
             entries: &[buffer(0, &evolve_uniforms), buffer(1, &modes), buffer(2, &fields)],
         });
-        let fft_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("ocean fft"), layout: &fft_layout, entries: &[buffer(0, &fields)] });
-        let (v0, v1, v2) = (mip0(&textures.displacement), mip0(&textures.derivative), mip0(&textures.moments));
+        let fft_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ocean fft"),
+            layout: &fft_layout,
+            entries: &[buffer(0, &fields)],
+        });
+        let (v0, v1, v2) =
+            (mip0(&textures.displacement), mip0(&textures.derivative), mip0(&textures.moments));
         let assemble_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("ocean assemble"),
             layout: &assemble_layout,
             entries: &[
                 buffer(0, &assemble_uniforms),
                 buffer(1, &fields),
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&v0) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&v1) },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&v2) },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&v0),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&v1),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&v2),
+                },
             ],
         });
         let mips = [
@@ -183,16 +234,26 @@ impl OceanPass {
 
     /// Per-frame input: the simulation time.
     pub fn prepare(&self, queue: &wgpu::Queue, time: f64) {
-        let u = EvolveUniforms { tau_n: [time_phase(time), self.n, self.cascades, 0], choppiness: [self.choppiness, 0.0, 0.0, 0.0] };
+        let u = EvolveUniforms {
+            tau_n: [time_phase(time), self.n, self.cascades, 0],
+            choppiness: [self.choppiness, 0.0, 0.0, 0.0],
+        };
         queue.write_buffer(&self.evolve_uniforms, 0, bytemuck::bytes_of(&u));
     }
 
-    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, downsampler: &Downsampler, mut timer: Option<&mut GpuTimer>) {
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        downsampler: &Downsampler,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
         let (n, c) = (self.n, self.cascades);
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("ocean spectrum"),
-                timestamp_writes: timer.as_deref_mut().and_then(|t| t.compute_writes("ocean spectrum")),
+                timestamp_writes: timer
+                    .as_deref_mut()
+                    .and_then(|t| t.compute_writes("ocean spectrum")),
             });
             pass.set_pipeline(&self.evolve);
             pass.set_bind_group(0, &self.evolve_group, &[]);

@@ -8,7 +8,15 @@ use hydrolux_core::waves::SurfaceSample;
 use wgpu::util::DeviceExt;
 
 pub fn source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::SURFACE, include_str!("probe.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::OPTICS,
+        shaders::SKY_MODEL,
+        shaders::SKY_BINDINGS,
+        shaders::SURFACE,
+        include_str!("probe.wgsl"),
+    ])
 }
 
 pub struct ProbePass {
@@ -19,28 +27,57 @@ pub struct ProbePass {
 }
 
 impl ProbePass {
-    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, surface: &wgpu::BindGroupLayout) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+    ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("probe io"),
             entries: &[storage_entry(0, cs, true), storage_entry(1, cs, false)],
         });
         let module = shader(device, "probe", &source());
-        let p = |entry| compute_pipeline(device, entry, &module, entry, &[globals, surface, &layout]);
-        ProbePass { surface: p("probe_surface"), sky: p("probe_sky"), fresnel: p("probe_fresnel"), layout }
+        let p =
+            |entry| compute_pipeline(device, entry, &module, entry, &[globals, surface, &layout]);
+        ProbePass {
+            surface: p("probe_surface"),
+            sky: p("probe_sky"),
+            fresnel: p("probe_fresnel"),
+            layout,
+        }
     }
 
-    fn run(&self, device: &wgpu::Device, queue: &wgpu::Queue, pipeline: &wgpu::ComputePipeline, groups: [&wgpu::BindGroup; 2], points: &[[f32; 4]]) -> Vec<[f32; 12]> {
+    fn run(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        pipeline: &wgpu::ComputePipeline,
+        groups: [&wgpu::BindGroup; 2],
+        points: &[[f32; 4]],
+    ) -> Vec<[f32; 12]> {
         if points.is_empty() {
             return Vec::new();
         }
-        let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("probe points"), contents: bytemuck::cast_slice(points), usage: wgpu::BufferUsages::STORAGE });
+        let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("probe points"),
+            contents: bytemuck::cast_slice(points),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let size = (points.len() * 48) as u64;
-        let output = device.create_buffer(&wgpu::BufferDescriptor { label: Some("probe results"), size, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe results"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
         let io = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("probe io"),
             layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() }, wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() }],
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+            ],
         });
         let mut encoder = device.create_command_encoder(&Default::default());
         {
@@ -55,23 +92,53 @@ impl ProbePass {
         bytemuck::cast_slice(&read_buffer(device, queue, &output, size)).to_vec()
     }
 
-    pub fn surface(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], points: &[[f32; 2]]) -> Vec<SurfaceSample> {
+    pub fn surface(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        groups: [&wgpu::BindGroup; 2],
+        points: &[[f32; 2]],
+    ) -> Vec<SurfaceSample> {
         let pts: Vec<[f32; 4]> = points.iter().map(|p| [p[0], p[1], 0.0, 0.0]).collect();
         self.run(device, queue, &self.surface, groups, &pts)
             .into_iter()
-            .map(|r| SurfaceSample { displacement: [r[0], r[1], r[2]], slope: [r[4], r[5]], dxx: r[6], dzz: r[7], dxz: r[8] })
+            .map(|r| SurfaceSample {
+                displacement: [r[0], r[1], r[2]],
+                slope: [r[4], r[5]],
+                dxx: r[6],
+                dzz: r[7],
+                dxz: r[8],
+            })
             .collect()
     }
 
     /// Fresnel reflectance as the shaders compute it for (cos θi, n1, n2), in
     /// every mode: [exact, Schlick, Jensen–Goliáš, power (the scene's q)].
-    pub fn fresnel(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], queries: &[(f32, f32, f32)]) -> Vec<[f32; 4]> {
+    pub fn fresnel(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        groups: [&wgpu::BindGroup; 2],
+        queries: &[(f32, f32, f32)],
+    ) -> Vec<[f32; 4]> {
         let pts: Vec<[f32; 4]> = queries.iter().map(|q| [q.0, q.1, q.2, 0.0]).collect();
-        self.run(device, queue, &self.fresnel, groups, &pts).into_iter().map(|r| [r[0], r[1], r[2], r[3]]).collect()
+        self.run(device, queue, &self.fresnel, groups, &pts)
+            .into_iter()
+            .map(|r| [r[0], r[1], r[2], r[3]])
+            .collect()
     }
 
-    pub fn sky(&self, device: &wgpu::Device, queue: &wgpu::Queue, groups: [&wgpu::BindGroup; 2], dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    pub fn sky(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        groups: [&wgpu::BindGroup; 2],
+        dirs: &[[f32; 3]],
+    ) -> Vec<[f32; 3]> {
         let pts: Vec<[f32; 4]> = dirs.iter().map(|d| [d[0], d[1], d[2], 0.0]).collect();
-        self.run(device, queue, &self.sky, groups, &pts).into_iter().map(|r| [r[0], r[1], r[2]]).collect()
+        self.run(device, queue, &self.sky, groups, &pts)
+            .into_iter()
+            .map(|r| [r[0], r[1], r[2]])
+            .collect()
     }
 }

@@ -17,7 +17,16 @@ pub fn bake_source() -> String {
 }
 
 pub fn background_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::SKY_MODEL, shaders::SKY_BINDINGS, shaders::MEDIUM, shaders::FOG, include_str!("background.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::FULLSCREEN,
+        shaders::SKY_MODEL,
+        shaders::SKY_BINDINGS,
+        shaders::MEDIUM,
+        shaders::FOG,
+        include_str!("background.wgsl"),
+    ])
 }
 
 pub struct SkyPass {
@@ -34,7 +43,12 @@ pub struct SkyPass {
 }
 
 impl SkyPass {
-    pub fn new(device: &wgpu::Device, downsampler: &Downsampler, globals: &wgpu::BindGroupLayout, main_depth_format: wgpu::TextureFormat) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        downsampler: &Downsampler,
+        globals: &wgpu::BindGroupLayout,
+        main_depth_format: wgpu::TextureFormat,
+    ) -> Self {
         let params = uniform_buffer(device, "sky params", &SkyParams::default());
         let cube = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("sky cube"),
@@ -46,10 +60,16 @@ impl SkyPass {
             usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let cube_view = cube.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::Cube), ..Default::default() });
+        let cube_view = cube.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::Cube),
+            ..Default::default()
+        });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sky bake"),
-            entries: &[uniform_entry(0, wgpu::ShaderStages::COMPUTE), storage_texture_entry(1, FORMAT, wgpu::TextureViewDimension::D2Array)],
+            entries: &[
+                uniform_entry(0, wgpu::ShaderStages::COMPUTE),
+                storage_texture_entry(1, FORMAT, wgpu::TextureViewDimension::D2Array),
+            ],
         });
         let level0 = cube.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -62,7 +82,10 @@ impl SkyPass {
             layout: &layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&level0) },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&level0),
+                },
             ],
         });
         let module = shader(device, "sky bake", &bake_source());
@@ -74,9 +97,18 @@ impl SkyPass {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(fs),
                 layout: Some(&layout),
-                vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
                 primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(crate::targets::main_depth_state(main_depth_format, false, wgpu::CompareFunction::Always)),
+                depth_stencil: Some(crate::targets::main_depth_state(
+                    main_depth_format,
+                    false,
+                    wgpu::CompareFunction::Always,
+                )),
                 multisample: wgpu::MultisampleState::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
@@ -89,7 +121,18 @@ impl SkyPass {
             })
         };
         let (background, deep_water) = (pipeline("fs_main"), pipeline("fs_deep"));
-        SkyPass { params, cube, cube_view, bake, bake_group, mips, background, deep_water, current: None, dirty: true }
+        SkyPass {
+            params,
+            cube,
+            cube_view,
+            bake,
+            bake_group,
+            mips,
+            background,
+            deep_water,
+            current: None,
+            dirty: true,
+        }
     }
 
     /// Per-frame input: the sky for this sun. Re-bakes only when it changed.
@@ -101,7 +144,12 @@ impl SkyPass {
         }
     }
 
-    pub fn record_bake(&mut self, encoder: &mut wgpu::CommandEncoder, downsampler: &Downsampler, timer: Option<&mut GpuTimer>) {
+    pub fn record_bake(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        downsampler: &Downsampler,
+        timer: Option<&mut GpuTimer>,
+    ) {
         if !self.dirty {
             return;
         }
@@ -120,7 +168,10 @@ impl SkyPass {
     /// air, endless water where it is water (stencil reference).
     pub fn record_background(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup) {
         pass.set_bind_group(0, globals, &[]);
-        for (pipeline, medium) in [(&self.background, crate::targets::STENCIL_AIR), (&self.deep_water, crate::targets::STENCIL_WATER)] {
+        for (pipeline, medium) in [
+            (&self.background, crate::targets::STENCIL_AIR),
+            (&self.deep_water, crate::targets::STENCIL_WATER),
+        ] {
             pass.set_pipeline(pipeline);
             pass.set_stencil_reference(medium);
             pass.draw(0..3, 0..1);

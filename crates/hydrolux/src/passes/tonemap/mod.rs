@@ -8,7 +8,15 @@ use crate::timing::GpuTimer;
 
 pub fn source(srgb_target: bool) -> String {
     let c = format!("const OUTPUT_SRGB_CURVE: bool = {};\n", !srgb_target);
-    compose(&[&c, shaders::CONSTANTS, shaders::FRAME, shaders::FULLSCREEN, shaders::TONEMAP_CURVE, shaders::CAUSTICS_LOOKUP, include_str!("tonemap.wgsl")])
+    compose(&[
+        &c,
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::FULLSCREEN,
+        shaders::TONEMAP_CURVE,
+        shaders::CAUSTICS_LOOKUP,
+        include_str!("tonemap.wgsl"),
+    ])
 }
 
 pub struct TonemapPass {
@@ -17,13 +25,21 @@ pub struct TonemapPass {
 }
 
 impl TonemapPass {
-    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, target_format: wgpu::TextureFormat) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        target_format: wgpu::TextureFormat,
+    ) -> Self {
         let fs = wgpu::ShaderStages::FRAGMENT;
-        let depth = layout_entry(3, fs, wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Depth,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        });
+        let depth = layout_entry(
+            3,
+            fs,
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Depth,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+        );
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tonemap input"),
             entries: &[
@@ -32,34 +48,63 @@ impl TonemapPass {
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
                 depth,
                 wgpu::BindGroupLayoutEntry { binding: 4, ..depth },
-                layout_entry(5, fs, wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Uint,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                }),
+                layout_entry(
+                    5,
+                    fs,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
             ],
         });
         let module = shader(device, "tonemap", &source(target_format.is_srgb()));
-        let pipeline = fullscreen_pipeline(device, "tonemap", &module, &[globals, &layout], target_format);
+        let pipeline =
+            fullscreen_pipeline(device, "tonemap", &module, &[globals, &layout], target_format);
         TonemapPass { layout, pipeline }
     }
 
     /// The HDR image and the textures the debug views show, in binding order:
     /// hdr, reflection, refraction, depth, shadow map, medium (stencil).
-    pub fn input_group(&self, device: &wgpu::Device, views: [&wgpu::TextureView; 6]) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry> =
-            views.iter().enumerate().map(|(i, v)| wgpu::BindGroupEntry { binding: i as u32, resource: wgpu::BindingResource::TextureView(v) }).collect();
-        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("tonemap input"), layout: &self.layout, entries: &entries })
+    pub fn input_group(
+        &self,
+        device: &wgpu::Device,
+        views: [&wgpu::TextureView; 6],
+    ) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = views
+            .iter()
+            .enumerate()
+            .map(|(i, v)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::TextureView(v),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tonemap input"),
+            layout: &self.layout,
+            entries: &entries,
+        })
     }
 
-    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, target: &wgpu::TextureView, globals: &wgpu::BindGroup, input: &wgpu::BindGroup, timer: Option<&mut GpuTimer>) {
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        globals: &wgpu::BindGroup,
+        input: &wgpu::BindGroup,
+        timer: Option<&mut GpuTimer>,
+    ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tonemap"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: target,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
             })],
             depth_stencil_attachment: None,
             timestamp_writes: timer.and_then(|t| t.render_writes("tonemap")),

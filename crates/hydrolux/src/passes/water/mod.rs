@@ -3,8 +3,8 @@
 //! sky reflection, sun glint, the water body and foam (see `water.wgsl`).
 
 use crate::gpu_util::*;
-use hydrolux_core::camera::Camera;
 use crate::shaders::{self, compose};
+use hydrolux_core::camera::Camera;
 use wgpu::util::DeviceExt;
 
 /// Grid cells from a ring's centre to its edge.
@@ -82,7 +82,13 @@ impl GridMesh {
             }
             tiles.push(per_tile);
         }
-        let init = |contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let init = |contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
         GridMesh {
             vertices: init(bytemuck::cast_slice(&cells), wgpu::BufferUsages::VERTEX),
             indices: init(bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX),
@@ -91,7 +97,13 @@ impl GridMesh {
     }
 
     /// Draw the tiles of `variant` whose cell bounds pass `visible`.
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: usize, instance: u32, visible: impl Fn([i32; 4]) -> bool) {
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        variant: usize,
+        instance: u32,
+        visible: impl Fn([i32; 4]) -> bool,
+    ) {
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         for (bounds, range) in &self.tiles[variant] {
@@ -113,7 +125,11 @@ pub fn frustum_planes(view_proj: glam::Mat4) -> [glam::Vec4; 5] {
 /// Whether the box [min, max] is at least partly inside the frustum.
 pub fn box_visible(planes: &[glam::Vec4; 5], min: glam::Vec3, max: glam::Vec3) -> bool {
     planes.iter().all(|p| {
-        let far_corner = glam::Vec3::new(if p.x >= 0.0 { max.x } else { min.x }, if p.y >= 0.0 { max.y } else { min.y }, if p.z >= 0.0 { max.z } else { min.z });
+        let far_corner = glam::Vec3::new(
+            if p.x >= 0.0 { max.x } else { min.x },
+            if p.y >= 0.0 { max.y } else { min.y },
+            if p.z >= 0.0 { max.z } else { min.z },
+        );
         p.truncate().dot(far_corner) + p.w >= 0.0
     })
 }
@@ -171,7 +187,14 @@ fn grid_indices(h: i32, hole: Option<(i32, i32)>, bounds: [i32; 4]) -> Vec<u32> 
                 }
             }
             // Counter-clockwise seen from above (+y).
-            out.extend_from_slice(&[id(x, z), id(x, z + 1), id(x + 1, z), id(x + 1, z), id(x, z + 1), id(x + 1, z + 1)]);
+            out.extend_from_slice(&[
+                id(x, z),
+                id(x, z + 1),
+                id(x + 1, z),
+                id(x + 1, z),
+                id(x, z + 1),
+                id(x + 1, z + 1),
+            ]);
         }
     }
     out
@@ -183,16 +206,37 @@ mod tests {
 
     #[test]
     fn frustum_keeps_what_is_ahead_and_drops_what_is_behind() {
-        let cam = Camera { position: glam::Vec3::new(0.0, 5.0, 0.0), look_at: glam::Vec3::new(0.0, 0.0, -50.0), up: glam::Vec3::Y, fov_y_deg: 60.0 };
+        let cam = Camera {
+            position: glam::Vec3::new(0.0, 5.0, 0.0),
+            look_at: glam::Vec3::new(0.0, 0.0, -50.0),
+            up: glam::Vec3::Y,
+            fov_y_deg: 60.0,
+        };
         let planes = frustum_planes(cam.view_projection(16.0 / 9.0));
-        let ahead = box_visible(&planes, glam::Vec3::new(-5.0, -1.0, -40.0), glam::Vec3::new(5.0, 1.0, -30.0));
-        let behind = box_visible(&planes, glam::Vec3::new(-5.0, -1.0, 30.0), glam::Vec3::new(5.0, 1.0, 40.0));
-        let far_left = box_visible(&planes, glam::Vec3::new(-500.0, -1.0, -20.0), glam::Vec3::new(-400.0, 1.0, -10.0));
+        let ahead = box_visible(
+            &planes,
+            glam::Vec3::new(-5.0, -1.0, -40.0),
+            glam::Vec3::new(5.0, 1.0, -30.0),
+        );
+        let behind = box_visible(
+            &planes,
+            glam::Vec3::new(-5.0, -1.0, 30.0),
+            glam::Vec3::new(5.0, 1.0, 40.0),
+        );
+        let far_left = box_visible(
+            &planes,
+            glam::Vec3::new(-500.0, -1.0, -20.0),
+            glam::Vec3::new(-400.0, 1.0, -10.0),
+        );
         // A huge box around the camera is always visible.
         let around = box_visible(&planes, glam::Vec3::splat(-1000.0), glam::Vec3::splat(1000.0));
         assert!(ahead && !behind && !far_left && around);
         // Very far ahead is still inside: there is no far plane.
-        assert!(box_visible(&planes, glam::Vec3::new(-10.0, -1.0, -90_000.0), glam::Vec3::new(10.0, 1.0, -80_000.0)));
+        assert!(box_visible(
+            &planes,
+            glam::Vec3::new(-10.0, -1.0, -90_000.0),
+            glam::Vec3::new(10.0, 1.0, -80_000.0)
+        ));
     }
 
     #[test]
@@ -206,7 +250,11 @@ mod tests {
                 let v = hole_variant(xz, level);
                 let (dx, dz) = (v as i32 / 3 - 1, v as i32 % 3 - 1);
                 let hole_centre = [outer[0] + dx as f32 * s, outer[1] + dz as f32 * s];
-                assert!((hole_centre[0] - inner[0]).abs() < 1e-3 && (hole_centre[1] - inner[1]).abs() < 1e-3, "{xz:?} level {level}");
+                assert!(
+                    (hole_centre[0] - inner[0]).abs() < 1e-3
+                        && (hole_centre[1] - inner[1]).abs() < 1e-3,
+                    "{xz:?} level {level}"
+                );
                 // The finer ring stays near the camera.
                 assert!((inner[0] - xz[0]).abs() <= s / 2.0 + 1e-3);
             }
@@ -225,19 +273,27 @@ impl WaterPass {
             entries: &[
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, true),
-                layout_entry(2, fs, wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                }),
+                layout_entry(
+                    2,
+                    fs,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
                 sampler_entry(3, fs),
                 texture_entry(4, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(5, fs, wgpu::TextureViewDimension::D2, true),
-                layout_entry(6, fs, wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                }),
+                layout_entry(
+                    6,
+                    fs,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
             ],
         })
     }
@@ -256,16 +312,29 @@ impl WaterPass {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Sint32x2],
         })];
-        let pipeline = |label: &str, vs: &str, fs: Option<&'static str>, depth_stencil: wgpu::DepthStencilState, buffers: &[Option<wgpu::VertexBufferLayout>]| {
+        let pipeline = |label: &str,
+                        vs: &str,
+                        fs: Option<&'static str>,
+                        depth_stencil: wgpu::DepthStencilState,
+                        buffers: &[Option<wgpu::VertexBufferLayout>]| {
             let targets = [Some(wgpu::ColorTargetState {
                 format: crate::targets::HDR_FORMAT,
                 blend: None,
-                write_mask: if fs == Some("fs_depth") { wgpu::ColorWrites::empty() } else { wgpu::ColorWrites::ALL },
+                write_mask: if fs == Some("fs_depth") {
+                    wgpu::ColorWrites::empty()
+                } else {
+                    wgpu::ColorWrites::ALL
+                },
             })];
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(&layout),
-                vertex: wgpu::VertexState { module: &module, entry_point: Some(vs), compilation_options: Default::default(), buffers },
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
                 primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
                 depth_stencil: Some(depth_stencil),
                 multisample: wgpu::MultisampleState::default(),
@@ -279,14 +348,26 @@ impl WaterPass {
                 cache: None,
             })
         };
-        let mut depth_only = crate::targets::main_depth_state(main_depth_format, true, wgpu::CompareFunction::Greater);
+        let mut depth_only = crate::targets::main_depth_state(
+            main_depth_format,
+            true,
+            wgpu::CompareFunction::Greater,
+        );
         depth_only.stencil = Default::default();
-        let shade = crate::targets::main_depth_state(main_depth_format, false, wgpu::CompareFunction::GreaterEqual);
+        let shade = crate::targets::main_depth_state(
+            main_depth_format,
+            false,
+            wgpu::CompareFunction::GreaterEqual,
+        );
         // Two-sided stencil counting: +1 where a ray from the near plane leaves
         // the volume, −1 where it enters; what is left is 1 exactly for
         // pixels whose near-plane point lies inside (no depth test: every
         // face counts, in front of objects or behind them).
-        let count = |compare_pass_op| wgpu::StencilFaceState { compare: wgpu::CompareFunction::Always, pass_op: compare_pass_op, ..Default::default() };
+        let count = |compare_pass_op| wgpu::StencilFaceState {
+            compare: wgpu::CompareFunction::Always,
+            pass_op: compare_pass_op,
+            ..Default::default()
+        };
         let volume = wgpu::DepthStencilState {
             format: main_depth_format,
             depth_write_enabled: Some(false),
@@ -303,18 +384,54 @@ impl WaterPass {
             full: GridMesh::new(device, "water full grid", RING_HALF, &[None]),
             ring: GridMesh::new(device, "water ring", RING_HALF, &hole_offsets()),
             far: GridMesh::new(device, "water far field", FAR_HALF, &[Some((0, 0))]),
-            depth_rings: pipeline("water depth", "vs_main", Some("fs_depth"), depth_only.clone(), &grid_buffers),
-            depth_far: pipeline("water far depth", "vs_far", Some("fs_depth"), depth_only, &grid_buffers),
+            depth_rings: pipeline(
+                "water depth",
+                "vs_main",
+                Some("fs_depth"),
+                depth_only.clone(),
+                &grid_buffers,
+            ),
+            depth_far: pipeline(
+                "water far depth",
+                "vs_far",
+                Some("fs_depth"),
+                depth_only,
+                &grid_buffers,
+            ),
             shade_rings: [
                 pipeline("water shade", "vs_main", Some("fs_main"), shade.clone(), &grid_buffers),
-                pipeline("water shade below", "vs_main", Some("fs_below"), shade.clone(), &grid_buffers),
+                pipeline(
+                    "water shade below",
+                    "vs_main",
+                    Some("fs_below"),
+                    shade.clone(),
+                    &grid_buffers,
+                ),
             ],
             shade_far: [
-                pipeline("water far shade", "vs_far", Some("fs_main"), shade.clone(), &grid_buffers),
+                pipeline(
+                    "water far shade",
+                    "vs_far",
+                    Some("fs_main"),
+                    shade.clone(),
+                    &grid_buffers,
+                ),
                 pipeline("water far shade below", "vs_far", Some("fs_below"), shade, &grid_buffers),
             ],
-            volume_rings: pipeline("water volume", "vs_main", Some("fs_depth"), volume.clone(), &grid_buffers),
-            volume_far: pipeline("water volume far", "vs_far", Some("fs_depth"), volume.clone(), &grid_buffers),
+            volume_rings: pipeline(
+                "water volume",
+                "vs_main",
+                Some("fs_depth"),
+                volume.clone(),
+                &grid_buffers,
+            ),
+            volume_far: pipeline(
+                "water volume far",
+                "vs_far",
+                Some("fs_depth"),
+                volume.clone(),
+                &grid_buffers,
+            ),
             volume_box: pipeline("water volume box", "vs_box", Some("fs_depth"), volume, &[]),
         }
     }
@@ -322,7 +439,14 @@ impl WaterPass {
     /// Classify every pixel of the main view by the medium its near-plane
     /// point lies in (seed 000 §4.2): the water volume (surface, walls, floor)
     /// counted into the stencil, which must be cleared to 0 first.
-    pub fn record_medium(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup, surface: &wgpu::BindGroup, inputs: &wgpu::BindGroup, camera: &Camera) {
+    pub fn record_medium(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        globals: &wgpu::BindGroup,
+        surface: &wgpu::BindGroup,
+        inputs: &wgpu::BindGroup,
+        camera: &Camera,
+    ) {
         let xz = [camera.position.x, camera.position.z];
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, surface, &[]);
@@ -364,15 +488,25 @@ impl WaterPass {
             move |b: [i32; 4]| {
                 // Morphing moves vertices by up to one spacing.
                 let m = bounds_margin + spacing;
-                let min = glam::Vec3::new(centre[0] + b[0] as f32 * spacing - m, -bounds_margin, centre[1] + b[1] as f32 * spacing - m);
-                let max = glam::Vec3::new(centre[0] + b[2] as f32 * spacing + m, bounds_margin, centre[1] + b[3] as f32 * spacing + m);
+                let min = glam::Vec3::new(
+                    centre[0] + b[0] as f32 * spacing - m,
+                    -bounds_margin,
+                    centre[1] + b[1] as f32 * spacing - m,
+                );
+                let max = glam::Vec3::new(
+                    centre[0] + b[2] as f32 * spacing + m,
+                    bounds_margin,
+                    centre[1] + b[3] as f32 * spacing + m,
+                );
                 box_visible(planes, min, max)
             }
         };
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, surface, &[]);
         pass.set_bind_group(2, inputs, &[]);
-        let draw_surface = |pass: &mut wgpu::RenderPass<'_>, rings: &wgpu::RenderPipeline, far: &wgpu::RenderPipeline| {
+        let draw_surface = |pass: &mut wgpu::RenderPass<'_>,
+                            rings: &wgpu::RenderPipeline,
+                            far: &wgpu::RenderPipeline| {
             pass.set_pipeline(rings);
             self.full.draw(pass, 0, 0, visible(0));
             for level in 1..DISPLACED_RINGS {
@@ -382,7 +516,9 @@ impl WaterPass {
             self.far.draw(pass, 0, 0, |_| true);
         };
         draw_surface(pass, &self.depth_rings, &self.depth_far);
-        for (i, medium) in [crate::targets::STENCIL_AIR, crate::targets::STENCIL_WATER].into_iter().enumerate() {
+        for (i, medium) in
+            [crate::targets::STENCIL_AIR, crate::targets::STENCIL_WATER].into_iter().enumerate()
+        {
             pass.set_stencil_reference(medium);
             draw_surface(pass, &self.shade_rings[i], &self.shade_far[i]);
         }

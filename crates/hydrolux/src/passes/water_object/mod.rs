@@ -18,7 +18,9 @@
 //! front faces by two refractions into a copy of the image behind them.
 
 use crate::gpu_util::*;
-use crate::passes::geometry::{self, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot};
+use crate::passes::geometry::{
+    self, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,
+};
 use crate::passes::godrays::{GodRayTubes, GodRaysPass};
 use crate::shaders::{self, compose};
 use crate::timing::GpuTimer;
@@ -35,11 +37,22 @@ pub const FIXED_POINT_SCALE: f32 = 65536.0;
 pub const MARCH_STEPS: u32 = 96;
 
 pub fn light_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, geometry::GEOMETRY_COMMON, include_str!("light.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        geometry::GEOMETRY_COMMON,
+        include_str!("light.wgsl"),
+    ])
 }
 
 pub fn paths_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::FRAME, shaders::OPTICS, shaders::TUBE, include_str!("paths.wgsl")])
+    compose(&[
+        shaders::CONSTANTS,
+        shaders::FRAME,
+        shaders::OPTICS,
+        shaders::TUBE,
+        include_str!("paths.wgsl"),
+    ])
 }
 
 pub fn shade_source() -> String {
@@ -116,18 +129,37 @@ fn mesh_pipeline(
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(&pipeline_layout(device, label, layouts)),
-        vertex: wgpu::VertexState { module, entry_point: Some(vs), compilation_options: Default::default(), buffers: &[Some(geometry::vertex_layout())] },
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vs),
+            compilation_options: Default::default(),
+            buffers: &[Some(geometry::vertex_layout())],
+        },
         primitive: wgpu::PrimitiveState { cull_mode: Some(cull), ..Default::default() },
         depth_stencil: Some(depth),
         multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState { module, entry_point: Some(fs), compilation_options: Default::default(), targets: &[Some(format.into())] }),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: Default::default(),
+            targets: &[Some(format.into())],
+        }),
         multiview_mask: None,
         cache: None,
     })
 }
 
-fn depth_state(format: wgpu::TextureFormat, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState { format, depth_write_enabled: Some(true), depth_compare: Some(compare), stencil: Default::default(), bias: Default::default() }
+fn depth_state(
+    format: wgpu::TextureFormat,
+    compare: wgpu::CompareFunction,
+) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
 }
 
 impl WaterObjectPass {
@@ -141,8 +173,26 @@ impl WaterObjectPass {
         let mesh_layouts = [frame_only, geometry_pass.view_layout(), geometry_pass.object_layout()];
         let light_module = shader(device, "water object light", &light_source());
         let d32 = wgpu::TextureFormat::Depth32Float;
-        let light_front = mesh_pipeline(device, "water object front", &light_module, ("vs_light", "fs_light"), &mesh_layouts, FACES_FORMAT, wgpu::Face::Back, depth_state(d32, wgpu::CompareFunction::Less));
-        let light_back = mesh_pipeline(device, "water object back", &light_module, ("vs_light", "fs_light"), &mesh_layouts, FACES_FORMAT, wgpu::Face::Front, depth_state(d32, wgpu::CompareFunction::Greater));
+        let light_front = mesh_pipeline(
+            device,
+            "water object front",
+            &light_module,
+            ("vs_light", "fs_light"),
+            &mesh_layouts,
+            FACES_FORMAT,
+            wgpu::Face::Back,
+            depth_state(d32, wgpu::CompareFunction::Less),
+        );
+        let light_back = mesh_pipeline(
+            device,
+            "water object back",
+            &light_module,
+            ("vs_light", "fs_light"),
+            &mesh_layouts,
+            FACES_FORMAT,
+            wgpu::Face::Front,
+            depth_state(d32, wgpu::CompareFunction::Greater),
+        );
         let unfilterable = |b| texture_entry(b, cs, wgpu::TextureViewDimension::D2, false);
         let paths_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("water object paths"),
@@ -150,38 +200,67 @@ impl WaterObjectPass {
                 uniform_entry(0, cs),
                 unfilterable(1),
                 unfilterable(2),
-                layout_entry(3, cs, wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                }),
+                layout_entry(
+                    3,
+                    cs,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
                 storage_entry(4, cs, false),
                 storage_entry(5, cs, false),
                 storage_texture_entry(6, MAP_FORMAT, wgpu::TextureViewDimension::D2),
             ],
         });
         let paths_module = shader(device, "water object paths", &paths_source());
-        let p = |entry| compute_pipeline(device, entry, &paths_module, entry, &[frame_only, &paths_layout]);
+        let p = |entry| {
+            compute_pipeline(device, entry, &paths_module, entry, &[frame_only, &paths_layout])
+        };
         let inputs_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("water object inputs"),
             entries: &[
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
-                layout_entry(1, fs, wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                }),
+                layout_entry(
+                    1,
+                    fs,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
             ],
         });
         let shade_module = shader(device, "water object shade", &shade_source());
-        let shade_layouts = [globals, geometry_pass.view_layout(), geometry_pass.object_layout(), &inputs_layout];
+        let shade_layouts =
+            [globals, geometry_pass.view_layout(), geometry_pass.object_layout(), &inputs_layout];
         // Reversed Z: the farthest back face has the smallest depth.
-        let camera_back = mesh_pipeline(device, "water object back faces", &shade_module, ("vs_object", "fs_back"), &shade_layouts[..3], BACK_FORMAT, wgpu::Face::Front, depth_state(d32, wgpu::CompareFunction::Less));
+        let camera_back = mesh_pipeline(
+            device,
+            "water object back faces",
+            &shade_module,
+            ("vs_object", "fs_back"),
+            &shade_layouts[..3],
+            BACK_FORMAT,
+            wgpu::Face::Front,
+            depth_state(d32, wgpu::CompareFunction::Less),
+        );
         // Its own depth (nearest front face); the scene's depth is tested in
         // the shader, which reads it (a read-only attachment that is also
         // sampled is not portable).
-        let camera_front = mesh_pipeline(device, "water object", &shade_module, ("vs_object", "fs_front"), &shade_layouts, crate::targets::HDR_FORMAT, wgpu::Face::Back, depth_state(d32, wgpu::CompareFunction::Greater));
+        let camera_front = mesh_pipeline(
+            device,
+            "water object",
+            &shade_module,
+            ("vs_object", "fs_front"),
+            &shade_layouts,
+            crate::targets::HDR_FORMAT,
+            wgpu::Face::Back,
+            depth_state(d32, wgpu::CompareFunction::Greater),
+        );
         let (clear, trace, resolve) = (p("clear"), p("trace"), p("resolve"));
         WaterObjectPass {
             params: uniform_buffer(device, "water object params", &ObjectLightUniforms::default()),
@@ -199,16 +278,42 @@ impl WaterObjectPass {
 
     /// The light-view targets for `resolution`² paths (1 when there are no
     /// refractive objects: the map globals bind must exist).
-    pub fn create_light(&self, device: &wgpu::Device, godrays: &GodRaysPass, resolution: u32) -> ObjectLight {
+    pub fn create_light(
+        &self,
+        device: &wgpu::Device,
+        godrays: &GodRaysPass,
+        resolution: u32,
+    ) -> ObjectLight {
         let k = (resolution, resolution);
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let view = |t: wgpu::Texture| t.create_view(&Default::default());
         let front_view = view(texture_2d(device, "water object front", k, FACES_FORMAT, att));
         let back_view = view(texture_2d(device, "water object back", k, FACES_FORMAT, att));
-        let front_depth = view(texture_2d(device, "water object front depth", k, wgpu::TextureFormat::Depth32Float, att));
-        let back_depth = view(texture_2d(device, "water object back depth", k, wgpu::TextureFormat::Depth32Float, att));
-        let scene_depth = view(texture_2d(device, "water object scene depth", k, SHADOW_FORMAT, att));
-        let map = texture_2d(device, "object caustic map", k, MAP_FORMAT, wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC);
+        let front_depth = view(texture_2d(
+            device,
+            "water object front depth",
+            k,
+            wgpu::TextureFormat::Depth32Float,
+            att,
+        ));
+        let back_depth = view(texture_2d(
+            device,
+            "water object back depth",
+            k,
+            wgpu::TextureFormat::Depth32Float,
+            att,
+        ));
+        let scene_depth =
+            view(texture_2d(device, "water object scene depth", k, SHADOW_FORMAT, att));
+        let map = texture_2d(
+            device,
+            "object caustic map",
+            k,
+            MAP_FORMAT,
+            wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        );
         let map_view = map.create_view(&Default::default());
         let accum = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("object caustic accumulator"),
@@ -231,16 +336,53 @@ impl WaterObjectPass {
                 wgpu::BindGroupEntry { binding: 6, resource: tv(&map_view) },
             ],
         });
-        ObjectLight { resolution, front_view, front_depth, back_view, back_depth, scene_depth, map, map_view, paths_group, tubes }
+        ObjectLight {
+            resolution,
+            front_view,
+            front_depth,
+            back_view,
+            back_depth,
+            scene_depth,
+            map,
+            map_view,
+            paths_group,
+            tubes,
+        }
     }
 
     /// Camera-size targets reading the main view's depth.
-    pub fn create_targets(&self, device: &wgpu::Device, size: (u32, u32), main_depth: &wgpu::TextureView) -> ObjectTargets {
+    pub fn create_targets(
+        &self,
+        device: &wgpu::Device,
+        size: (u32, u32),
+        main_depth: &wgpu::TextureView,
+    ) -> ObjectTargets {
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let back_view = texture_2d(device, "water object back faces", size, BACK_FORMAT, att).create_view(&Default::default());
-        let back_depth = texture_2d(device, "water object back faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
-        let front_depth = texture_2d(device, "water object front faces depth", size, wgpu::TextureFormat::Depth32Float, att).create_view(&Default::default());
-        let behind = texture_2d(device, "behind water objects", size, crate::targets::HDR_FORMAT, wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING);
+        let back_view = texture_2d(device, "water object back faces", size, BACK_FORMAT, att)
+            .create_view(&Default::default());
+        let back_depth = texture_2d(
+            device,
+            "water object back faces depth",
+            size,
+            wgpu::TextureFormat::Depth32Float,
+            att,
+        )
+        .create_view(&Default::default());
+        let front_depth = texture_2d(
+            device,
+            "water object front faces depth",
+            size,
+            wgpu::TextureFormat::Depth32Float,
+            att,
+        )
+        .create_view(&Default::default());
+        let behind = texture_2d(
+            device,
+            "behind water objects",
+            size,
+            crate::targets::HDR_FORMAT,
+            wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
         let behind_view = behind.create_view(&Default::default());
         let tv = wgpu::BindingResource::TextureView;
         let inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -271,18 +413,36 @@ impl WaterObjectPass {
         light: &ObjectLight,
         mut timer: Option<&mut GpuTimer>,
     ) {
-        let faces = |encoder: &mut wgpu::CommandEncoder, label, color, depth, clear_w: f64, clear_depth: f32, pipeline, timer: Option<&mut GpuTimer>| {
+        let faces = |encoder: &mut wgpu::CommandEncoder,
+                     label,
+                     color,
+                     depth,
+                     clear_w: f64,
+                     clear_depth: f32,
+                     pipeline,
+                     timer: Option<&mut GpuTimer>| {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: color,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.0, g: 0.0, b: 0.0, a: clear_w }), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 0.0,
+                            g: 0.0,
+                            b: 0.0,
+                            a: clear_w,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(clear_depth), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(clear_depth),
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: timer.and_then(|t| t.render_writes(label)),
@@ -294,15 +454,36 @@ impl WaterObjectPass {
             geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
         };
         // Empty texels: front beyond the far plane (2), back before the near one (−1).
-        faces(encoder, "water object faces", &light.front_view, &light.front_depth, 2.0, 1.0, &self.light_front, timer.as_deref_mut());
-        faces(encoder, "water object back", &light.back_view, &light.back_depth, -1.0, 0.0, &self.light_back, None);
+        faces(
+            encoder,
+            "water object faces",
+            &light.front_view,
+            &light.front_depth,
+            2.0,
+            1.0,
+            &self.light_front,
+            timer.as_deref_mut(),
+        );
+        faces(
+            encoder,
+            "water object back",
+            &light.back_view,
+            &light.back_depth,
+            -1.0,
+            0.0,
+            &self.light_back,
+            None,
+        );
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("water object scene depth"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &light.scene_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -338,7 +519,11 @@ impl WaterObjectPass {
         (hdr, hdr_view): (&wgpu::Texture, &wgpu::TextureView),
         timer: Option<&mut GpuTimer>,
     ) {
-        encoder.copy_texture_to_texture(hdr.as_image_copy(), targets.behind.as_image_copy(), hdr.size());
+        encoder.copy_texture_to_texture(
+            hdr.as_image_copy(),
+            targets.behind.as_image_copy(),
+            hdr.size(),
+        );
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("water object back faces"),
@@ -346,11 +531,17 @@ impl WaterObjectPass {
                     view: &targets.back_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &targets.back_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: timer.and_then(|t| t.render_writes("water object")),
@@ -371,7 +562,10 @@ impl WaterObjectPass {
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &targets.front_depth,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Discard }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
