@@ -85,14 +85,9 @@ fn surface_grid(renderer: &Renderer) -> (usize, Vec<SurfaceSample>) {
 
 /// What can be known before rendering: a caustics dump needs caustics.
 pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
-    use hydrolux::core::scene::CausticMethod;
-    if dump.kind == DumpKind::Caustics
-        && !(scene.caustics.method != CausticMethod::Off
-            && scene.floor.depth > 0.0
-            && scene.sun_direction().y > 0.0)
-    {
+    if dump.kind == DumpKind::Caustics && !scene.has_caustics() {
         bail!(
-            "--dump caustics: the scene has no caustics (it needs caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)"
+            "--dump caustics: the scene has no caustics (it needs water (water.model other than \"none\"), caustics.method other than \"off\", a floor (floor.depth > 0) and the sun up)"
         );
     }
     if dump.kind == DumpKind::Godrays

@@ -97,13 +97,9 @@ fn info() -> Result<()> {
     println!("max texture:  {} px", l.max_texture_dimension_2d);
     println!("max storage buffer binding: {} MiB", l.max_storage_buffer_binding_size >> 20);
     println!("max workgroup storage:      {} KiB", l.max_compute_workgroup_storage_size >> 10);
-    let max_n = [1024u32, 512, 256, 128, 64]
-        .into_iter()
-        .find(|&n| {
-            hydrolux::passes::ocean::fields_bytes(n, 4) <= l.max_storage_buffer_binding_size as u64
-        })
-        .unwrap_or(64);
+    let max_n = hydrolux::largest_ocean_resolution(&ctx.device, 4);
     println!("largest ocean.resolution with 4 cascades: {max_n}");
+    println!("techniques (frame order): {}", hydrolux::technique_names().join(", "));
     Ok(())
 }
 

@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use glam::Vec3;
 use hydrolux::core::camera::Camera;
-use hydrolux::core::scene::{DebugView, Scene};
+use hydrolux::core::scene::{Choice, DebugView, GodRayMethod, Scene, enumerated_keys};
 use hydrolux::{FrameInput, GpuContext, Renderer, wgpu};
 use std::sync::Arc;
 use std::time::Instant;
@@ -32,24 +32,6 @@ pub struct ViewArgs {
     #[arg(long)]
     pub frames: Option<u64>,
 }
-
-/// Choices for the enumerated scene keys.
-const ENUMS: &[(&str, &[&str])] = &[
-    ("ocean.spectrum", &["phillips", "pierson-moskowitz", "jonswap"]),
-    ("water.model", &["fft", "sines", "flat"]),
-    ("water.fresnel", &["exact", "schlick", "jensen-golias", "power"]),
-    ("water.optics", &["physical", "simple"]),
-    ("water.medium", &["pure", "clear_ocean", "coastal", "turbid_harbor", "custom"]),
-    ("water.refraction", &["depth", "plane"]),
-    ("floor.terrain", &["none", "noise", "heightmap"]),
-    ("floor.material.pattern", &["none", "tiles", "checker"]),
-    ("objects.material.pattern", &["none", "tiles", "checker"]),
-    ("objects.primitive", &["box", "sphere", "cylinder", "plane"]),
-    ("render.tonemap", &["aces", "clamp"]),
-    ("render.view", &DebugView::NAMES),
-    ("caustics.method", &["photons", "beam", "procedural", "off"]),
-    ("godrays.method", &["lines", "march", "off"]),
-];
 
 struct FlyCamera {
     position: Vec3,
@@ -205,19 +187,19 @@ impl Viewer {
 
     /// Step `section.key` to the next of `names` (V: the debug view, G: the
     /// god-ray method), and apply it.
-    fn cycle_option(&mut self, section: &str, key: &str, names: &[&str]) {
+    fn cycle_option(&mut self, section: &str, key: &str, names: &[String]) {
         let current = self
             .table
             .get(section)
             .and_then(|r| r.get(key))
             .and_then(Value::as_str)
-            .unwrap_or(names[0])
+            .unwrap_or(&names[0])
             .to_string();
         let i = names.iter().position(|n| *n == current).unwrap_or(0);
-        let next = names[(i + 1) % names.len()];
+        let next = names[(i + 1) % names.len()].clone();
         let table = self.table.entry(section).or_insert_with(|| Value::Table(Default::default()));
         if let Value::Table(r) = table {
-            r.insert(key.into(), Value::String(next.into()));
+            r.insert(key.into(), Value::String(next.clone()));
         }
         self.status = format!("{section}.{key}: {next}");
         self.apply_table();
@@ -494,11 +476,12 @@ fn edit_value(ui: &mut egui::Ui, id: &str, path: &str, key: &str, value: &mut Va
                 c
             }
             Value::String(s) => {
-                if let Some((_, options)) = ENUMS.iter().find(|(p, _)| *p == path) {
+                let keys = enumerated_keys();
+                if let Some((_, options)) = keys.iter().find(|(p, _)| *p == path) {
                     let mut c = false;
                     egui::ComboBox::from_id_salt(id).selected_text(s.as_str()).show_ui(ui, |ui| {
-                        for o in *options {
-                            c |= ui.selectable_value(s, o.to_string(), *o).changed();
+                        for o in options {
+                            c |= ui.selectable_value(s, o.clone(), o).changed();
                         }
                     });
                     c
@@ -550,9 +533,11 @@ impl ApplicationHandler for Viewer {
                                 self.time_scale = (self.time_scale * 2.0).min(64.0)
                             }
                             KeyCode::KeyP => self.screenshot_requested = true,
-                            KeyCode::KeyV => self.cycle_option("render", "view", &DebugView::NAMES),
+                            KeyCode::KeyV => {
+                                self.cycle_option("render", "view", &DebugView::names())
+                            }
                             KeyCode::KeyG => {
-                                self.cycle_option("godrays", "method", &["lines", "march", "off"])
+                                self.cycle_option("godrays", "method", &GodRayMethod::names())
                             }
                             _ => {}
                         }

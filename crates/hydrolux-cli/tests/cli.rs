@@ -70,6 +70,10 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--set", "water.medium=swamp"], "turbid_harbor"),
         (&["render", "--view", "xray"], "render.view"),
         (&["render", "--dump", "caustics=c.npy"], "the scene has no caustics"),
+        (
+            &["render", "--scene", "pool", "--set", "water.model=none", "--dump", "caustics=c.npy"],
+            "the scene has no caustics",
+        ),
         (&["render", "--set", "caustics.photons=3"], "`caustics.photons` = 3 is out of range"),
         (&["render", "--set", "water.model=heightfield"], "water.heightfield"),
         (

@@ -4,6 +4,7 @@
 
 pub mod camera;
 pub mod caustics;
+pub mod clock;
 pub mod geometry;
 pub mod godrays;
 pub mod medium;

@@ -14,16 +14,19 @@
 //! ```
 
 pub mod context;
-pub mod gpu_util;
+pub(crate) mod gpu_util;
 pub mod headless;
-pub mod passes;
+pub(crate) mod passes;
+pub(crate) mod plan;
+pub(crate) mod registry;
 pub mod renderer;
-pub mod shaders;
-pub mod targets;
-pub mod timing;
-pub mod uniforms;
+pub(crate) mod shaders;
+pub(crate) mod targets;
+pub(crate) mod timing;
+pub(crate) mod uniforms;
 
 pub use context::{ContextError, GpuContext};
 pub use hydrolux_core as core;
-pub use renderer::{FrameInput, RenderError, Renderer};
+pub use registry::technique_names;
+pub use renderer::{FrameInput, RenderError, Renderer, largest_ocean_resolution};
 pub use wgpu;

@@ -8,31 +8,25 @@ use crate::passes::caustics::{CausticMap, CausticsPass};
 use crate::passes::geometry::{
     GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot, Winding,
 };
-use crate::passes::godrays::{GodRayTubes, GodRayUniforms, GodRaysPass, Shafts};
+use crate::passes::godrays::{GodRayTubes, GodRaysPass, Shafts};
 use crate::passes::mips::Downsampler;
 use crate::passes::ocean::{OceanPass, OceanTooLarge};
 use crate::passes::probe::ProbePass;
 use crate::passes::sky::SkyPass;
 use crate::passes::tonemap::TonemapPass;
-use crate::passes::water::{self, WaterPass};
-use crate::passes::water_object::{MARCH_STEPS, ObjectLight, ObjectLightUniforms, WaterObjectPass};
-use crate::targets::{REFRACTION_MARGIN, TargetSettings, Targets};
+use crate::passes::water::WaterPass;
+use crate::passes::water_object::{ObjectLight, WaterObjectPass};
+use crate::plan::{FramePlan, World};
+use crate::targets::{TargetSettings, Targets};
 use crate::timing::GpuTimer;
 use crate::uniforms::{FrameUniforms, SurfaceUniforms};
 use hydrolux_core::camera::Camera;
-use hydrolux_core::caustics::flat_floor_irradiance;
 use hydrolux_core::geometry::load::AssetError;
-use hydrolux_core::godrays::{TubeRegion, deepest_needed};
-use hydrolux_core::medium::UnderwaterLight;
-use hydrolux_core::projective::{ClipPlane, mirror_matrix, shadow_space, sun_view_projection};
-use hydrolux_core::scene::{
-    CausticMethod, DebugView, Fresnel, GodRayMethod, RefractionLookup, Scene, Tonemap, WaterModel,
-    WaterOptics,
-};
+use hydrolux_core::projective::ClipPlane;
+use hydrolux_core::scene::{Choice, DebugView, Scene, WaterModel};
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
-use hydrolux_core::tonemap::exposure_scale;
 use hydrolux_core::waves::SurfaceSample;
-use hydrolux_core::waves::ocean::{OceanSettings, OceanSpectrum, REPEAT_PERIOD_S};
+use hydrolux_core::waves::ocean::{OceanSettings, OceanSpectrum};
 use hydrolux_core::waves::sines::{MAX_SINE_WAVES, SineWaves};
 use hydrolux_core::waves::spectrum::cox_munk_slope_variance;
 use wgpu::util::DeviceExt;
@@ -43,6 +37,8 @@ pub enum RenderError {
     OceanTooLarge(#[from] OceanTooLarge),
     #[error(transparent)]
     Asset(#[from] AssetError),
+    #[error("cannot update the heightfield: {0}")]
+    Heightfield(String),
 }
 
 /// The sun's shadow map and what reads it.
@@ -86,6 +82,22 @@ struct SurfaceState {
     /// How far (m) the surface rises or falls from y = 0 in practice: crests
     /// pass 1.2·Hs about once in a thousand waves; 1.5·Hs is the margin.
     vertical_reach: f32,
+    /// The surface changes from frame to frame by itself (FFT, sines).
+    moving: bool,
+    /// A heightfield's texture and samples per side (x, z), for updates.
+    heightfield: Option<(wgpu::Texture, u32, u32)>,
+}
+
+/// Crest reach of a surface of significant wave height `hs` (m):
+/// (vertical, sideways culling margin).
+fn surface_reach(scene: &Scene, hs: f64) -> (f32, f32) {
+    let bounds_margin =
+        (3.0 * hs * (1.0 + scene.ocean.choppiness as f64 + scene.sines.gerstner as f64) + 1.0)
+            as f32;
+    let gerstner =
+        scene.sines.gerstner as f64 * (scene.water.model == WaterModel::Sines) as u8 as f64;
+    let vertical_reach = (1.5 * hs * (1.0 + gerstner)) as f32 + 0.1;
+    (vertical_reach, bounds_margin)
 }
 
 pub struct Renderer {
@@ -129,6 +141,8 @@ pub struct Renderer {
     /// The water objects' light paths and caustic map match the scene (they
     /// depend only on it: objects, floor and sun are static).
     object_light_current: bool,
+    /// The last frame's (or simulation step's) plan, for readbacks.
+    last_plan: Option<FramePlan>,
 }
 
 impl Renderer {
@@ -332,6 +346,7 @@ impl Renderer {
             last_timings: Vec::new(),
             caustics_current: false,
             object_light_current: false,
+            last_plan: None,
         };
         r.update_sky();
         Ok(r)
@@ -445,7 +460,7 @@ impl Renderer {
             WaterModel::Heightfield => Some(scene.load_heightfield()?),
             _ => None,
         };
-        let heightfield_view = {
+        let (heightfield_texture, heightfield_view) = {
             let (w, h, data) = heightfield
                 .as_ref()
                 .map_or((1, 1, vec![0.0f32]), |f| (f.nx as u32, f.nz as u32, f.heights.clone()));
@@ -458,13 +473,14 @@ impl Renderer {
                     sample_count: 1,
                     dimension: wgpu::TextureDimension::D2,
                     format: wgpu::TextureFormat::R32Float,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                     view_formats: &[],
                 },
                 wgpu::util::TextureDataOrder::LayerMajor,
                 bytemuck::cast_slice(&data),
             );
-            texture.create_view(&Default::default())
+            let view = texture.create_view(&Default::default());
+            ((texture, w, h), view)
         };
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("surface"),
@@ -549,16 +565,7 @@ impl Renderer {
                 heightfield.as_ref().map_or(0.0, |f| 2.0 * f.max_abs() as f64)
             }
         };
-        let bounds_margin =
-            (3.0 * hs * (1.0 + scene.ocean.choppiness as f64 + scene.sines.gerstner as f64) + 1.0)
-                as f32;
-        let vertical_reach = (1.5
-            * hs
-            * (1.0
-                + scene.sines.gerstner as f64
-                    * (scene.water.model == WaterModel::Sines) as u8 as f64))
-            as f32
-            + 0.1;
+        let (vertical_reach, bounds_margin) = surface_reach(scene, hs);
         Ok(SurfaceState {
             ocean_settings,
             ocean,
@@ -567,7 +574,50 @@ impl Renderer {
             unresolved_variance,
             bounds_margin,
             vertical_reach,
+            moving: matches!(scene.water.model, WaterModel::Fft | WaterModel::Sines),
+            heightfield: heightfield.is_some().then_some(heightfield_texture),
         })
+    }
+
+    /// Replace the heights of a `water.model = "heightfield"` surface (same
+    /// samples per side as its file, row = z, col = x, metres), e.g. from a
+    /// simulation of the caller's. Everything that reads the surface follows
+    /// from the next frame: shading, the medium division, height queries,
+    /// and the caustics and god rays (their maps are remade).
+    pub fn update_heightfield(&mut self, heights: &[f32]) -> Result<(), RenderError> {
+        let Some((texture, nx, nz)) = &self.surface.heightfield else {
+            return Err(RenderError::Heightfield(format!(
+                "water.model is \"{}\", not \"heightfield\"",
+                self.scene.water.model.name()
+            )));
+        };
+        let (nx, nz) = (*nx, *nz);
+        if heights.len() != (nx * nz) as usize {
+            return Err(RenderError::Heightfield(format!(
+                "got {} heights, the surface has {nx} × {nz} = {}",
+                heights.len(),
+                nx * nz
+            )));
+        }
+        if let Some(bad) = heights.iter().find(|h| !h.is_finite()) {
+            return Err(RenderError::Heightfield(format!("a height is {bad}: must be finite")));
+        }
+        self.queue.write_texture(
+            texture.as_image_copy(),
+            bytemuck::cast_slice(heights),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * nx),
+                rows_per_image: Some(nz),
+            },
+            wgpu::Extent3d { width: nx, height: nz, depth_or_array_layers: 1 },
+        );
+        let peak = heights.iter().fold(0.0f32, |m, h| m.max(h.abs()));
+        let (reach, margin) = surface_reach(&self.scene, 2.0 * peak as f64);
+        self.surface.vertical_reach = reach;
+        self.surface.bounds_margin = margin;
+        self.caustics_current = false;
+        Ok(())
     }
 
     pub fn device(&self) -> &wgpu::Device {
@@ -651,6 +701,7 @@ impl Renderer {
         self.scene = scene.clone();
         self.caustics_current = false;
         self.object_light_current = false;
+        self.last_plan = None;
         self.update_sky();
         Ok(())
     }
@@ -687,308 +738,81 @@ impl Renderer {
         }
     }
 
-    /// The sun's orthographic view-projection around the shadow casters, in
-    /// refraction-bent shadow space; `None` when nothing casts shadows.
-    fn shadow_view_projection(&self, sun: glam::Vec3, travel: glam::Vec3) -> Option<glam::Mat4> {
-        let (lo, hi) = self.geometry.shadow_bounds?;
-        let mut bent = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
-        for i in 0..8 {
-            let c = glam::Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            );
-            let p = shadow_space(c, sun, travel);
-            bent = (bent.0.min(p), bent.1.max(p));
-        }
-        (sun.y > 0.0).then(|| sun_view_projection(sun, bent.0, bent.1))
-    }
-
-    /// The caustic map's patch (m) and floor depth (m) when caustics are on:
-    /// there is a floor to receive them and the sun is up.
-    fn caustic_setup(&self) -> Option<([f32; 2], f32)> {
-        let s = &self.scene;
-        let on = self.has_water()
-            && s.caustics.method != CausticMethod::Off
-            && s.floor.depth > 0.0
-            && s.sun_direction().y > 0.0;
-        on.then(|| (s.surface_patch(), s.floor.depth))
-    }
-
-    /// The caustic setup when the map must be (re)computed this frame: the
-    /// waves move, or the scene changed since it was made.
-    fn caustics_due(&self) -> Option<([f32; 2], f32)> {
-        let moving = matches!(self.scene.water.model, WaterModel::Fft | WaterModel::Sines);
-        self.caustic_setup().filter(|_| moving || !self.caustics_current)
-    }
-
-    /// Whether the scene has a water body (`water.model` is not "none").
-    fn has_water(&self) -> bool {
-        self.scene.water.model != WaterModel::None
-    }
-
-    /// The god rays' parameters when they are drawn this frame, and whether
-    /// they are for a viewer in the air (the fog and refractive objects'
-    /// paths) rather than in the water (the surface's photons).
-    fn godray_frame(&self, camera: &Camera, size: (u32, u32)) -> Option<(GodRayUniforms, bool)> {
-        let s = &self.scene;
-        let g = &s.godrays;
-        let sun = s.sun_direction();
-        if g.method == GodRayMethod::Off || sun.y <= 0.0 {
-            return None;
-        }
-        let buffer = (
-            ((size.0 as f32 * g.resolution).round() as u32).max(1),
-            ((size.1 as f32 * g.resolution).round() as u32).max(1),
-        );
-        let in_water = self.has_water() && camera.position.y < self.surface.vertical_reach;
-        if in_water {
-            let medium = s.medium();
-            let travel = UnderwaterLight::new(sun, glam::Vec3::ONE, glam::Vec3::ZERO, s.water.ior)
-                .sun_travel;
-            let region = TubeRegion::around(camera.position, travel, g.distance);
-            let deepest = deepest_needed(camera.position, g.distance);
-            let end_depth = if s.floor.depth > 0.0 { s.floor.depth.min(deepest) } else { deepest };
-            return Some((
-                GodRayUniforms {
-                    counts: [g.photons, g.steps, buffer.0, buffer.1],
-                    region: [
-                        region.centre.x,
-                        region.centre.y,
-                        region.half,
-                        region.spacing(g.photons),
-                    ],
-                    limits: [g.distance, end_depth, crate::targets::STENCIL_WATER as f32, 1.0],
-                    scattering: medium.scattering.extend(s.water.phase_g).into(),
-                    extinction: medium.extinction().extend(0.0).into(),
-                },
-                false,
-            ));
-        }
-        if s.air.fog <= 0.0 {
-            return None;
-        }
-        let half_width = self.object_light_setup().map_or(0.0, |(_, u)| u.info[0].sqrt());
-        Some((
-            GodRayUniforms {
-                counts: [0, g.steps, buffer.0, buffer.1],
-                region: [0.0, 0.0, 0.0, half_width],
-                limits: [s.air.fog_distance, 0.0, crate::targets::STENCIL_AIR as f32, 0.0],
-                scattering: [s.air.fog, s.air.fog, s.air.fog, s.air.fog_g],
-                extinction: [s.air.fog, s.air.fog, s.air.fog, 0.0],
-            },
-            true,
-        ))
-    }
-
-    /// How far along refracted paths the water shader marches god rays for
-    /// a viewer above the water (0: none): when god rays are on, the sun is
-    /// up and the caustic layers they are marched through exist.
-    fn shafts_from_above(&self, camera: &Camera) -> f32 {
-        let g = &self.scene.godrays;
-        let above = camera.position.y > -self.surface.vertical_reach;
-        if g.method == GodRayMethod::Off || !above || self.caustic_setup().is_none() {
-            0.0
-        } else {
-            g.distance
-        }
-    }
-
     /// Light-view texels per side for refractive objects (1 without any).
     fn object_resolution(geometry: &SceneGeometry, scene: &Scene) -> u32 {
         if geometry.refractive_bounds.is_some() { scene.godrays.object_resolution } else { 1 }
     }
 
-    /// The refractive objects' light view and the paths' parameters, when
-    /// there are such objects and the sun is up: an orthographic view along
-    /// the sun around them and the floor below, wide enough for light they
-    /// bend sideways.
-    fn object_light_setup(&self) -> Option<(glam::Mat4, ObjectLightUniforms)> {
-        let (lo, hi) = self.geometry.refractive_bounds?;
-        let s = &self.scene;
-        let sun = s.sun_direction();
-        if sun.y <= 0.0 {
-            return None;
+    /// What the renderer holds that the frame plan depends on.
+    fn world(&self) -> World {
+        World {
+            shadow_bounds: self.geometry.shadow_bounds,
+            refractive_bounds: self.geometry.refractive_bounds,
+            has_geometry: self.geometry.triangle_count > 0,
+            vertical_reach: self.surface.vertical_reach,
+            surface_moving: self.surface.moving,
+            unresolved_variance: self.surface.unresolved_variance,
+            shadow_resolution: self.shadow.resolution,
+            object_light_resolution: self.object_light.resolution,
+            sky: self.sky_params(),
+            sky_irradiance: self.sky_irradiance,
+            caustics_current: self.caustics_current,
+            object_light_current: self.object_light_current,
         }
-        let floor = s.floor.depth > 0.0;
-        let floor_y = if floor { -s.floor.depth } else { lo.y - (hi.y - lo.y) };
-        let reach = (hi.y - floor_y).max(0.0);
-        let lo = glam::Vec3::new(lo.x - reach, floor_y.min(lo.y), lo.z - reach);
-        let hi = glam::Vec3::new(hi.x + reach, hi.y, hi.z + reach);
-        let view_proj = sun_view_projection(sun, lo, hi);
-        let radius = (0.5 * (hi - lo)).length();
-        let k = self.object_light.resolution;
-        let texel = 2.0 * radius / k as f32;
-        let ior = s.objects.iter().map(|o| o.material.ior).find(|&n| n > 0.0).unwrap_or(1.333);
-        Some((
-            view_proj,
-            ObjectLightUniforms {
-                inv_view_proj: view_proj.inverse().to_cols_array_2d(),
-                counts: [k, MARCH_STEPS, 0, 0],
-                info: [texel * texel, ior, floor_y, 4.0 * radius],
-                extra: [
-                    crate::passes::water_object::FIXED_POINT_SCALE,
-                    floor as u32 as f32,
-                    0.0,
-                    0.0,
-                ],
-            },
-        ))
     }
 
-    /// Texels of the reflection texture per radian of view angle (at its
-    /// centre): how many texels a reflected ray spread of 2σ covers.
-    fn reflection_texels_per_radian(&self, camera: &Camera, size: (u32, u32)) -> f32 {
-        let r = &self.scene.render;
-        let height =
-            (size.1 as f32 * r.reflection_resolution * (1.0 + r.fov_margin)).round().max(1.0);
-        let half_tan = (0.5 * camera.fov_y_deg.to_radians()).tan() * (1.0 + r.fov_margin);
-        0.5 * height / half_tan
-    }
-
-    fn write_frame_uniforms(&self, camera: &Camera, size: (u32, u32), time: f64) {
-        let s = &self.scene;
-        let godrays = self.godray_frame(camera, size);
-        let object_light = self.object_light_setup();
-        let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
-        let view_proj = camera.view_projection(aspect);
-        let refl_view_proj =
-            camera.view_projection_widened(aspect, s.render.fov_margin) * mirror_matrix();
-        let refr_view_proj = camera.view_projection_widened(aspect, REFRACTION_MARGIN);
-        let sky = self.sky_params();
-        let exposure = exposure_scale(s.render.exposure);
-        let sun = glam::Vec3::from_slice(&sky.sun_illuminance[..3]) * exposure;
-        let amb = self.sky_irradiance * exposure;
-        let sun_dir = glam::Vec3::from_slice(&sky.sun_direction[..3]);
-        let under = UnderwaterLight::new(sun_dir, sun, amb, s.water.ior);
-        let shadow_view_proj = self.shadow_view_projection(sun_dir, under.sun_travel);
-        let medium = s.medium();
-        let model = match s.water.model {
-            WaterModel::Fft => 0,
-            WaterModel::Sines => 1,
-            WaterModel::Flat | WaterModel::None => 2,
-            WaterModel::Heightfield => 3,
-        };
-        let u = FrameUniforms {
-            view_proj: view_proj.to_cols_array_2d(),
-            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
-            camera_pos: [
-                camera.position.x,
-                camera.position.y,
-                camera.position.z,
-                time.rem_euclid(REPEAT_PERIOD_S) as f32,
-            ],
-            sun_dir: sky.sun_direction,
-            sun_illuminance: [sun.x, sun.y, sun.z, sky.sun_illuminance[3]],
-            sky_ambient: [amb.x, amb.y, amb.z, exposure],
-            water_body: [
-                s.water.body_color[0],
-                s.water.body_color[1],
-                s.water.body_color[2],
-                s.water.ior,
-            ],
-            modes: [
-                match s.water.fresnel {
-                    Fresnel::Exact => 0,
-                    Fresnel::Schlick => 1,
-                    Fresnel::JensenGolias => 2,
-                    Fresnel::Power => 3,
-                },
-                model,
-                match s.render.tonemap {
-                    Tonemap::Aces => 0,
-                    Tonemap::Clamp => 1,
-                },
-                match s.render.view {
-                    DebugView::Final => 0,
-                    DebugView::Reflection => 1,
-                    DebugView::Refraction => 2,
-                    DebugView::Depth => 3,
-                    DebugView::Normals => 4,
-                    DebugView::Shadow => 5,
-                    DebugView::Medium => 6,
-                    DebugView::Caustics => 7,
-                },
-            ],
-            viewport: [
-                size.0 as f32,
-                size.1 as f32,
-                1.0 / size.0.max(1) as f32,
-                1.0 / size.1.max(1) as f32,
-            ],
-            surface_detail: [
-                self.surface.unresolved_variance[0],
-                self.surface.unresolved_variance[1],
-                water::BASE_SPACING,
-                water::ring_count() as f32,
-            ],
-            refl_view_proj: refl_view_proj.to_cols_array_2d(),
-            refr_view_proj: refr_view_proj.to_cols_array_2d(),
-            inv_refr_view_proj: refr_view_proj.inverse().to_cols_array_2d(),
-            shadow_view_proj: shadow_view_proj.unwrap_or(glam::Mat4::IDENTITY).to_cols_array_2d(),
-            absorption: medium.absorption.extend(s.water.phase_g).into(),
-            scattering: medium.scattering.extend(s.water.fresnel_power).into(),
-            water_params: [
-                s.water.reflection_height,
-                s.water.refraction_depth,
-                s.water.refraction_max,
-                s.water.simple_attenuation,
-            ],
-            reflection_params: [self.reflection_texels_per_radian(camera, size), 0.0, 0.0, 0.0],
-            sun_travel: under.sun_travel.extend(-under.sun_travel.y).into(),
-            sun_underwater: under.sun_irradiance.extend(0.0).into(),
-            sky_underwater: under
-                .sky_irradiance
-                .extend(if self.geometry.triangle_count > 0 { 1.0 } else { 0.0 })
-                .into(),
-            caustic_params: match self.caustic_setup() {
-                Some((patch, depth)) => [
-                    patch[0],
-                    patch[1],
-                    depth,
-                    1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4),
-                ],
-                None => [0.0; 4],
-            },
-            volume: [
-                godrays.filter(|g| !g.1).map_or(0.0, |g| g.0.limits[0]),
-                self.has_water() as u32 as f32,
-                godrays.is_some_and(|g| g.1) as u32 as f32,
-                self.shafts_from_above(camera),
-            ],
-            fog: [s.air.fog, s.air.fog_g, s.air.fog_distance, s.air.fog_sky],
-            object_light_view_proj: object_light
-                .map_or(glam::Mat4::IDENTITY, |o| o.0)
-                .to_cols_array_2d(),
-            // Receivers within ~1% of the light box's depth of where the light landed.
-            object_params: [object_light.is_some() as u32 as f32, 0.01, 0.0, 0.0],
-            modes2: [
-                match s.water.optics {
-                    WaterOptics::Physical => 0,
-                    WaterOptics::Simple => 1,
-                },
-                match s.water.refraction {
-                    RefractionLookup::Depth => 0,
-                    RefractionLookup::Plane => 1,
-                },
-                shadow_view_proj.is_some() as u32,
-                self.shadow.resolution,
-            ],
-        };
-        self.views.main.write(&self.queue, view_proj, ClipPlane::none().0);
-        self.views.reflection.write(&self.queue, refl_view_proj, ClipPlane::above(0.0).0);
-        self.views.refraction.write(&self.queue, refr_view_proj, ClipPlane::below(0.0).0);
-        self.views.reflection_under.write(&self.queue, refl_view_proj, ClipPlane::below(0.0).0);
-        self.views.refraction_over.write(&self.queue, refr_view_proj, ClipPlane::above(0.0).0);
-        if let Some(m) = shadow_view_proj {
-            self.views.shadow.write(&self.queue, m, ClipPlane::none().0);
+    /// Decide the frame (see [`FramePlan`]) and write every uniform it needs.
+    fn plan_and_upload(&mut self, camera: Camera, size: (u32, u32), time: f64) -> FramePlan {
+        let plan = FramePlan::new(&self.scene, &self.world(), camera, size, time);
+        let m = &plan.matrices;
+        self.views.main.write(&self.queue, m.view_proj, ClipPlane::none().0);
+        self.views.reflection.write(&self.queue, m.reflection, ClipPlane::above(0.0).0);
+        self.views.refraction.write(&self.queue, m.refraction, ClipPlane::below(0.0).0);
+        self.views.reflection_under.write(&self.queue, m.reflection, ClipPlane::below(0.0).0);
+        self.views.refraction_over.write(&self.queue, m.refraction, ClipPlane::above(0.0).0);
+        if let Some(shadow) = m.shadow {
+            self.views.shadow.write(&self.queue, shadow, ClipPlane::none().0);
         }
-        if let Some((m, u)) = object_light {
-            self.views.object_light.write(&self.queue, m, ClipPlane::none().0);
-            self.water_object.prepare(&self.queue, &u);
+        if let Some(o) = &plan.object_light {
+            self.views.object_light.write(&self.queue, o.view_proj, ClipPlane::none().0);
+            self.water_object.prepare(&self.queue, &o.uniforms);
         }
-        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&u));
+        if let Some(c) = plan.caustics.filter(|c| c.due) {
+            self.caustics.prepare(&self.queue, &self.caustic_map, c.patch, c.depth);
+        }
+        if let Some(g) = &plan.godrays {
+            self.godrays.prepare(&self.queue, &g.uniforms);
+        }
+        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&plan.frame));
         self.write_surface_uniforms(time);
+        self.surface.ocean.prepare(&self.queue, time);
+        self.last_plan = Some(plan.clone());
+        plan
+    }
+
+    /// The simulation stages of a planned frame: the sky bake (when the sun
+    /// moved), the ocean, the caustic maps when due.
+    fn record_simulation(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        plan: &FramePlan,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
+        self.sky.record_bake(encoder, &self.downsampler, timer.as_deref_mut());
+        if plan.ocean {
+            self.surface.ocean.record(encoder, &self.downsampler, timer.as_deref_mut());
+        }
+        if plan.caustics.is_some_and(|c| c.due) {
+            self.caustics.record(
+                encoder,
+                &self.frame_only,
+                &self.surface.group,
+                &self.caustic_map,
+                self.scene.caustics.method,
+                timer,
+            );
+            self.caustics_current = true;
+        }
     }
 
     fn write_surface_uniforms(&self, time: f64) {
@@ -1027,25 +851,9 @@ impl Renderer {
     /// Write this frame's inputs and advance the simulation, without drawing:
     /// what [`Renderer::render`] does first. Queries and dumps use it alone.
     pub fn simulate(&mut self, camera: &Camera, size: (u32, u32), time: f64) {
-        self.write_frame_uniforms(camera, size, time);
-        self.surface.ocean.prepare(&self.queue, time);
+        let plan = self.plan_and_upload(*camera, size, time);
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        self.sky.record_bake(&mut encoder, &self.downsampler, None);
-        if self.scene.water.model == WaterModel::Fft {
-            self.surface.ocean.record(&mut encoder, &self.downsampler, None);
-        }
-        if let Some((patch, depth)) = self.caustics_due() {
-            self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
-            self.caustics.record(
-                &mut encoder,
-                &self.frame_only,
-                &self.surface.group,
-                &self.caustic_map,
-                self.scene.caustics.method,
-                None,
-            );
-            self.caustics_current = true;
-        }
+        self.record_simulation(&mut encoder, &plan, None);
         self.queue.submit([encoder.finish()]);
     }
 
@@ -1055,7 +863,9 @@ impl Renderer {
     /// without absorption (hydrolux_core::caustics); `None` when caustics are
     /// off or there is no floor.
     pub fn read_caustics(&self) -> Option<(u32, Vec<f32>)> {
-        self.caustic_setup()?;
+        if !self.scene.has_caustics() {
+            return None;
+        }
         let m = self.caustic_map.resolution;
         let bytes = read_texture_layer(
             &self.device,
@@ -1093,36 +903,30 @@ impl Renderer {
                 &self.water_object,
             ));
         }
-        self.write_frame_uniforms(&input.camera, input.size, input.time);
-        self.surface.ocean.prepare(&self.queue, input.time);
-        let caustics_due = self.caustics_due();
-        let godray_frame = self.godray_frame(&input.camera, input.size);
-        let object_light_on = self.object_light_setup().is_some();
-        let has_water = self.has_water();
-        let mut timer = if self.timing { self.timer.as_mut() } else { None };
-        if let Some(t) = timer.as_deref_mut() {
+        let plan = self.plan_and_upload(input.camera, input.size, input.time);
+        let mut timer = if self.timing { self.timer.take() } else { None };
+        if let Some(t) = timer.as_mut() {
             t.begin_frame();
         }
-        self.sky.record_bake(encoder, &self.downsampler, timer.as_deref_mut());
-        if self.scene.water.model == WaterModel::Fft {
-            self.surface.ocean.record(encoder, &self.downsampler, timer.as_deref_mut());
+        self.record_simulation(encoder, &plan, timer.as_mut());
+        self.record_views(encoder, input, &plan, timer.as_mut());
+        if let Some(t) = timer {
+            t.resolve(encoder);
+            self.timer = Some(t);
         }
-        if let Some((patch, depth)) = caustics_due {
-            self.caustics.prepare(&self.queue, &self.caustic_map, patch, depth);
-            self.caustics.record(
-                encoder,
-                &self.frame_only,
-                &self.surface.group,
-                &self.caustic_map,
-                self.scene.caustics.method,
-                timer.as_deref_mut(),
-            );
-            self.caustics_current = true;
-        }
+    }
+
+    /// The light views, offscreen views, main view and post passes of a
+    /// planned frame.
+    fn record_views(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &FrameInput,
+        plan: &FramePlan,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
         let targets = self.targets.as_ref().expect("targets were just created");
         let globals = &self.shadow.globals;
-        let casts_shadows =
-            self.geometry.shadow_bounds.is_some() && self.scene.sun_direction().y > 0.0;
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow map"),
@@ -1139,7 +943,7 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            if casts_shadows {
+            if plan.matrices.shadow.is_some() {
                 self.geometry_pass.record_shadow(
                     &mut pass,
                     &self.frame_only,
@@ -1149,7 +953,7 @@ impl Renderer {
                 );
             }
         }
-        if object_light_on && !self.object_light_current {
+        if plan.object_light.is_some_and(|o| o.due) {
             self.water_object.record_light(
                 encoder,
                 &self.frame_only,
@@ -1163,18 +967,14 @@ impl Renderer {
         }
         // Reflection and refraction textures: cleared to "nothing here"
         // (alpha 0, depth at infinity) so the water falls back to the sky or
-        // to endless water where no geometry was drawn. A camera in the air
-        // needs the first pair, one in the water the second; one within
-        // wave reach of the surface may see both media, so it gets both.
-        let reach = self.surface.vertical_reach;
-        let cam_y = input.camera.position.y;
+        // to endless water where no geometry was drawn.
         let mut offscreen: Vec<(&'static str, &crate::targets::ColorDepth, &ViewSlot, bool)> =
             Vec::new();
-        if cam_y > -reach && has_water {
+        if plan.offscreen.air {
             offscreen.push(("reflection", &targets.reflection, &self.views.reflection, true));
             offscreen.push(("refraction", &targets.refraction, &self.views.refraction, false));
         }
-        if cam_y < reach && has_water {
+        if plan.offscreen.water {
             offscreen.push((
                 "reflection under",
                 &targets.reflection_under,
@@ -1265,7 +1065,7 @@ impl Renderer {
         };
         {
             let mut pass = main_pass(encoder, "medium", true, timer.as_deref_mut());
-            if has_water {
+            if plan.has_water {
                 self.water.record_medium(
                     &mut pass,
                     globals,
@@ -1282,7 +1082,7 @@ impl Renderer {
             }
             self.geometry_pass.record_main(&mut pass, globals, &self.views.main, &self.geometry);
             let aspect = input.size.0.max(1) as f32 / input.size.1.max(1) as f32;
-            if has_water {
+            if plan.has_water {
                 self.water.record(
                     &mut pass,
                     globals,
@@ -1294,10 +1094,11 @@ impl Renderer {
                 );
             }
         }
-        if let Some((g, in_air)) = godray_frame {
-            self.godrays.prepare(&self.queue, &g);
-            let shafts = if in_air {
-                Shafts::Air { object_tubes: object_light_on.then_some(&self.object_light.tubes) }
+        if let Some(g) = &plan.godrays {
+            let shafts = if g.in_air {
+                Shafts::Air {
+                    object_tubes: plan.object_light.is_some().then_some(&self.object_light.tubes),
+                }
             } else {
                 Shafts::Water(self.scene.godrays.method)
             };
@@ -1330,9 +1131,6 @@ impl Renderer {
             &targets.tonemap_input,
             timer.as_deref_mut(),
         );
-        if let Some(t) = timer {
-            t.resolve(encoder);
-        }
     }
 
     /// The last frame's god-ray buffer (linear radiance, pre-exposed, before
@@ -1382,7 +1180,8 @@ impl Renderer {
     /// The refractive objects' light view (world → clip) and its texels per
     /// side; `None` without refractive objects or with the sun down.
     pub fn object_light_view(&self) -> Option<(glam::Mat4, u32)> {
-        self.object_light_setup().map(|(m, _)| (m, self.object_light.resolution))
+        let plan = self.last_plan.as_ref()?;
+        plan.object_light.map(|o| (o.view_proj, self.object_light.resolution))
     }
 
     /// Each pixel's medium in the last frame (0 air, 1 water: where its
@@ -1469,6 +1268,17 @@ impl Renderer {
     pub fn ocean_resolution(&self) -> u32 {
         self.surface.ocean.n
     }
+}
+
+/// The largest `ocean.resolution` (a power of two, 64 to 1024) whose FFT
+/// buffers fit this device's storage-buffer limit with `cascades` cascades.
+pub fn largest_ocean_resolution(device: &wgpu::Device, cascades: u32) -> u32 {
+    let limits = device.limits();
+    let max = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+    [1024u32, 512, 256, 128, 64]
+        .into_iter()
+        .find(|&n| crate::passes::ocean::fields_bytes(n, cascades) <= max)
+        .unwrap_or(64)
 }
 
 /// IEEE half → single precision.

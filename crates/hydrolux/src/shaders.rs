@@ -1,65 +1,126 @@
-//! WGSL sources. Each pass has its own file; the shared modules under
-//! `src/shaders/` are prepended to it, never pasted (WGSL has no #include).
-//! [`all_for_validation`] lists every composed shader so a test can check
-//! them all with naga, without a GPU.
+//! WGSL modules by import. WGSL has no `#include`: a shader file names the
+//! shared modules it uses on `#import a, b` lines, each module names its own,
+//! and [`compose`] resolves them (depth first, each module once) into one
+//! source. WGSL declarations are order-independent at module scope, so the
+//! order only matters for reading. Every composed shader is validated with
+//! naga by a test (`registry::tests`), without a GPU.
 
-pub const FRAME: &str = include_str!("shaders/frame.wgsl");
-pub const CONSTANTS: &str = include_str!("shaders/constants.wgsl");
-pub const OPTICS: &str = include_str!("shaders/optics.wgsl");
-pub const COMPLEX: &str = include_str!("shaders/complex.wgsl");
-pub const SKY_MODEL: &str = include_str!("shaders/sky_model.wgsl");
-pub const SKY_BINDINGS: &str = include_str!("shaders/sky_bindings.wgsl");
-pub const SURFACE: &str = include_str!("shaders/surface.wgsl");
-pub const TONEMAP_CURVE: &str = include_str!("shaders/tonemap_curve.wgsl");
-pub const FULLSCREEN: &str = include_str!("shaders/fullscreen.wgsl");
-pub const DOWNSAMPLE: &str = include_str!("shaders/downsample.wgsl");
-pub const MEDIUM: &str = include_str!("shaders/medium.wgsl");
-pub const PROJECTIVE: &str = include_str!("shaders/projective.wgsl");
-pub const SHADOW_SPACE: &str = include_str!("shaders/shadow_space.wgsl");
-pub const SHADOW_LOOKUP: &str = include_str!("shaders/shadow_lookup.wgsl");
-pub const PHOTON: &str = include_str!("shaders/photon.wgsl");
-pub const TUBE: &str = include_str!("shaders/tube.wgsl");
-pub const FOG: &str = include_str!("shaders/fog.wgsl");
-pub const OBJECT_CAUSTICS: &str = include_str!("shaders/object_caustics.wgsl");
-pub const CAUSTICS_LOOKUP: &str = include_str!("shaders/caustics_lookup.wgsl");
+/// Shared modules, by the name they are imported as.
+const MODULES: &[(&str, &str)] = &[
+    ("constants", include_str!("shaders/constants.wgsl")),
+    ("frame", include_str!("shaders/frame.wgsl")),
+    ("optics", include_str!("shaders/optics.wgsl")),
+    ("complex", include_str!("shaders/complex.wgsl")),
+    ("sky_model", include_str!("shaders/sky_model.wgsl")),
+    ("sky_bindings", include_str!("shaders/sky_bindings.wgsl")),
+    ("surface", include_str!("shaders/surface.wgsl")),
+    ("tonemap_curve", include_str!("shaders/tonemap_curve.wgsl")),
+    ("fullscreen", include_str!("shaders/fullscreen.wgsl")),
+    ("downsample", include_str!("shaders/downsample.wgsl")),
+    ("medium", include_str!("shaders/medium.wgsl")),
+    ("projective", include_str!("shaders/projective.wgsl")),
+    ("shadow_space", include_str!("shaders/shadow_space.wgsl")),
+    ("shadow_lookup", include_str!("shaders/shadow_lookup.wgsl")),
+    ("photon", include_str!("shaders/photon.wgsl")),
+    ("tube", include_str!("shaders/tube.wgsl")),
+    ("fog", include_str!("shaders/fog.wgsl")),
+    ("object_caustics", include_str!("shaders/object_caustics.wgsl")),
+    ("caustics_lookup", include_str!("shaders/caustics_lookup.wgsl")),
+    // Modules of one technique that another reuses.
+    ("geometry_common", include_str!("passes/geometry/geometry_common.wgsl")),
+    ("godrays_common", include_str!("passes/godrays/common.wgsl")),
+];
 
-/// Join shader parts, each introduced by a comment naming its position.
-pub fn compose(parts: &[&str]) -> String {
-    let mut out = String::new();
-    for (i, p) in parts.iter().enumerate() {
-        out.push_str(&format!("// ---- part {i} ----\n"));
-        out.push_str(p);
+/// The names on a source's `#import` lines, in order.
+fn imports(source: &str) -> Vec<&str> {
+    source
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("#import"))
+        .flat_map(|rest| rest.split(',').map(str::trim).filter(|n| !n.is_empty()))
+        .collect()
+}
+
+/// A source without its `#import` lines (kept as comments, so line numbers
+/// in naga's messages still point into the file).
+fn body(source: &str) -> String {
+    let mut out = String::with_capacity(source.len());
+    for line in source.lines() {
+        if line.trim_start().starts_with("#import") {
+            out.push_str("// ");
+        }
+        out.push_str(line);
         out.push('\n');
     }
     out
 }
 
-/// Every shader the renderer builds, composed, with representative constants.
-pub fn all_for_validation() -> Vec<(String, String)> {
-    let mut v = vec![
-        ("ocean/spectrum".to_string(), crate::passes::ocean::spectrum_source()),
-        ("ocean/assemble".to_string(), crate::passes::ocean::assemble_source()),
-        ("downsample".to_string(), compose(&[DOWNSAMPLE])),
-        ("sky/bake".to_string(), crate::passes::sky::bake_source()),
-        ("sky/background".to_string(), crate::passes::sky::background_source()),
-        ("water".to_string(), crate::passes::water::source()),
-        ("tonemap/srgb-target".to_string(), crate::passes::tonemap::source(true)),
-        ("tonemap/unorm-target".to_string(), crate::passes::tonemap::source(false)),
-        ("probe".to_string(), crate::passes::probe::source()),
-        ("geometry".to_string(), crate::passes::geometry::source()),
-        ("geometry/shadow".to_string(), crate::passes::geometry::shadow_source()),
-        ("caustics".to_string(), crate::passes::caustics::source()),
-        ("caustics/beam".to_string(), crate::passes::caustics::beam_source()),
-        ("water_object/light".to_string(), crate::passes::water_object::light_source()),
-        ("water_object/paths".to_string(), crate::passes::water_object::paths_source()),
-        ("water_object/shade".to_string(), crate::passes::water_object::shade_source()),
-        ("godrays/tubes".to_string(), crate::passes::godrays::tubes_source()),
-        ("godrays/ribbons".to_string(), crate::passes::godrays::ribbons_source()),
-        ("godrays/march".to_string(), crate::passes::godrays::march_source()),
-        ("godrays/resolve".to_string(), crate::passes::godrays::resolve_source()),
-    ];
-    for n in [64u32, 256, 1024] {
-        v.push((format!("ocean/fft N={n}"), crate::passes::ocean::fft_source(n)));
+/// A shared module's (name, source); an unknown name is a bug in a shader
+/// file, caught by the validation test.
+fn module(name: &str) -> (&'static str, &'static str) {
+    *MODULES.iter().find(|(n, _)| *n == name).unwrap_or_else(|| {
+        let known: Vec<_> = MODULES.iter().map(|(n, _)| *n).collect();
+        panic!("WGSL import `{name}` is not a shared module ({})", known.join(", "))
+    })
+}
+
+fn visit(name: &'static str, done: &mut Vec<&'static str>, stack: &mut Vec<&'static str>) {
+    if done.contains(&name) {
+        return;
     }
-    v
+    assert!(!stack.contains(&name), "WGSL import cycle: {} → {name}", stack.join(" → "));
+    stack.push(name);
+    for dep in imports(module(name).1) {
+        visit(module(dep).0, done, stack);
+    }
+    stack.pop();
+    done.push(name);
+}
+
+/// One shader: `consts` (settings-dependent `const` lines) first, then every
+/// module `main` imports (transitively, each once, dependencies first), then
+/// `main` itself.
+pub(crate) fn compose(consts: &str, main: &str) -> String {
+    let mut order = Vec::new();
+    for name in imports(main) {
+        visit(module(name).0, &mut order, &mut Vec::new());
+    }
+    let mut out = String::new();
+    if !consts.is_empty() {
+        out.push_str("// ---- settings ----\n");
+        out.push_str(consts);
+        out.push('\n');
+    }
+    for name in order {
+        out.push_str(&format!("// ---- module {name} ----\n"));
+        out.push_str(&body(module(name).1));
+    }
+    out.push_str("// ---- main ----\n");
+    out.push_str(&body(main));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn imports_resolve_transitively_once_and_dependencies_first() {
+        let s = compose("", "#import fog, shadow_lookup\nfn main_fn() {}\n");
+        let at = |m: &str| s.find(&format!("// ---- module {m} ----")).unwrap_or(usize::MAX);
+        // fog imports medium, which imports frame; shadow_lookup imports shadow_space.
+        for m in ["fog", "medium", "frame", "constants", "shadow_lookup", "shadow_space"] {
+            assert!(at(m) < s.len(), "{m} missing");
+            assert_eq!(s.matches(&format!("// ---- module {m} ----")).count(), 1, "{m} twice");
+        }
+        assert!(at("frame") < at("medium") && at("medium") < at("fog"));
+        assert!(at("shadow_space") < at("shadow_lookup"));
+        assert!(s.find("// ---- main ----").unwrap() > at("fog"));
+        assert!(!s.lines().any(|l| l.starts_with("#import")));
+    }
+
+    #[test]
+    #[should_panic(expected = "not a shared module")]
+    fn an_unknown_import_is_named() {
+        compose("", "#import nowhere\n");
+    }
 }

@@ -59,7 +59,7 @@ pub struct TargetSettings {
 
 pub struct ColorDepth {
     pub size: (u32, u32),
-    pub color: wgpu::Texture,
+    _color: wgpu::Texture,
     /// Level 0: the attachment (and what debug views show).
     pub color_view: wgpu::TextureView,
     /// Every level, for sampling.
@@ -129,7 +129,7 @@ impl ColorDepth {
             color_view: color.create_view(&level0),
             sampled_view: color.create_view(&Default::default()),
             mips: downsampler.filter(|_| levels > 1).map(|d| d.chain(device, &color)),
-            color,
+            _color: color,
             depth_view: depth.create_view(&Default::default()),
         }
     }

@@ -1,24 +1,46 @@
 //! Per-pass GPU timing with timestamp queries (when the adapter has
 //! TIMESTAMP_QUERY). Each pass asks for its begin/end slots by name; after
-//! the frame, [`GpuTimer::read`] returns milliseconds per pass.
+//! the frame, [`GpuTimer::read`] returns milliseconds per pass. The query
+//! set grows with the passes: a frame that asks for more slots than it has
+//! is timed in full from the next frame on.
 
 pub struct GpuTimer {
+    device: wgpu::Device,
     query_set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     staging: wgpu::Buffer,
     names: Vec<&'static str>,
     capacity: u32,
+    /// Passes the last frame asked to time (more than `names` when full).
+    wanted: u32,
     period_ns: f32,
 }
 
 impl GpuTimer {
-    pub const MAX_PASSES: u32 = 16;
+    /// Passes timed before the first growth.
+    pub const INITIAL_PASSES: u32 = 16;
 
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Option<Self> {
         if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
             return None;
         }
-        let capacity = Self::MAX_PASSES * 2;
+        let (query_set, resolve, staging) = Self::buffers(device, Self::INITIAL_PASSES * 2);
+        Some(GpuTimer {
+            device: device.clone(),
+            query_set,
+            resolve,
+            staging,
+            names: Vec::new(),
+            capacity: Self::INITIAL_PASSES * 2,
+            wanted: 0,
+            period_ns: queue.get_timestamp_period(),
+        })
+    }
+
+    fn buffers(
+        device: &wgpu::Device,
+        capacity: u32,
+    ) -> (wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer) {
         let query_set = device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("pass timestamps"),
             ty: wgpu::QueryType::Timestamp,
@@ -37,22 +59,22 @@ impl GpuTimer {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Some(GpuTimer {
-            query_set,
-            resolve,
-            staging,
-            names: Vec::new(),
-            capacity,
-            period_ns: queue.get_timestamp_period(),
-        })
+        (query_set, resolve, staging)
     }
 
     /// Start a new frame's list of passes.
     pub fn begin_frame(&mut self) {
+        if 2 * self.wanted > self.capacity {
+            let capacity = (2 * self.wanted).next_power_of_two();
+            (self.query_set, self.resolve, self.staging) = Self::buffers(&self.device, capacity);
+            self.capacity = capacity;
+        }
         self.names.clear();
+        self.wanted = 0;
     }
 
     fn slot(&mut self, name: &'static str) -> Option<u32> {
+        self.wanted += 1;
         let i = self.names.len() as u32;
         if 2 * i + 2 > self.capacity {
             return None;

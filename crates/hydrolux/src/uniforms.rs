@@ -1,132 +1,316 @@
-//! Rust twins of the WGSL uniform structs. `#[repr(C)]` + bytemuck, and a
-//! test (tests/shaders.rs) checks each size against naga's layout of the
-//! WGSL struct, so the two cannot drift apart silently.
+//! Rust twins of the WGSL uniform structs. Each is declared with
+//! [`uniform!`], which makes it `#[repr(C)]` + bytemuck and records every
+//! field's name, offset and size; a test (`registry::tests`) checks them by
+//! name against naga's layout of the WGSL struct, so two swapped fields or a
+//! missing pad fail, not only a size change.
+//!
+//! The per-frame globals (`Frame`, shaders/frame.wgsl) are one struct per
+//! concern; the parts a technique decides are declared in its folder
+//! (`FrameCaustics` in passes/caustics, `FrameVolume` in passes/godrays, …)
+//! and the frame plan fills them (`plan.rs`).
 
-use bytemuck::{Pod, Zeroable};
+// The layout records are read by the offline checks (registry's tests) only.
+#![cfg_attr(not(test), allow(dead_code))]
 
-/// WGSL `Frame` (shaders/frame.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct FrameUniforms {
-    pub view_proj: [[f32; 4]; 4],
-    pub inv_view_proj: [[f32; 4]; 4],
-    pub camera_pos: [f32; 4],
-    pub sun_dir: [f32; 4],
-    pub sun_illuminance: [f32; 4],
-    pub sky_ambient: [f32; 4],
-    pub water_body: [f32; 4],
-    pub modes: [u32; 4],
-    pub viewport: [f32; 4],
-    pub surface_detail: [f32; 4],
-    pub refl_view_proj: [[f32; 4]; 4],
-    pub refr_view_proj: [[f32; 4]; 4],
-    pub inv_refr_view_proj: [[f32; 4]; 4],
-    pub shadow_view_proj: [[f32; 4]; 4],
-    pub absorption: [f32; 4],
-    pub scattering: [f32; 4],
-    pub water_params: [f32; 4],
-    pub reflection_params: [f32; 4],
-    pub sun_travel: [f32; 4],
-    pub sun_underwater: [f32; 4],
-    pub sky_underwater: [f32; 4],
-    pub modes2: [u32; 4],
-    pub caustic_params: [f32; 4],
-    pub volume: [f32; 4],
-    pub fog: [f32; 4],
-    pub object_light_view_proj: [[f32; 4]; 4],
-    pub object_params: [f32; 4],
+/// One field of a uniform struct as Rust lays it out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Field {
+    pub name: &'static str,
+    pub offset: usize,
+    pub size: usize,
 }
 
-/// WGSL `View` (passes/geometry/geometry_common.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct ViewUniforms {
-    pub view_proj: [[f32; 4]; 4],
-    pub clip_plane: [f32; 4],
+/// A uniform struct with a WGSL twin of the same layout.
+pub(crate) trait Uniform: bytemuck::Pod {
+    /// The WGSL struct's name.
+    const WGSL_NAME: &'static str;
+    fn fields() -> Vec<Field>;
 }
 
-/// WGSL `Object` (passes/geometry/geometry_common.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct ObjectUniforms {
-    pub model: [[f32; 4]; 4],
-    pub normal_matrix: [[f32; 4]; 3],
-    pub albedo: [f32; 4],
-    pub pattern_color: [f32; 4],
-    pub flags: [u32; 4],
+/// The layout of one uniform struct, for the naga test: the WGSL struct's
+/// name, the shader that declares it, the Rust size and fields.
+pub(crate) struct Layout {
+    pub wgsl_name: &'static str,
+    pub source: String,
+    pub size: usize,
+    pub fields: Vec<Field>,
 }
 
-/// WGSL `SurfaceParams` (shaders/surface.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct SurfaceUniforms {
-    pub cascade_sizes: [f32; 4],
-    pub counts: [u32; 4],
-    pub waves: [[f32; 4]; 64],
-    pub wave_q: [[f32; 4]; 16],
+impl Layout {
+    pub fn of<T: Uniform>(source: String) -> Self {
+        Layout {
+            wgsl_name: T::WGSL_NAME,
+            source,
+            size: std::mem::size_of::<T>(),
+            fields: T::fields(),
+        }
+    }
+
+    /// The same layout under another WGSL name.
+    pub fn named(self, wgsl_name: &'static str) -> Self {
+        Layout { wgsl_name, ..self }
+    }
+
+    /// A storage record checked by size only.
+    pub fn sized(wgsl_name: &'static str, source: String, size: usize) -> Self {
+        Layout { wgsl_name, source, size, fields: Vec::new() }
+    }
 }
 
-/// WGSL `EvolveParams` (passes/ocean/spectrum.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct EvolveUniforms {
-    pub tau_n: [u32; 4],
-    pub choppiness: [f32; 4],
+/// Declare a uniform struct: `uniform! { WgslName; pub struct RustName { … } }`.
+macro_rules! uniform {
+    ($wgsl:ident; $(#[$m:meta])* $vis:vis struct $name:ident {
+        $($(#[$fm:meta])* $fvis:vis $field:ident : $ty:ty),* $(,)?
+    }) => {
+        $(#[$m])*
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+        $vis struct $name { $($(#[$fm])* $fvis $field: $ty),* }
+
+        impl $crate::uniforms::Uniform for $name {
+            const WGSL_NAME: &'static str = stringify!($wgsl);
+            fn fields() -> Vec<$crate::uniforms::Field> {
+                vec![$($crate::uniforms::Field {
+                    name: stringify!($field),
+                    offset: std::mem::offset_of!($name, $field),
+                    size: std::mem::size_of::<$ty>(),
+                }),*]
+            }
+        }
+
+        impl Default for $name {
+            fn default() -> Self {
+                bytemuck::Zeroable::zeroed()
+            }
+        }
+    };
+}
+pub(crate) use uniform;
+
+type Mat4 = [[f32; 4]; 4];
+
+uniform! { FrameView;
+    /// The camera.
+    pub(crate) struct FrameView {
+        pub view_proj: Mat4,
+        pub inv_view_proj: Mat4,
+        pub position: [f32; 3],
+        /// Simulation time (s), reduced modulo the ocean's repeat period.
+        pub time: f32,
+        pub size: [f32; 2],
+        pub inv_size: [f32; 2],
+    }
 }
 
-/// WGSL `AssembleParams` (passes/ocean/assemble.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct AssembleUniforms {
-    pub n: u32,
-    pub cascades: u32,
-    pub _pad: [u32; 2],
+uniform! { FrameLight;
+    /// Sun and sky, pre-exposed.
+    pub(crate) struct FrameLight {
+        pub sun_dir: [f32; 3],
+        pub cos_sun_radius: f32,
+        pub sun_illuminance: [f32; 3],
+        pub inv_sun_solid_angle: f32,
+        pub sky_ambient: [f32; 3],
+        pub exposure: f32,
+        pub sun_travel: [f32; 3],
+        pub sun_travel_cos: f32,
+        pub sun_underwater: [f32; 3],
+        pub _pad0: f32,
+        pub sky_underwater: [f32; 3],
+        pub _pad1: f32,
+    }
 }
 
-/// (WGSL struct name, shader it lives in, Rust size) for the layout test.
-pub fn layouts() -> Vec<(&'static str, String, usize)> {
-    use std::mem::size_of;
-    vec![
-        ("Frame", crate::passes::water::source(), size_of::<FrameUniforms>()),
-        ("SurfaceParams", crate::passes::water::source(), size_of::<SurfaceUniforms>()),
-        (
-            "SkyParams",
-            crate::passes::sky::bake_source(),
-            size_of::<hydrolux_core::sky::SkyParams>(),
-        ),
-        ("EvolveParams", crate::passes::ocean::spectrum_source(), size_of::<EvolveUniforms>()),
-        (
-            "SpectrumMode",
-            crate::passes::ocean::spectrum_source(),
-            size_of::<hydrolux_core::waves::ocean::SpectrumMode>(),
-        ),
-        ("View", crate::passes::geometry::source(), size_of::<ViewUniforms>()),
-        (
-            "CausticParams",
-            crate::passes::caustics::source(),
-            size_of::<crate::passes::caustics::CausticUniforms>(),
-        ),
-        (
-            "BeamParams",
-            crate::passes::caustics::beam_source(),
-            size_of::<crate::passes::caustics::CausticUniforms>(),
-        ),
-        ("Object", crate::passes::geometry::source(), size_of::<ObjectUniforms>()),
-        (
-            "GodRayParams",
-            crate::passes::godrays::ribbons_source(),
-            size_of::<crate::passes::godrays::GodRayUniforms>(),
-        ),
-        (
-            "Tube",
-            crate::passes::godrays::ribbons_source(),
-            crate::passes::godrays::TUBE_BYTES as usize,
-        ),
-        (
-            "ObjectLightParams",
-            crate::passes::water_object::paths_source(),
-            size_of::<crate::passes::water_object::ObjectLightUniforms>(),
-        ),
-        ("AssembleParams", crate::passes::ocean::assemble_source(), size_of::<AssembleUniforms>()),
-    ]
+uniform! { FrameWater;
+    /// The water body and how its surface is shaded.
+    pub(crate) struct FrameWater {
+        pub body_color: [f32; 3],
+        pub ior: f32,
+        pub absorption: [f32; 3],
+        pub phase_g: f32,
+        pub scattering: [f32; 3],
+        pub fresnel_power: f32,
+        pub reflection_height: f32,
+        pub refraction_depth: f32,
+        pub refraction_max: f32,
+        pub simple_attenuation: f32,
+        pub has_water: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
 }
+
+uniform! { FrameSurface;
+    /// What the surface's geometry and textures do not resolve.
+    pub(crate) struct FrameSurface {
+        pub unresolved_variance: [f32; 2],
+        pub base_spacing: f32,
+        pub rings: f32,
+    }
+}
+
+uniform! { FrameProjective;
+    /// Local reflection and refraction textures.
+    pub(crate) struct FrameProjective {
+        pub reflection_view_proj: Mat4,
+        pub refraction_view_proj: Mat4,
+        pub inv_refraction_view_proj: Mat4,
+        pub reflection_texels_per_radian: f32,
+        pub has_geometry: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+}
+
+uniform! { FrameShadow;
+    /// The sun's shadow map.
+    pub(crate) struct FrameShadow {
+        pub view_proj: Mat4,
+        pub enabled: u32,
+        pub size: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+}
+
+uniform! { FrameFog;
+    /// Fog in the air.
+    pub(crate) struct FrameFog {
+        pub scattering: f32,
+        pub g: f32,
+        pub distance: f32,
+        pub sky_fraction: f32,
+    }
+}
+
+uniform! { FrameModes;
+    /// Choices made by the scene.
+    pub(crate) struct FrameModes {
+        pub fresnel: u32,
+        pub tonemap: u32,
+        pub debug_view: u32,
+        pub optics: u32,
+        pub refraction_lookup: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+}
+
+use crate::passes::caustics::FrameCaustics;
+use crate::passes::godrays::FrameVolume;
+use crate::passes::water_object::FrameObjects;
+
+uniform! { Frame;
+    /// WGSL `Frame` (shaders/frame.wgsl): group 0, binding 0 of every render pass.
+    pub(crate) struct FrameUniforms {
+        pub view: FrameView,
+        pub light: FrameLight,
+        pub water: FrameWater,
+        pub surface: FrameSurface,
+        pub projective: FrameProjective,
+        pub shadow: FrameShadow,
+        pub caustics: FrameCaustics,
+        pub volume: FrameVolume,
+        pub fog: FrameFog,
+        pub objects: FrameObjects,
+        pub modes: FrameModes,
+    }
+}
+
+uniform! { View;
+    /// WGSL `View` (passes/geometry/geometry_common.wgsl).
+    pub(crate) struct ViewUniforms {
+        pub view_proj: Mat4,
+        pub clip_plane: [f32; 4],
+    }
+}
+
+uniform! { Object;
+    /// WGSL `Object` (passes/geometry/geometry_common.wgsl).
+    pub(crate) struct ObjectUniforms {
+        pub model: Mat4,
+        pub normal_matrix: [[f32; 4]; 3],
+        pub albedo: [f32; 4],
+        pub pattern_color: [f32; 4],
+        pub flags: [u32; 4],
+    }
+}
+
+uniform! { SurfaceParams;
+    /// WGSL `SurfaceParams` (shaders/surface.wgsl).
+    pub(crate) struct SurfaceUniforms {
+        pub cascade_sizes: [f32; 4],
+        pub counts: [u32; 4],
+        pub waves: [[f32; 4]; 64],
+        pub wave_q: [[f32; 4]; 16],
+    }
+}
+
+uniform! { EvolveParams;
+    /// WGSL `EvolveParams` (passes/ocean/spectrum.wgsl).
+    pub(crate) struct EvolveUniforms {
+        pub tau_n: [u32; 4],
+        pub choppiness: [f32; 4],
+    }
+}
+
+uniform! { AssembleParams;
+    /// WGSL `AssembleParams` (passes/ocean/assemble.wgsl).
+    pub(crate) struct AssembleUniforms {
+        pub n: u32,
+        pub cascades: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+}
+
+/// Core types laid out for the GPU (their crate has no GPU code).
+macro_rules! core_uniform {
+    ($wgsl:ident, $ty:ty, [$($field:ident),* $(,)?]) => {
+        impl Uniform for $ty {
+            const WGSL_NAME: &'static str = stringify!($wgsl);
+            fn fields() -> Vec<Field> {
+                fn size_of_field<T, F>(_: fn(&T) -> &F) -> usize {
+                    std::mem::size_of::<F>()
+                }
+                vec![$(Field {
+                    name: stringify!($field),
+                    offset: std::mem::offset_of!($ty, $field),
+                    size: size_of_field(|v: &$ty| &v.$field),
+                }),*]
+            }
+        }
+    };
+}
+
+core_uniform!(
+    SkyParams,
+    hydrolux_core::sky::SkyParams,
+    [coeff_y, coeff_x, coeff_yy, coeff_e, zenith_over_f, sun_direction, sun_illuminance,]
+);
+core_uniform!(
+    SpectrumMode,
+    hydrolux_core::waves::ocean::SpectrumMode,
+    [h0, h0_minus_conj, kx, kz, omega_cycles, _pad,]
+);
+
+/// The frame globals, checked against the water shader (which imports them).
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "frame",
+    shaders: Vec::new,
+    uniforms: || {
+        let src = crate::passes::water::source;
+        vec![
+            Layout::of::<FrameUniforms>(src()),
+            Layout::of::<FrameView>(src()),
+            Layout::of::<FrameLight>(src()),
+            Layout::of::<FrameWater>(src()),
+            Layout::of::<FrameSurface>(src()),
+            Layout::of::<FrameProjective>(src()),
+            Layout::of::<FrameShadow>(src()),
+            Layout::of::<FrameFog>(src()),
+            Layout::of::<FrameModes>(src()),
+        ]
+    },
+};

@@ -3,10 +3,12 @@
 //! rules in [`load`].
 
 mod builtin;
+mod choices;
 mod geometry;
 mod load;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene};
+pub use choices::{Choice, enumerated_keys};
 pub use geometry::{FLOOR_EXTENT, SceneObject};
 pub use load::{SceneError, apply_override, parse_override};
 
@@ -440,11 +442,6 @@ pub enum DebugView {
     Caustics,
 }
 
-impl DebugView {
-    pub const NAMES: [&'static str; 8] =
-        ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"];
-}
-
 impl Default for Scene {
     fn default() -> Self {
         Scene {
@@ -695,6 +692,21 @@ impl Scene {
             size: self.water.size,
             heights,
         })
+    }
+
+    /// Whether the scene has a water body (`water.model` is not "none").
+    pub fn has_water(&self) -> bool {
+        self.water.model != WaterModel::None
+    }
+
+    /// Whether the floor gets caustics: a water body over a floor, a
+    /// caustics method, and the sun up. The renderer's frame plan and the
+    /// CLI's dump checks both ask this.
+    pub fn has_caustics(&self) -> bool {
+        self.has_water()
+            && self.caustics.method != CausticMethod::Off
+            && self.floor.depth > 0.0
+            && self.sun_direction().y > 0.0
     }
 
     /// The periodic patch the caustic map covers (m): the heightfield's, or

@@ -31,7 +31,7 @@ impl Downsampler {
                 storage_texture_entry(1, FORMAT, wgpu::TextureViewDimension::D2Array),
             ],
         });
-        let module = shader(device, "downsample", &shaders::compose(&[shaders::DOWNSAMPLE]));
+        let module = shader(device, "downsample", &source());
         let pipeline = compute_pipeline(device, "downsample", &module, "downsample", &[&layout]);
         Downsampler { layout, pipeline }
     }
@@ -99,3 +99,13 @@ pub fn storage_array_texture(
         view_formats: &[],
     })
 }
+
+pub(crate) fn source() -> String {
+    shaders::compose("", "#import downsample")
+}
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "mips",
+    shaders: || vec![("downsample".to_string(), source())],
+    uniforms: Vec::new,
+};

@@ -5,26 +5,27 @@
 // interpolates; above the first layer towards the unfocused value. Returns
 // the factor by which the caustics change the sunlight of flat water: 1
 // where the surface neither focuses nor spreads it.
+#import frame
 
 @group(0) @binding(6) var caustic_map: texture_2d_array<f32>;
 @group(0) @binding(7) var caustic_sampler: sampler;
 
 fn caustic_layer(world: vec3<f32>, layer: i32) -> f32 {
     let layers = f32(textureNumLayers(caustic_map));
-    let layer_depth = frame.caustic_params.z * f32(layer + 1) / layers;
-    let travel = frame.sun_travel.xyz;
-    let on_layer = world + travel * ((layer_depth + world.y) / max(frame.sun_travel.w, 1e-3));
-    let uv = on_layer.xz / frame.caustic_params.xy + 0.5;
-    return textureSampleLevel(caustic_map, caustic_sampler, uv, layer, 0.0).r * frame.caustic_params.w;
+    let layer_depth = frame.caustics.floor_depth * f32(layer + 1) / layers;
+    let travel = frame.light.sun_travel;
+    let on_layer = world + travel * ((layer_depth + world.y) / max(frame.light.sun_travel_cos, 1e-3));
+    let uv = on_layer.xz / frame.caustics.patch_size + 0.5;
+    return textureSampleLevel(caustic_map, caustic_sampler, uv, layer, 0.0).r * frame.caustics.inv_flat_value;
 }
 
 fn caustic_factor(world: vec3<f32>) -> f32 {
-    if (frame.caustic_params.x <= 0.0) {
+    if (frame.caustics.patch_size.x <= 0.0) {
         return 1.0;
     }
     let layers = i32(textureNumLayers(caustic_map));
     // Continuous layer coordinate: layer k at k + 1, the surface at 0.
-    let f = clamp(max(-world.y, 0.0) / frame.caustic_params.z * f32(layers), 0.0, f32(layers));
+    let f = clamp(max(-world.y, 0.0) / frame.caustics.floor_depth * f32(layers), 0.0, f32(layers));
     let upper = i32(floor(f)) - 1;
     let a = f - floor(f);
     var above = 1.0;

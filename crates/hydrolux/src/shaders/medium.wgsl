@@ -2,12 +2,13 @@
 // hydrolux_core::medium (seed 000 §3.3, eq. 3.3–3.6): Beer–Lambert
 // attenuation, single scattering with a Henyey–Greenstein phase function,
 // and the light field under a flat surface. Needs `frame`.
+#import constants, frame
 
 const DIFFUSE_MEAN_COSINE: f32 = 0.85;
 const PHASE_ISOTROPIC: f32 = 0.0795774715;
 
 fn extinction() -> vec3<f32> {
-    return frame.absorption.rgb + frame.scattering.rgb;
+    return frame.water.absorption + frame.water.scattering;
 }
 
 fn transmittance(distance: f32) -> vec3<f32> {
@@ -27,7 +28,7 @@ fn in_scatter(e0: vec3<f32>, phase: f32, c: f32, s: f32) -> vec3<f32> {
     let small = abs(ks) < vec3<f32>(1e-4);
     let safe_k = select(k, vec3<f32>(1.0), small);
     let integral = select((1.0 - exp(-ks)) / safe_k, s * (1.0 - 0.5 * ks), small);
-    return frame.scattering.rgb * phase * e0 * integral;
+    return frame.water.scattering * phase * e0 * integral;
 }
 
 // Fraction of the downwelling light that comes back up from below (floor
@@ -37,10 +38,10 @@ const UPWELLING_FRACTION: f32 = 0.15;
 // Irradiance on a receiver with normal n, `depth` m under the mean surface.
 fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<f32> {
     let d = max(depth, 0.0);
-    let cos_w = max(frame.sun_travel.w, 1e-3);
-    let sun_down = frame.sun_underwater.rgb * transmittance(d / cos_w);
-    let sky_down = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE);
-    let sun = sun_down * max(dot(n, -frame.sun_travel.xyz), 0.0) * sun_visibility;
+    let cos_w = max(frame.light.sun_travel_cos, 1e-3);
+    let sun_down = frame.light.sun_underwater * transmittance(d / cos_w);
+    let sky_down = frame.light.sky_underwater * transmittance(d / DIFFUSE_MEAN_COSINE);
+    let sun = sun_down * max(dot(n, -frame.light.sun_travel), 0.0) * sun_visibility;
     let sky = sky_down * (0.5 + 0.5 * n.y);
     let up = UPWELLING_FRACTION * (sun_down * cos_w + sky_down) * (0.5 - 0.5 * n.y);
     return sun + sky + up;
@@ -51,16 +52,16 @@ fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<
 // (the depth changes by −dir.y per metre). Twin:
 // UnderwaterLight::sun_in_scatter.
 fn sun_in_scatter(depth: f32, dir: vec3<f32>, s0: f32, s1: f32) -> vec3<f32> {
-    let cos_w = max(frame.sun_travel.w, 1e-3);
+    let cos_w = max(frame.light.sun_travel_cos, 1e-3);
     let d0 = max(depth - dir.y * s0, 0.0);
-    let phase = henyey_greenstein(dot(frame.sun_travel.xyz, -dir), frame.absorption.w);
-    return transmittance(s0) * in_scatter(frame.sun_underwater.rgb * transmittance(d0 / cos_w), phase, -dir.y / cos_w, s1 - s0);
+    let phase = henyey_greenstein(dot(frame.light.sun_travel, -dir), frame.water.phase_g);
+    return transmittance(s0) * in_scatter(frame.light.sun_underwater * transmittance(d0 / cos_w), phase, -dir.y / cos_w, s1 - s0);
 }
 
 // The diffuse skylight's part over the first s metres.
 fn sky_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
     let d = max(depth, 0.0);
-    let sky_start = frame.sky_underwater.rgb * transmittance(d / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
+    let sky_start = frame.light.sky_underwater * transmittance(d / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
     return in_scatter(sky_start, PHASE_ISOTROPIC, -dir.y / DIFFUSE_MEAN_COSINE, s);
 }
 
@@ -72,9 +73,9 @@ fn view_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
 }
 
 // The same for a ray leaving the eye: where god rays are drawn (the first
-// frame.volume.x metres), they replace the uniform sun term.
+// frame.volume.godray_distance metres), they replace the uniform sun term.
 fn eye_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
-    return sun_in_scatter(depth, dir, min(frame.volume.x, s), s) + sky_in_scatter(depth, dir, s);
+    return sun_in_scatter(depth, dir, min(frame.volume.godray_distance, s), s) + sky_in_scatter(depth, dir, s);
 }
 
 // The same from just under the surface (a downward refracted ray).

@@ -4,20 +4,21 @@
 // relative to the sun's; a is the depth, in that view, of the surface it
 // landed on. A receiver at that depth gets the rgb × its cos to the sun.
 // Needs `frame` and `caustics_lookup` (its sampler).
+#import frame, caustics_lookup
 
 @group(0) @binding(8) var object_caustic_map: texture_2d<f32>;
 
 fn object_caustic(world: vec3<f32>) -> vec3<f32> {
-    if (frame.object_params.x < 0.5) {
+    if (frame.objects.enabled == 0u) {
         return vec3<f32>(0.0);
     }
-    let clip = frame.object_light_view_proj * vec4<f32>(world, 1.0);
+    let clip = frame.objects.light_view_proj * vec4<f32>(world, 1.0);
     let uv = vec2<f32>(0.5 + 0.5 * clip.x, 0.5 - 0.5 * clip.y);
     if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0))) {
         return vec3<f32>(0.0);
     }
     let m = textureSampleLevel(object_caustic_map, caustic_sampler, uv, 0.0);
-    if (abs(clip.z - m.a) > frame.object_params.y) {
+    if (abs(clip.z - m.a) > frame.objects.depth_tolerance) {
         return vec3<f32>(0.0);
     }
     return m.rgb;

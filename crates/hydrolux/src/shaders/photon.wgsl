@@ -1,6 +1,7 @@
 // A photon of sunlight refracted into the water at the displaced surface
 // (seed 000 §4.5). Twin: hydrolux_core::caustics::refracted_photon. Needs
 // `frame`, `optics` and `surface`.
+#import frame, optics, surface
 
 struct Photon {
     // Where it enters the water.
@@ -21,13 +22,13 @@ fn refracted_photon(origin: vec2<f32>) -> Photon {
     // Unnormalised normal: its length is the displaced cell's area scale,
     // so its dot with the light is the area the cell shows the sun.
     let area_normal = cross(tz, tx);
-    let l = frame.sun_dir.xyz;
+    let l = frame.light.sun_dir;
     let shown = dot(area_normal, l);
     if (shown <= 0.0) {
         return p;
     }
     let nrm = normalize(area_normal);
-    let ior = frame.water_body.w;
+    let ior = frame.water.ior;
     let dir = refract(-l, nrm, 1.0 / ior);
     if (dir.y > -1e-4) {
         return p;

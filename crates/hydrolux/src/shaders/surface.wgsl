@@ -2,6 +2,7 @@
 // from textures, or a sum of directional (Gerstner) waves with analytic
 // derivatives (seed 001), flat water, or a user's heightfield. Twins:
 // hydrolux_core::waves.
+#import constants
 
 struct SurfaceParams {
     // Patch size (m) of each FFT cascade; for a heightfield, xy its [Lx, Lz].

@@ -6,6 +6,7 @@
 // vertex computes its whole triangle (WebGPU has no geometry shaders), so the
 // draw is non-indexed: 6 vertices per grid cell, 9 instances for the
 // periodic neighbours of the patch; one pass per layer (instance / 9).
+#import constants, frame, optics, surface
 
 struct BeamParams {
     // x photons per side (unused here), y map cells per side, z beam grid
@@ -31,8 +32,8 @@ fn project(i: u32, j: u32, depth: f32) -> array<vec4<f32>, 2> {
     let z0 = (f32(j) / f32(n) - 0.5) * size.y;
     let s = surface_sample_footprint(vec2<f32>(x0, z0), 0.0);
     let pos = vec3<f32>(x0 + s.disp.x, s.disp.y, z0 + s.disp.z);
-    let ior = frame.water_body.w;
-    let dir = refract(-frame.sun_dir.xyz, surface_normal(s), 1.0 / ior);
+    let ior = frame.water.ior;
+    let dir = refract(-frame.light.sun_dir, surface_normal(s), 1.0 / ior);
     var ok = 1.0;
     if (dir.y > -1e-4) {
         ok = 0.0;
@@ -57,10 +58,10 @@ fn vs_beam(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32
     let c = project(ci + corners[first + 2u].x, cj + corners[first + 2u].y, depth);
     let me = corners[v % 6u];
     let own = project(ci + me.x, cj + me.y, depth);
-    let l = frame.sun_dir.xyz;
+    let l = frame.light.sun_dir;
     let area_vector = 0.5 * cross(b[0].xyz - a[0].xyz, c[0].xyz - a[0].xyz);
     let shown = max(dot(area_vector, l), 0.0);
-    let ior = frame.water_body.w;
+    let ior = frame.water.ior;
     let t = 1.0 - fresnel_exact(dot(normalize(area_vector), l), 1.0, ior);
     let floor_area = 0.5 * abs(cross(vec3<f32>(c[1].x - a[1].x, 0.0, c[1].z - a[1].z), vec3<f32>(b[1].x - a[1].x, 0.0, b[1].z - a[1].z)).y);
     var out: BeamOut;

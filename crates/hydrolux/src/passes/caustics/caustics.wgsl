@@ -8,6 +8,7 @@
 // nearest cells in fixed point (WebGPU has no float atomics). Then a
 // periodic 3×3 binomial filter into the map texture array. CPU twin (one
 // plane): hydrolux_core::caustics (the unit and the formulas are there).
+#import constants, frame, optics, surface, photon
 
 struct CausticParams {
     // x photons per side, y map cells per side (M), z beam grid cells per
@@ -116,12 +117,12 @@ fn procedural(@builtin(global_invocation_id) id: vec3<u32>) {
     let depth = layer_depth(id.z);
     let on_floor = (vec2<f32>(id.xy) + 0.5) / f32(m) - 0.5;
     let floor_point = vec3<f32>(on_floor.x * size.x, -depth, on_floor.y * size.y);
-    let travel = frame.sun_travel.xyz;
-    let entry = floor_point - travel * (depth / max(frame.sun_travel.w, 1e-3));
+    let travel = frame.light.sun_travel;
+    let entry = floor_point - travel * (depth / max(frame.light.sun_travel_cos, 1e-3));
     let s = surface_sample_footprint(entry.xz, 0.0);
     let nrm = surface_normal(s);
-    let l = frame.sun_dir.xyz;
-    let ior = frame.water_body.w;
+    let l = frame.light.sun_dir;
+    let ior = frame.water.ior;
     let bent = refract(-l, nrm, 1.0 / ior);
     let cos_angle = clamp(dot(bent, travel), -1.0, 1.0);
     let angle2 = 2.0 * (1.0 - cos_angle);

@@ -6,7 +6,7 @@
 //! (`shaders/caustics_lookup.wgsl`).
 
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use crate::timing::GpuTimer;
 use hydrolux_core::scene::CausticMethod;
 
@@ -15,32 +15,32 @@ pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const FIXED_POINT_SCALE: f32 = 65536.0;
 
 pub fn beam_source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::OPTICS,
-        shaders::SURFACE,
-        include_str!("beam.wgsl"),
-    ])
+    shaders::compose("", include_str!("beam.wgsl"))
 }
 
 pub fn source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::OPTICS,
-        shaders::SURFACE,
-        shaders::PHOTON,
-        include_str!("caustics.wgsl"),
-    ])
+    shaders::compose("", include_str!("caustics.wgsl"))
 }
 
-/// WGSL `CausticParams` (and `BeamParams`, the same layout).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct CausticUniforms {
-    pub counts: [u32; 4],
-    pub extent: [f32; 4],
+crate::uniforms::uniform! { CausticParams;
+    /// WGSL `CausticParams` (and `BeamParams`, the same layout).
+    pub struct CausticUniforms {
+        pub counts: [u32; 4],
+        pub extent: [f32; 4],
+    }
+}
+
+crate::uniforms::uniform! { FrameCaustics;
+    /// The caustics' part of the frame globals (shaders/frame.wgsl): what
+    /// receivers need to read the layers.
+    pub(crate) struct FrameCaustics {
+        /// Patch the maps tile (m); x = 0 when caustics are off.
+        pub patch_size: [f32; 2],
+        /// The floor depth the layers reach (m).
+        pub floor_depth: f32,
+        /// 1 / the map's value under flat water.
+        pub inv_flat_value: f32,
+    }
 }
 
 /// The map and its accumulator for one photon count and map size.
@@ -302,3 +302,18 @@ impl CausticsPass {
         pass.dispatch_workgroups(m, m, k);
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "caustics",
+    shaders: || {
+        vec![("caustics".to_string(), source()), ("caustics/beam".to_string(), beam_source())]
+    },
+    uniforms: || {
+        use crate::uniforms::Layout;
+        vec![
+            Layout::of::<CausticUniforms>(source()),
+            Layout::of::<CausticUniforms>(beam_source()).named("BeamParams"),
+            Layout::of::<FrameCaustics>(source()),
+        ]
+    },
+};

@@ -5,6 +5,7 @@
 // e^(−σk·d) on its way down. Drawn for several views — main, reflection
 // (mirrored, clipped to y ≥ 0), refraction (clipped to y ≤ 0) — and into the
 // sun's shadow map (`vs_shadow`).
+#import constants, frame, medium, fog, shadow_space, shadow_lookup, caustics_lookup, object_caustics, geometry_common
 
 const GROUND_ALBEDO: f32 = 0.15;
 
@@ -59,10 +60,10 @@ fn pattern_mix(world: vec3<f32>, n: vec3<f32>) -> f32 {
 @fragment
 fn fs_underwater(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let c = shade(in, front);
-    if (frame.modes.w == VIEW_NORMALS) {
+    if (frame.modes.debug_view == VIEW_NORMALS) {
         return c;
     }
-    return vec4<f32>(through_water(frame.camera_pos.xyz, in.world, c.rgb), 1.0);
+    return vec4<f32>(through_water(frame.view.position, in.world, c.rgb), 1.0);
 }
 
 @fragment
@@ -74,10 +75,10 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
 @fragment
 fn fs_air(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let c = shade(in, front);
-    if (frame.modes.w == VIEW_NORMALS) {
+    if (frame.modes.debug_view == VIEW_NORMALS) {
         return c;
     }
-    return vec4<f32>(through_fog(frame.camera_pos.xyz, in.world, c.rgb), 1.0);
+    return vec4<f32>(through_fog(frame.view.position, in.world, c.rgb), 1.0);
 }
 
 // The surface's own radiance: material, sun (shadow-mapped), sky, and below
@@ -90,7 +91,7 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     if (!front) {
         n = -n;
     }
-    if (frame.modes.w == VIEW_NORMALS) {
+    if (frame.modes.debug_view == VIEW_NORMALS) {
         return vec4<f32>(n * 0.5 + 0.5, 1.0);
     }
     var albedo = object.albedo.rgb * textureSample(albedo_tex, albedo_sampler, in.uv).rgb;
@@ -103,11 +104,11 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
         // Sun, sky from above, and light bounced off the ground and water
         // below (a grey world of albedo GROUND_ALBEDO), so the undersides
         // that reflections show are not black.
-        let l = frame.sun_dir.xyz;
-        let e_down = frame.sky_ambient.rgb + frame.sun_illuminance.rgb * max(l.y, 0.0);
+        let l = frame.light.sun_dir;
+        let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
         // The sun, plus what refractive objects bend onto this point.
-        irradiance = frame.sun_illuminance.rgb * max(dot(n, l), 0.0) * (visibility + object_caustic(in.world))
-            + frame.sky_ambient.rgb * (0.5 + 0.5 * n.y)
+        irradiance = frame.light.sun_illuminance * max(dot(n, l), 0.0) * (visibility + object_caustic(in.world))
+            + frame.light.sky_ambient * (0.5 + 0.5 * n.y)
             + GROUND_ALBEDO * e_down * (0.5 - 0.5 * n.y);
     }
     return vec4<f32>(albedo / PI * irradiance, 1.0);

@@ -1,6 +1,7 @@
 // The geometry into the sun's shadow map, in refraction-bent shadow space
 // (shaders/shadow_space.wgsl). Composed without the shadow map's bindings:
 // it is the attachment being written.
+#import constants, frame, shadow_space, geometry_common
 
 @vertex
 fn vs_shadow(v: VsIn) -> @builtin(position) vec4<f32> {

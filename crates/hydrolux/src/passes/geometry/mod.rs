@@ -4,7 +4,7 @@
 //! its own matrix and clip plane), and into the sun's shadow map.
 
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use crate::uniforms::{ObjectUniforms, ViewUniforms};
 use hydrolux_core::geometry::load::{AssetError, load_texture};
 use hydrolux_core::scene::{Pattern, Scene};
@@ -12,35 +12,14 @@ use wgpu::util::DeviceExt;
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// Vertex inputs and the view and object bindings, shared with the shaders
-/// that draw the scene's meshes in other passes (water_object).
-pub const GEOMETRY_COMMON: &str = include_str!("geometry_common.wgsl");
-
 pub fn source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::MEDIUM,
-        shaders::FOG,
-        shaders::SHADOW_SPACE,
-        shaders::SHADOW_LOOKUP,
-        shaders::CAUSTICS_LOOKUP,
-        shaders::OBJECT_CAUSTICS,
-        include_str!("geometry_common.wgsl"),
-        include_str!("geometry.wgsl"),
-    ])
+    shaders::compose("", include_str!("geometry.wgsl"))
 }
 
 /// Source of the shadow pipeline: without the shadow map's bindings (it is
 /// the attachment being written).
 pub fn shadow_source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::SHADOW_SPACE,
-        include_str!("geometry_common.wgsl"),
-        include_str!("geometry_shadow.wgsl"),
-    ])
+    shaders::compose("", include_str!("geometry_shadow.wgsl"))
 }
 
 /// Which way a view's triangles wind: mirrored views flip them.
@@ -530,3 +509,14 @@ fn upload_rgba8(
     }
     texture.create_view(&Default::default())
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "geometry",
+    shaders: || {
+        vec![("geometry".to_string(), source()), ("geometry/shadow".to_string(), shadow_source())]
+    },
+    uniforms: || {
+        use crate::uniforms::{Layout, ObjectUniforms, ViewUniforms};
+        vec![Layout::of::<ViewUniforms>(source()), Layout::of::<ObjectUniforms>(source())]
+    },
+};

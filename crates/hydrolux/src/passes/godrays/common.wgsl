@@ -1,6 +1,7 @@
 // Shared by the god-ray shaders: their parameters and the buffer's
 // geometry. Layout twin: GodRayUniforms (mod.rs). Each shader binds its
 // `params`.
+#import constants, frame, medium, tube
 
 struct GodRayParams {
     // x photons per side, y march steps, zw buffer size (texels).
@@ -25,7 +26,7 @@ fn medium_transmittance(distance: f32) -> vec3<f32> {
 
 // Where the view ray at NDC `ndc` meets depth `z` (reversed-Z).
 fn world_at(ndc: vec2<f32>, z: f32) -> vec3<f32> {
-    let h = frame.inv_view_proj * vec4<f32>(ndc, z, 1.0);
+    let h = frame.view.inv_view_proj * vec4<f32>(ndc, z, 1.0);
     return h.xyz / h.w;
 }
 
@@ -41,7 +42,7 @@ fn scene_distance(ndc: vec2<f32>, z: f32) -> f32 {
     if (z <= 0.0) {
         return 1e9;
     }
-    return distance(world_at(ndc, z), frame.camera_pos.xyz);
+    return distance(world_at(ndc, z), frame.view.position);
 }
 
 // Light of the refracted sun scattered towards the eye per metre of a view
@@ -49,5 +50,5 @@ fn scene_distance(ndc: vec2<f32>, z: f32) -> f32 {
 // travelling along `travel`, `s` m from the eye.
 fn scattered_to_eye(e_perp: vec3<f32>, travel: vec3<f32>, view: vec3<f32>, s: f32) -> vec3<f32> {
     let phase = henyey_greenstein(dot(travel, -view), params.scattering.w);
-    return params.scattering.rgb * phase * e_perp * frame.sun_illuminance.rgb * medium_transmittance(s);
+    return params.scattering.rgb * phase * e_perp * frame.light.sun_illuminance * medium_transmittance(s);
 }

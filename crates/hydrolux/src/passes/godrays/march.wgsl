@@ -7,6 +7,7 @@
 // visibility sampled in it, so flat water gives exactly the uniform
 // in-scattering; needs the caustic layers (a floor and caustics on) to show
 // any focusing.
+#import godrays_common, fullscreen, shadow_space, shadow_lookup, caustics_lookup
 
 @group(1) @binding(0) var<uniform> params: GodRayParams;
 @group(2) @binding(0) var scene_depth: texture_2d<f32>;
@@ -29,7 +30,7 @@ fn march_ray(pos: vec2<f32>) -> MarchRay {
     let texel = vec2<i32>(pos);
     let ndc = texel_ndc(vec2<f32>(texel), vec2<f32>(params.counts.zw));
     var r: MarchRay;
-    r.eye = frame.camera_pos.xyz;
+    r.eye = frame.view.position;
     r.view = normalize(world_at(ndc, 0.5) - r.eye);
     let end = min(params.limits.x, scene_distance(ndc, textureLoad(scene_depth, texel, 0).r));
     r.ds = end / f32(params.counts.y);
@@ -79,7 +80,7 @@ fn fs_fog(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         let p = eye + view * (s0 + jitter * ds);
         let k = max(params.extinction.rgb, vec3<f32>(1e-6));
         let segment = (medium_transmittance(s0) - medium_transmittance(s0 + ds)) / k;
-        sum += scattered_to_eye(vec3<f32>(sun_visibility_point(p)), -frame.sun_dir.xyz, view, 0.0) * segment;
+        sum += scattered_to_eye(vec3<f32>(sun_visibility_point(p)), -frame.light.sun_dir, view, 0.0) * segment;
     }
     return vec4<f32>(sum, 1.0);
 }

@@ -19,7 +19,7 @@
 //! whole ray.
 
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use crate::timing::GpuTimer;
 use hydrolux_core::scene::GodRayMethod;
 
@@ -28,59 +28,46 @@ pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// The scene's depth at the buffer's size.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-const COMMON: &str = include_str!("common.wgsl");
-
-fn base() -> Vec<&'static str> {
-    vec![shaders::CONSTANTS, shaders::FRAME, shaders::MEDIUM, shaders::TUBE, COMMON]
-}
-
 pub fn tubes_source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::MEDIUM,
-        shaders::TUBE,
-        COMMON,
-        shaders::OPTICS,
-        shaders::SURFACE,
-        shaders::PHOTON,
-        include_str!("tubes.wgsl"),
-    ])
+    shaders::compose("", include_str!("tubes.wgsl"))
 }
 
 pub fn ribbons_source() -> String {
-    let mut parts = base();
-    parts.extend([shaders::SHADOW_SPACE, shaders::SHADOW_LOOKUP, include_str!("ribbons.wgsl")]);
-    compose(&parts)
+    shaders::compose("", include_str!("ribbons.wgsl"))
 }
 
 pub fn march_source() -> String {
-    let mut parts = base();
-    parts.extend([
-        shaders::FULLSCREEN,
-        shaders::SHADOW_SPACE,
-        shaders::SHADOW_LOOKUP,
-        shaders::CAUSTICS_LOOKUP,
-        include_str!("march.wgsl"),
-    ]);
-    compose(&parts)
+    shaders::compose("", include_str!("march.wgsl"))
 }
 
 pub fn resolve_source() -> String {
-    let mut parts = base();
-    parts.extend([shaders::FULLSCREEN, include_str!("resolve.wgsl")]);
-    compose(&parts)
+    shaders::compose("", include_str!("resolve.wgsl"))
 }
 
-/// WGSL `GodRayParams` (common.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GodRayUniforms {
-    pub counts: [u32; 4],
-    pub region: [f32; 4],
-    pub limits: [f32; 4],
-    pub scattering: [f32; 4],
-    pub extinction: [f32; 4],
+crate::uniforms::uniform! { GodRayParams;
+    /// WGSL `GodRayParams` (common.wgsl).
+    pub struct GodRayUniforms {
+        pub counts: [u32; 4],
+        pub region: [f32; 4],
+        pub limits: [f32; 4],
+        pub scattering: [f32; 4],
+        pub extinction: [f32; 4],
+    }
+}
+
+crate::uniforms::uniform! { FrameVolume;
+    /// The god rays' part of the frame globals (shaders/frame.wgsl).
+    pub(crate) struct FrameVolume {
+        /// Distance from the eye (m) within which god rays replace the
+        /// uniform sun in-scattering (0: no god rays this frame).
+        pub godray_distance: f32,
+        /// 1 when this pass marches the sun's light in the fog this frame.
+        pub fog_marched: u32,
+        /// How far (m) along refracted paths seen from above the water
+        /// shaders march god rays (0: not this frame).
+        pub shafts_from_above: f32,
+        pub _pad0: f32,
+    }
 }
 
 /// WGSL `Tube` (shaders/tube.wgsl): 48 bytes per path.
@@ -128,13 +115,6 @@ pub struct GodRaysPass {
     fog: wgpu::RenderPipeline,
     reduce: wgpu::RenderPipeline,
     composite: wgpu::RenderPipeline,
-}
-
-/// What the frame decided about god rays (see `Renderer`).
-#[derive(Clone, Copy, Debug)]
-pub struct GodRayFrame {
-    pub method: GodRayMethod,
-    pub uniforms: GodRayUniforms,
 }
 
 const ADD: wgpu::BlendComponent = wgpu::BlendComponent {
@@ -514,3 +494,23 @@ impl GodRaysPass {
             .collect()
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "godrays",
+    shaders: || {
+        vec![
+            ("godrays/tubes".to_string(), tubes_source()),
+            ("godrays/ribbons".to_string(), ribbons_source()),
+            ("godrays/march".to_string(), march_source()),
+            ("godrays/resolve".to_string(), resolve_source()),
+        ]
+    },
+    uniforms: || {
+        use crate::uniforms::Layout;
+        vec![
+            Layout::of::<GodRayUniforms>(ribbons_source()),
+            Layout::of::<FrameVolume>(ribbons_source()),
+            Layout::sized("Tube", ribbons_source(), TUBE_BYTES as usize),
+        ]
+    },
+};

@@ -5,6 +5,7 @@
 // texels, those whose depth matches the pixel's are blended (bilinearly);
 // where none does (an edge), the one nearest in depth is taken — and added
 // to the image where the pixel's medium is the one the buffer is for.
+#import godrays_common, fullscreen
 
 @group(1) @binding(0) var full_depth: texture_depth_2d;
 @group(1) @binding(4) var<uniform> params: GodRayParams;

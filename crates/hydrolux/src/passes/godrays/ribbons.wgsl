@@ -6,6 +6,7 @@
 //   L = σs·p(θ)·Φ·(1 − |u|)/(a·sin α)·e^(−σk(d + s))
 // (see hydrolux_core::godrays), occluded by the scene's depth and by the
 // shadow map.
+#import godrays_common, shadow_space, shadow_lookup
 
 @group(1) @binding(0) var<uniform> params: GodRayParams;
 @group(1) @binding(1) var<storage, read> tubes: array<Tube>;
@@ -30,7 +31,7 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -
     // Two triangles: (end, side) corners.
     let corner = array<vec2<f32>, 6>(vec2(0.0, -1.0), vec2(1.0, -1.0), vec2(1.0, 1.0), vec2(0.0, -1.0), vec2(1.0, 1.0), vec2(0.0, 1.0))[vi];
     let mid = t.start.xyz + t.dir.xyz * (0.5 * t.start.w);
-    let to_mid = mid - frame.camera_pos.xyz;
+    let to_mid = mid - frame.view.position;
     var side = cross(t.dir.xyz, to_mid);
     if (dot(side, side) < 1e-12) {
         side = cross(t.dir.xyz, vec3<f32>(0.0, 1.0, 0.0));
@@ -42,14 +43,14 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -
     let ends = t.dir.xyz * params.region.w;
     let world = t.start.xyz - ends + (t.dir.xyz * t.start.w + 2.0 * ends) * corner.x + side * corner.y;
     out.world = world;
-    out.clip = frame.view_proj * vec4<f32>(world, 1.0);
+    out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
     return out;
 }
 
 @fragment
 fn fs_ribbon(in: RibbonOut) -> @location(0) vec4<f32> {
     let t = tubes[in.tube];
-    let eye = frame.camera_pos.xyz;
+    let eye = frame.view.position;
     let view = normalize(in.world - eye);
     // Closest approach of the view ray and the tube's axis
     // (twin: hydrolux_core::godrays::ribbon_hit).

@@ -3,6 +3,7 @@
 // at the displaced surface, carry the flux its cell lets through, end at the
 // floor or where no point of it can be within the drawn distance. Twin:
 // hydrolux_core::godrays::beam_tubes.
+#import constants, frame, medium, tube, godrays_common, optics, surface, photon
 
 @group(2) @binding(0) var<uniform> params: GodRayParams;
 @group(2) @binding(1) var<storage, read_write> tubes: array<Tube>;
@@ -23,7 +24,7 @@ fn build(@builtin(global_invocation_id) id: vec3<u32>) {
     if (photon.weight > 0.0) {
         let length = max((photon.pos.y + params.limits.y) / -photon.dir.y, 0.0);
         // Cull tubes that never come within the drawn distance of the eye.
-        let eye = frame.camera_pos.xyz;
+        let eye = frame.view.position;
         let along = clamp(dot(eye - photon.pos, photon.dir), 0.0, length);
         let gap = distance(photon.pos + photon.dir * along, eye);
         let spacing = 2.0 * half / f32(n);

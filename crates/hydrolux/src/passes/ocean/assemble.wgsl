@@ -4,8 +4,8 @@
 struct AssembleParams {
     n: u32,
     cascades: u32,
-    pad0: u32,
-    pad1: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: AssembleParams;

@@ -3,6 +3,7 @@
 // time after a bit-reversed load. FFT_N, FFT_LOG2_N and FFT_THREADS are
 // prepended by the pipeline (src/passes/ocean/mod.rs). Unnormalised, e^(+i):
 // the plain sum h(x) = Σ h̃(k)·e^(ik·x), as rustfft's inverse transform.
+#import constants, complex
 
 @group(0) @binding(0) var<storage, read_write> lines: array<vec4<f32>>;
 

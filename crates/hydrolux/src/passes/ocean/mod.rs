@@ -7,18 +7,18 @@
 
 use super::mips::{Downsampler, MipChain, storage_array_texture};
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use crate::timing::GpuTimer;
 use crate::uniforms::{AssembleUniforms, EvolveUniforms};
 use hydrolux_core::waves::ocean::{OceanSpectrum, time_phase};
 use wgpu::util::DeviceExt;
 
 pub fn spectrum_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::COMPLEX, include_str!("spectrum.wgsl")])
+    shaders::compose("", include_str!("spectrum.wgsl"))
 }
 
 pub fn assemble_source() -> String {
-    compose(&[include_str!("assemble.wgsl")])
+    shaders::compose("", include_str!("assemble.wgsl"))
 }
 
 /// Workgroup size of the FFT: one thread per butterfly, at most 256.
@@ -32,7 +32,7 @@ pub fn fft_source(n: u32) -> String {
         n.ilog2(),
         fft_threads(n)
     );
-    compose(&[&consts, shaders::CONSTANTS, shaders::COMPLEX, include_str!("fft.wgsl")])
+    shaders::compose(&consts, include_str!("fft.wgsl"))
 }
 
 /// Bytes of the FFT working buffer: 2 vec4 planes per cascade.
@@ -112,7 +112,7 @@ impl OceanPass {
         let assemble_uniforms = uniform_buffer(
             device,
             "ocean assemble",
-            &AssembleUniforms { n, cascades, _pad: [0; 2] },
+            &AssembleUniforms { n, cascades, _pad0: 0, _pad1: 0 },
         );
 
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -299,3 +299,23 @@ impl OceanPass {
         out
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "ocean",
+    shaders: || {
+        let mut v = vec![
+            ("ocean/spectrum".to_string(), spectrum_source()),
+            ("ocean/assemble".to_string(), assemble_source()),
+        ];
+        v.extend([64u32, 256, 1024].map(|n| (format!("ocean/fft N={n}"), fft_source(n))));
+        v
+    },
+    uniforms: || {
+        use crate::uniforms::{AssembleUniforms, EvolveUniforms, Layout};
+        vec![
+            Layout::of::<EvolveUniforms>(spectrum_source()),
+            Layout::of::<hydrolux_core::waves::ocean::SpectrumMode>(spectrum_source()),
+            Layout::of::<AssembleUniforms>(assemble_source()),
+        ]
+    },
+};

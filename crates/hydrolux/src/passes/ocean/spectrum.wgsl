@@ -1,13 +1,15 @@
 // Time evolution of the initial spectrum h0 (Tessendorf §3.4) and the
 // spectral fields for displacement, slopes and the Jacobian, packed two real
 // fields per complex number. Twin: hydrolux_core::waves::ocean::evolve_mode.
+#import constants, complex
 
 struct SpectrumMode {
     h0: vec2<f32>,
     h0_minus_conj: vec2<f32>,
-    k: vec2<f32>,
+    kx: f32,
+    kz: f32,
     omega_cycles: u32,
-    pad: u32,
+    _pad: u32,
 }
 
 struct EvolveParams {
@@ -34,19 +36,20 @@ fn evolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let turns = m.omega_cycles * params.tau_n.x;
     let theta = f32(turns) * (TAU / 4294967296.0);
     let h = cmul(m.h0, cexp_i(-theta)) + cmul(m.h0_minus_conj, cexp_i(theta));
-    let k = length(m.k);
+    let kv = vec2<f32>(m.kx, m.kz);
+    let k = length(kv);
     var inv_k = 0.0;
     if (k > 0.0) {
         inv_k = 1.0 / k;
     }
     let lambda = params.choppiness.x;
-    let dx = cmul_i(h * (-lambda * m.k.x * inv_k));
-    let dz = cmul_i(h * (-lambda * m.k.y * inv_k));
-    let hx = cmul_i(h * m.k.x);
-    let hz = cmul_i(h * m.k.y);
-    let dxx = h * (lambda * m.k.x * m.k.x * inv_k);
-    let dzz = h * (lambda * m.k.y * m.k.y * inv_k);
-    let dxz = h * (lambda * m.k.x * m.k.y * inv_k);
+    let dx = cmul_i(h * (-lambda * kv.x * inv_k));
+    let dz = cmul_i(h * (-lambda * kv.y * inv_k));
+    let hx = cmul_i(h * kv.x);
+    let hz = cmul_i(h * kv.y);
+    let dxx = h * (lambda * kv.x * kv.x * inv_k);
+    let dzz = h * (lambda * kv.y * kv.y * inv_k);
+    let dxz = h * (lambda * kv.x * kv.y * inv_k);
     // A + i·B for complex A, B.
     let f0 = dx + cmul_i(h);
     let f1 = dz + cmul_i(hx);

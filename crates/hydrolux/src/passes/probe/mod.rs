@@ -3,20 +3,12 @@
 //! the sky cube map in any direction.
 
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use hydrolux_core::waves::SurfaceSample;
 use wgpu::util::DeviceExt;
 
 pub fn source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::OPTICS,
-        shaders::SKY_MODEL,
-        shaders::SKY_BINDINGS,
-        shaders::SURFACE,
-        include_str!("probe.wgsl"),
-    ])
+    shaders::compose("", include_str!("probe.wgsl"))
 }
 
 pub struct ProbePass {
@@ -142,3 +134,9 @@ impl ProbePass {
             .collect()
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "probe",
+    shaders: || vec![("probe".to_string(), source())],
+    uniforms: Vec::new,
+};

@@ -1,6 +1,7 @@
 // Evaluate the surface (as the renderer draws it) and the sky cube map at
 // arbitrary points: GPU height queries for users (buoyancy) and the hook the
 // GPU-versus-CPU tests use; and the shaders' Fresnel formulas.
+#import constants, frame, optics, sky_model, sky_bindings, surface
 
 struct ProbeOut {
     disp: vec4<f32>,
@@ -39,7 +40,7 @@ fn probe_fresnel(@builtin(global_invocation_id) id: vec3<u32>) {
     let q = points[id.x];
     var r: vec4<f32>;
     for (var m = 0u; m < 4u; m++) {
-        r[m] = fresnel(m, frame.scattering.w, q.x, q.y, q.z);
+        r[m] = fresnel(m, frame.water.fresnel_power, q.x, q.y, q.z);
     }
     results[id.x] = ProbeOut(r, vec4<f32>(0.0), vec4<f32>(0.0));
 }

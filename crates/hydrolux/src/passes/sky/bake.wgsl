@@ -1,5 +1,6 @@
 // Bake the analytic sky into an environment cube map (seed 000 §3.1.2):
 // radiance in kcd/m², no sun disk (the sun is added analytically).
+#import constants, sky_model
 
 @group(0) @binding(0) var<uniform> sky: SkyParams;
 @group(0) @binding(1) var cube_out: texture_storage_2d_array<rgba16float, write>;

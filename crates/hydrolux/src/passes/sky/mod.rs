@@ -5,7 +5,7 @@
 
 use super::mips::{Downsampler, FORMAT, MipChain};
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use crate::timing::GpuTimer;
 use hydrolux_core::sky::SkyParams;
 
@@ -13,25 +13,17 @@ use hydrolux_core::sky::SkyParams;
 pub const CUBE_SIZE: u32 = 128;
 
 pub fn bake_source() -> String {
-    compose(&[shaders::CONSTANTS, shaders::SKY_MODEL, include_str!("bake.wgsl")])
+    shaders::compose("", include_str!("bake.wgsl"))
 }
 
 pub fn background_source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::FULLSCREEN,
-        shaders::SKY_MODEL,
-        shaders::SKY_BINDINGS,
-        shaders::MEDIUM,
-        shaders::FOG,
-        include_str!("background.wgsl"),
-    ])
+    shaders::compose("", include_str!("background.wgsl"))
 }
 
 pub struct SkyPass {
     pub params: wgpu::Buffer,
-    pub cube: wgpu::Texture,
+    /// Kept with its views (the cube map the sky bakes into).
+    _cube: wgpu::Texture,
     pub cube_view: wgpu::TextureView,
     bake: wgpu::ComputePipeline,
     bake_group: wgpu::BindGroup,
@@ -123,7 +115,7 @@ impl SkyPass {
         let (background, deep_water) = (pipeline("fs_main"), pipeline("fs_deep"));
         SkyPass {
             params,
-            cube,
+            _cube: cube,
             cube_view,
             bake,
             bake_group,
@@ -178,3 +170,14 @@ impl SkyPass {
         }
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "sky",
+    shaders: || {
+        vec![
+            ("sky/bake".to_string(), bake_source()),
+            ("sky/background".to_string(), background_source()),
+        ]
+    },
+    uniforms: || vec![crate::uniforms::Layout::of::<hydrolux_core::sky::SkyParams>(bake_source())],
+};

@@ -3,20 +3,12 @@
 //! twin `hydrolux_core::tonemap`).
 
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use crate::timing::GpuTimer;
 
 pub fn source(srgb_target: bool) -> String {
     let c = format!("const OUTPUT_SRGB_CURVE: bool = {};\n", !srgb_target);
-    compose(&[
-        &c,
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::FULLSCREEN,
-        shaders::TONEMAP_CURVE,
-        shaders::CAUSTICS_LOOKUP,
-        include_str!("tonemap.wgsl"),
-    ])
+    shaders::compose(&c, include_str!("tonemap.wgsl"))
 }
 
 pub struct TonemapPass {
@@ -117,3 +109,14 @@ impl TonemapPass {
         pass.draw(0..3, 0..1);
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "tonemap",
+    shaders: || {
+        vec![
+            ("tonemap/srgb-target".to_string(), source(true)),
+            ("tonemap/unorm-target".to_string(), source(false)),
+        ]
+    },
+    uniforms: Vec::new,
+};

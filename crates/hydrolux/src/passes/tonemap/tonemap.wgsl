@@ -1,9 +1,10 @@
 // Output: filmic tone map of the pre-exposed HDR image into the target, or
-// one of the debug views (frame.modes.w) instead: the reflection or
+// one of the debug views (frame.modes.debug_view) instead: the reflection or
 // refraction texture (tone mapped), the depth buffer (log distance), world
 // normals (written raw by the geometry and water shaders), the sun's
-// shadow map, each pixel's medium (the stencil), or the floor caustic map. modes.z: 0 ACES, 1 clamp. If the target is not an sRGB
+// shadow map, each pixel's medium (the stencil), or the floor caustic map. frame.modes.tonemap: 0 ACES, 1 clamp. If the target is not an sRGB
 // format the transfer curve is applied here (OUTPUT_SRGB_CURVE prepended).
+#import constants, frame, fullscreen, tonemap_curve, caustics_lookup
 
 @group(1) @binding(0) var hdr: texture_2d<f32>;
 @group(1) @binding(1) var reflection_tex: texture_2d<f32>;
@@ -18,7 +19,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 }
 
 fn tone(c: vec3<f32>) -> vec3<f32> {
-    if (frame.modes.z == 0u) {
+    if (frame.modes.tonemap == 0u) {
         return aces_filmic(c);
     }
     return clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
@@ -26,19 +27,19 @@ fn tone(c: vec3<f32>) -> vec3<f32> {
 
 // A square texture letterboxed into the output: its coordinates here.
 fn letterbox(pos: vec2<f32>) -> vec2<f32> {
-    let side = min(frame.viewport.x, frame.viewport.y);
-    return (pos - 0.5 * (frame.viewport.xy - side)) / side;
+    let side = min(frame.view.size.x, frame.view.size.y);
+    return (pos - 0.5 * (frame.view.size - side)) / side;
 }
 
 // The texel of a texture of another size under this output pixel.
 fn scaled_texel(pos: vec2<f32>, dims: vec2<u32>) -> vec2<i32> {
-    return vec2<i32>(pos * vec2<f32>(dims) * frame.viewport.zw);
+    return vec2<i32>(pos * vec2<f32>(dims) * frame.view.inv_size);
 }
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var mapped: vec3<f32>;
-    switch (frame.modes.w) {
+    switch (frame.modes.debug_view) {
         case VIEW_REFLECTION: {
             mapped = tone(textureLoad(reflection_tex, scaled_texel(pos.xy, textureDimensions(reflection_tex)), 0).rgb);
         }
@@ -74,7 +75,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
                 // The floor layer (the deepest).
                 let dims = vec2<f32>(textureDimensions(caustic_map));
                 let floor_layer = i32(textureNumLayers(caustic_map)) - 1;
-                let c = textureLoad(caustic_map, vec2<i32>(uv * dims), floor_layer, 0).r * frame.caustic_params.w;
+                let c = textureLoad(caustic_map, vec2<i32>(uv * dims), floor_layer, 0).r * frame.caustics.inv_flat_value;
                 mapped = vec3<f32>(0.5 * c);
             }
         }

@@ -3,7 +3,7 @@
 //! sky reflection, sun glint, the water body and foam (see `water.wgsl`).
 
 use crate::gpu_util::*;
-use crate::shaders::{self, compose};
+use crate::shaders;
 use hydrolux_core::camera::Camera;
 use wgpu::util::DeviceExt;
 
@@ -29,22 +29,7 @@ pub fn source() -> String {
          const DISPLACED_RINGS: u32 = {DISPLACED_RINGS}u;\nconst SKY_CUBE_SIZE: f32 = {}.0;\nconst VOLUME_DEPTH: f32 = {VOLUME_DEPTH:?};\n",
         super::sky::CUBE_SIZE
     );
-    compose(&[
-        &consts,
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::OPTICS,
-        shaders::SKY_MODEL,
-        shaders::SKY_BINDINGS,
-        shaders::SURFACE,
-        shaders::MEDIUM,
-        shaders::FOG,
-        shaders::PROJECTIVE,
-        shaders::SHADOW_SPACE,
-        shaders::SHADOW_LOOKUP,
-        shaders::CAUSTICS_LOOKUP,
-        include_str!("water.wgsl"),
-    ])
+    shaders::compose(&consts, include_str!("water.wgsl"))
 }
 
 /// Depth of the closed water volume's floor (m): far below any scene floor.
@@ -524,3 +509,9 @@ impl WaterPass {
         }
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "water",
+    shaders: || vec![("water".to_string(), source())],
+    uniforms: || vec![crate::uniforms::Layout::of::<crate::uniforms::SurfaceUniforms>(source())],
+};

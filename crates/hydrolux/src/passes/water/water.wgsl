@@ -16,6 +16,7 @@
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
 // SKY_CUBE_SIZE are prepended by the pass.
+#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup
 
 // Inputs of the water pass (group 2), rebuilt with the render targets. Seen
 // from the air: the scene above the water mirrored (reflection) and the
@@ -38,8 +39,8 @@ struct VsOut {
 
 @vertex
 fn vs_main(@location(0) cell: vec2<i32>, @builtin(instance_index) level: u32) -> VsOut {
-    let spacing = frame.surface_detail.z * exp2(f32(level));
-    let cam = frame.camera_pos.xz;
+    let spacing = frame.surface.base_spacing * exp2(f32(level));
+    let cam = frame.view.position.xz;
     // Snap to twice the spacing so this ring's even vertices are the next ring's vertices.
     let centre = round(cam / (2.0 * spacing)) * 2.0 * spacing;
     var g = centre + vec2<f32>(cell) * spacing;
@@ -64,7 +65,7 @@ fn vs_main(@location(0) cell: vec2<i32>, @builtin(instance_index) level: u32) ->
 
 fn vs_out(world: vec3<f32>, grid_pos: vec2<f32>) -> VsOut {
     var out: VsOut;
-    out.clip = frame.view_proj * vec4<f32>(world, 1.0);
+    out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
     out.world = world;
     out.grid_pos = grid_pos;
     return out;
@@ -76,8 +77,8 @@ fn vs_out(world: vec3<f32>, grid_pos: vec2<f32>) -> VsOut {
 // times further out. Both edges lie at y = 0, so the seam is closed.
 @vertex
 fn vs_far(@location(0) cell: vec2<i32>) -> VsOut {
-    let last = frame.surface_detail.z * exp2(f32(DISPLACED_RINGS - 1u));
-    let centre = round(frame.camera_pos.xz / (2.0 * last)) * 2.0 * last;
+    let last = frame.surface.base_spacing * exp2(f32(DISPLACED_RINGS - 1u));
+    let centre = round(frame.view.position.xz / (2.0 * last)) * 2.0 * last;
     let c = vec2<f32>(cell);
     let edge = max(abs(c.x), abs(c.y));
     let t = (edge - 0.5 * FAR_HALF) / (0.5 * FAR_HALF);
@@ -93,8 +94,8 @@ fn vs_far(@location(0) cell: vec2<i32>) -> VsOut {
 // outside, like the surface seen from above). Draw 30 vertices.
 @vertex
 fn vs_box(@builtin(vertex_index) i: u32) -> VsOut {
-    let last = frame.surface_detail.z * exp2(f32(DISPLACED_RINGS - 1u));
-    let centre = round(frame.camera_pos.xz / (2.0 * last)) * 2.0 * last;
+    let last = frame.surface.base_spacing * exp2(f32(DISPLACED_RINGS - 1u));
+    let centre = round(frame.view.position.xz / (2.0 * last)) * 2.0 * last;
     let r = RING_HALF * last * FAR_SCALE;
     let half = vec3<f32>(r, 0.5 * VOLUME_DEPTH, r);
     let mid = vec3<f32>(centre.x, -0.5 * VOLUME_DEPTH, centre.y);
@@ -136,7 +137,7 @@ fn refraction_world(depth_tex: texture_depth_2d, uv: vec2<f32>) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
-    let w = frame.inv_refr_view_proj * vec4<f32>(ndc, d, 1.0);
+    let w = frame.projective.inv_refraction_view_proj * vec4<f32>(ndc, d, 1.0);
     return vec4<f32>(w.xyz / w.w, 1.0);
 }
 
@@ -148,21 +149,21 @@ fn refraction_world(depth_tex: texture_depth_2d, uv: vec2<f32>) -> vec4<f32> {
 // side of the surface leak in: the texture must show something beyond p on
 // the ray's side, or we fall back to p's own texel.
 fn refraction_lookup(depth_tex: texture_depth_2d, p: vec3<f32>, t_dir: vec3<f32>, below: bool) -> vec3<f32> {
-    let own_uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p, 1.0));
+    let own_uv = clip_to_uv(frame.projective.refraction_view_proj * vec4<f32>(p, 1.0));
     var uv: vec2<f32>;
-    if (below && frame.modes2.y == 1u) {
-        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(refraction_point_plane(p, t_dir, frame.water_params.y, 1000.0), 1.0));
+    if (below && frame.modes.refraction_lookup == 1u) {
+        uv = clip_to_uv(frame.projective.refraction_view_proj * vec4<f32>(refraction_point_plane(p, t_dir, frame.water.refraction_depth, 1000.0), 1.0));
     } else {
         // Seed 002 eq. 1: W = U + dv·R, dv = the distance to what lies behind p, clamped.
         let behind = refraction_world(depth_tex, own_uv);
-        var dv = frame.water_params.z;
+        var dv = frame.water.refraction_max;
         if (behind.w > 0.0) {
             dv = min(distance(behind.xyz, p), dv);
         }
-        uv = clip_to_uv(frame.refr_view_proj * vec4<f32>(p + t_dir * dv, 1.0));
+        uv = clip_to_uv(frame.projective.refraction_view_proj * vec4<f32>(p + t_dir * dv, 1.0));
     }
     var hit = refraction_world(depth_tex, uv);
-    let cam = frame.camera_pos.xyz;
+    let cam = frame.view.position;
     let wrong_side = select((hit.y < p.y - 0.05), (hit.y > p.y + 0.05), below);
     if (hit.w > 0.0 && (distance(hit.xyz, cam) < distance(p, cam) || wrong_side)) {
         uv = own_uv;
@@ -179,21 +180,21 @@ fn refraction_lookup(depth_tex: texture_depth_2d, p: vec3<f32>, t_dir: vec3<f32>
 // t_dir: what the refraction texture shows where that ray ends, attenuated
 // on the way, plus the water's in-scattering.
 fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
-    let ior = frame.water_body.w;
-    if (frame.sky_underwater.w == 0.0) {
+    let ior = frame.water.ior;
+    if (frame.projective.has_geometry == 0u) {
         // Nothing under the water (open ocean): bottomless.
-        if (frame.modes2.x == 1u) {
-            return frame.water_body.rgb * e_down / PI;
+        if (frame.modes.optics == 1u) {
+            return frame.water.body_color * e_down / PI;
         }
         return path_in_scatter(t_dir, 1e5) / (ior * ior);
     }
     let found = refraction_lookup(refraction_depth, p, t_dir, true);
     let seen = textureSampleLevel(refraction_tex, clamp_sampler, found.xy, 0.0).rgb;
     let s = found.z;
-    if (frame.modes2.x == 1u) {
+    if (frame.modes.optics == 1u) {
         // Seed 002 eq. 5–6: blend towards the water colour by e^(−d·k).
-        let c_water = frame.water_body.rgb * e_down / PI;
-        let a = exp(-s * frame.water_params.w);
+        let c_water = frame.water.body_color * e_down / PI;
+        let a = exp(-s * frame.water.simple_attenuation);
         return c_water + a * (seen - c_water);
     }
     // In-medium radiance leaves through the surface divided by n² (the solid angle widens).
@@ -203,13 +204,13 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
 // Samples of the god rays seen from above.
 const SHAFT_STEPS: u32 = 16u;
 
-// path_in_scatter, but with god rays seen from above (frame.volume.w > 0):
-// over the first frame.volume.w metres of the refracted path the sun's
+// path_in_scatter, but with god rays seen from above (frame.volume.shafts_from_above > 0):
+// over the first frame.volume.shafts_from_above metres of the refracted path the sun's
 // part is marched through the caustic layers and the shadow map (the
 // focused, shadowed light), beyond it the uniform closed form. Flat water
 // gives the same either way.
 fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f32> {
-    let reach = min(frame.volume.w, s);
+    let reach = min(frame.volume.shafts_from_above, s);
     if (reach <= 0.0) {
         return path_in_scatter(t_dir, s);
     }
@@ -230,7 +231,7 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let p = in.grid_pos;
     let s = surface_sample_grad(p, dpdx(p), dpdy(p));
-    let to_eye = frame.camera_pos.xyz - in.world;
+    let to_eye = frame.view.position - in.world;
     let dist = length(to_eye);
     let v = to_eye / dist;
     // The rasterised triangle's own normal faces the viewer whenever the
@@ -251,16 +252,16 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (nv2 < 0.02) {
         n = normalize(n + (0.02 - nv2) * v);
     }
-    if (frame.modes.w == VIEW_NORMALS) {
+    if (frame.modes.debug_view == VIEW_NORMALS) {
         return vec4<f32>(n * 0.5 + 0.5, 1.0);
     }
     let cos_v = max(dot(n, v), 1e-3);
-    let ior = frame.water_body.w;
-    let q = frame.scattering.w;
-    let f = fresnel(frame.modes.x, q, cos_v, 1.0, ior);
+    let ior = frame.water.ior;
+    let q = frame.water.fresnel_power;
+    let f = fresnel(frame.modes.fresnel, q, cos_v, 1.0, ior);
 
     // Slope variance inside the pixel: resolved (moments) + unresolved (sub-grid).
-    let variance = s.slope_variance + frame.surface_detail.xy;
+    let variance = s.slope_variance + frame.surface.unresolved_variance;
     let sigma = sqrt(variance.x + variance.y);
 
     // Sky reflection, blurred by the slope spread (a slope σ spreads reflected rays by ~2σ).
@@ -270,32 +271,32 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let sky_reflected = textureSampleLevel(sky_cube, sky_sampler, r, lod).rgb * exposure();
     // Local reflection (seed 000 §3.1.3): the mirrored scene where the
     // reflected ray meets a plane above the surface; the sky where it has none.
-    let ruv = clamp(reflection_uv(frame.refl_view_proj, in.world, r, frame.water_params.x, 2000.0), vec2<f32>(0.001), vec2<f32>(0.999));
+    let ruv = clamp(reflection_uv(frame.projective.reflection_view_proj, in.world, r, frame.water.reflection_height, 2000.0), vec2<f32>(0.001), vec2<f32>(0.999));
     // Sub-pixel roughness spreads reflected rays (the resolved waves already
     // move the lookup). Mips blur isotropically where real roughness smears
     // reflections mostly vertically, so a box of half a σ of the unresolved
     // slopes: distant reflections soften without vanishing.
-    let unresolved = sqrt(frame.surface_detail.x + frame.surface_detail.y);
-    let local_lod = log2(max(0.5 * unresolved * frame.reflection_params.x, 1.0));
+    let unresolved = sqrt(frame.surface.unresolved_variance.x + frame.surface.unresolved_variance.y);
+    let local_lod = log2(max(0.5 * unresolved * frame.projective.reflection_texels_per_radian, 1.0));
     let local = textureSampleLevel(reflection_tex, clamp_sampler, ruv, local_lod);
     // The texture is cleared to transparent black, so it is premultiplied by
     // coverage at every mip level.
     let reflected = local.rgb + (1.0 - local.a) * sky_reflected;
 
     // Sun glint, shadowed by the scene.
-    let l = frame.sun_dir.xyz;
+    let l = frame.light.sun_dir;
     var glint = vec3<f32>(0.0);
     if (l.y > 0.0) {
         let h = normalize(l + v);
         let zeta = -h.xz / h.y + n.xz / n.y;
         let cos_h = h.y;
-        let fh = fresnel(frame.modes.x, q, dot(v, h), 1.0, ior);
+        let fh = fresnel(frame.modes.fresnel, q, dot(v, h), 1.0, ior);
         let brdf = fh * slope_pdf(zeta, variance) / (4.0 * cos_v * pow(cos_h, 4.0));
-        glint = frame.sun_illuminance.rgb * brdf * max(dot(n, l), 0.0) / max(l.y, 1e-3) * l.y;
+        glint = frame.light.sun_illuminance * brdf * max(dot(n, l), 0.0) / max(l.y, 1e-3) * l.y;
         glint *= sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
     }
 
-    let e_down = frame.sky_ambient.rgb + frame.sun_illuminance.rgb * max(l.y, 0.0);
+    let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
     let t_dir = refract(-v, n, 1.0 / ior);
     var color = f * reflected + (1.0 - f) * transmitted(in.world, t_dir, e_down) + glint;
 
@@ -309,7 +310,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let horizon_dir = normalize(vec3<f32>(-v.x, 0.02, -v.z));
     let horizon = textureSampleLevel(sky_cube, sky_sampler, horizon_dir, 0.0).rgb * exposure();
     let haze = 1.0 - exp(-dist / 40000.0);
-    color = through_fog(frame.camera_pos.xyz, in.world, mix(color, horizon, haze));
+    color = through_fog(frame.view.position, in.world, mix(color, horizon, haze));
     return vec4<f32>(min(color, vec3<f32>(60000.0)), 1.0);
 }
 
@@ -323,7 +324,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
 fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     let g = in.grid_pos;
     let s = surface_sample_grad(g, dpdx(g), dpdy(g));
-    let eye = frame.camera_pos.xyz;
+    let eye = frame.view.position;
     let v = normalize(eye - in.world);
     // The normal on the water's side, facing the viewer.
     var n = -surface_normal(s);
@@ -331,23 +332,23 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     if (nv < 0.02) {
         n = normalize(n + (0.02 - nv) * v);
     }
-    if (frame.modes.w == VIEW_NORMALS) {
+    if (frame.modes.debug_view == VIEW_NORMALS) {
         return vec4<f32>(n * 0.5 + 0.5, 1.0);
     }
-    let ior = frame.water_body.w;
+    let ior = frame.water.ior;
     let cos_v = max(dot(n, v), 1e-3);
-    let f = fresnel(frame.modes.x, frame.scattering.w, cos_v, ior, 1.0);
+    let f = fresnel(frame.modes.fresnel, frame.water.fresnel_power, cos_v, ior, 1.0);
     let depth = max(-in.world.y, 0.0);
 
     // Reflected back down: the mirrored scene under the water where the ray
     // meets a plane `reflection_height` below, attenuated over that path;
     // endless water where the texture is empty.
     let r = reflect(-v, n);
-    let h = frame.water_params.x;
+    let h = frame.water.reflection_height;
     let t_r = clamp((-h - in.world.y) / min(r.y, -1e-3), 0.0, 200.0);
-    let unresolved = sqrt(frame.surface_detail.x + frame.surface_detail.y);
-    let lod = log2(max(0.5 * unresolved * frame.reflection_params.x, 1.0));
-    let ruv = clamp(reflection_uv(frame.refl_view_proj, in.world, r, -h, 200.0), vec2<f32>(0.001), vec2<f32>(0.999));
+    let unresolved = sqrt(frame.surface.unresolved_variance.x + frame.surface.unresolved_variance.y);
+    let lod = log2(max(0.5 * unresolved * frame.projective.reflection_texels_per_radian, 1.0));
+    let ruv = clamp(reflection_uv(frame.projective.reflection_view_proj, in.world, r, -h, 200.0), vec2<f32>(0.001), vec2<f32>(0.999));
     let local = textureSampleLevel(reflection_under_tex, clamp_sampler, ruv, lod);
     let deep = view_in_scatter(depth, r, 1e5);
     let reflected = local.rgb * transmittance(t_r) + local.a * view_in_scatter(depth, r, t_r) + (1.0 - local.a) * deep;

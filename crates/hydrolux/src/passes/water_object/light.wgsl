@@ -1,7 +1,8 @@
 // Refractive objects seen from the light (seed 004 §3.1): their front faces
 // (nearest the sun) and back faces (farthest), each as outward normal and
 // depth in the objects' orthographic light view (a view slot whose matrix
-// is frame.object_light_view_proj).
+// is frame.objects.light_view_proj).
+#import constants, frame, geometry_common
 
 struct LightOut {
     @builtin(position) clip: vec4<f32>,

@@ -22,7 +22,7 @@ use crate::passes::geometry::{
     self, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,
 };
 use crate::passes::godrays::{GodRayTubes, GodRaysPass};
-use crate::shaders::{self, compose};
+use crate::shaders;
 use crate::timing::GpuTimer;
 
 /// Front/back faces from the light: outward normal and depth.
@@ -37,46 +37,39 @@ pub const FIXED_POINT_SCALE: f32 = 65536.0;
 pub const MARCH_STEPS: u32 = 96;
 
 pub fn light_source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        geometry::GEOMETRY_COMMON,
-        include_str!("light.wgsl"),
-    ])
+    shaders::compose("", include_str!("light.wgsl"))
 }
 
 pub fn paths_source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::OPTICS,
-        shaders::TUBE,
-        include_str!("paths.wgsl"),
-    ])
+    shaders::compose("", include_str!("paths.wgsl"))
 }
 
 pub fn shade_source() -> String {
-    compose(&[
-        shaders::CONSTANTS,
-        shaders::FRAME,
-        shaders::OPTICS,
-        shaders::SKY_MODEL,
-        shaders::SKY_BINDINGS,
-        shaders::MEDIUM,
-        shaders::FOG,
-        geometry::GEOMETRY_COMMON,
-        include_str!("shade.wgsl"),
-    ])
+    shaders::compose("", include_str!("shade.wgsl"))
 }
 
-/// WGSL `ObjectLightParams` (paths.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct ObjectLightUniforms {
-    pub inv_view_proj: [[f32; 4]; 4],
-    pub counts: [u32; 4],
-    pub info: [f32; 4],
-    pub extra: [f32; 4],
+crate::uniforms::uniform! { ObjectLightParams;
+    /// WGSL `ObjectLightParams` (paths.wgsl).
+    pub struct ObjectLightUniforms {
+        pub inv_view_proj: [[f32; 4]; 4],
+        pub counts: [u32; 4],
+        pub info: [f32; 4],
+        pub extra: [f32; 4],
+    }
+}
+
+crate::uniforms::uniform! { FrameObjects;
+    /// The refractive objects' part of the frame globals (shaders/frame.wgsl).
+    pub(crate) struct FrameObjects {
+        /// Their light view (world → clip, orthographic along the sun).
+        pub light_view_proj: [[f32; 4]; 4],
+        /// 1 when they bend the sunlight (their caustic map is in use).
+        pub enabled: u32,
+        /// Depth tolerance of a receiver in that view.
+        pub depth_tolerance: f32,
+        pub _pad0: f32,
+        pub _pad1: f32,
+    }
 }
 
 /// The light-view targets for one resolution, and the paths' tubes.
@@ -578,3 +571,21 @@ impl WaterObjectPass {
         geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
     }
 }
+
+pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+    name: "water_object",
+    shaders: || {
+        vec![
+            ("water_object/light".to_string(), light_source()),
+            ("water_object/paths".to_string(), paths_source()),
+            ("water_object/shade".to_string(), shade_source()),
+        ]
+    },
+    uniforms: || {
+        use crate::uniforms::Layout;
+        vec![
+            Layout::of::<ObjectLightUniforms>(paths_source()),
+            Layout::of::<FrameObjects>(paths_source()),
+        ]
+    },
+};

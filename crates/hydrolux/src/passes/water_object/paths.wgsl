@@ -8,6 +8,7 @@
 // the god-ray ribbons (the volume caustic in the fog) and its light is
 // splatted where it lands (the caustic on the floor). CPU twin of the path:
 // hydrolux_core::water_object.
+#import constants, frame, optics, tube
 
 struct ObjectLightParams {
     // Light clip → world.
@@ -31,7 +32,7 @@ struct ObjectLightParams {
 
 // World → (light uv, depth).
 fn to_light(p: vec3<f32>) -> vec3<f32> {
-    let clip = frame.object_light_view_proj * vec4<f32>(p, 1.0);
+    let clip = frame.objects.light_view_proj * vec4<f32>(p, 1.0);
     return vec3<f32>(0.5 + 0.5 * clip.x, 0.5 - 0.5 * clip.y, clip.z);
 }
 
@@ -135,7 +136,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
     tube.dir = vec4<f32>(0.0);
     tube.tint = vec4<f32>(0.0);
     let front = textureLoad(front_tex, vec2<i32>(id.xy), 0);
-    let l = frame.sun_dir.xyz;
+    let l = frame.light.sun_dir;
     let ior = params.info.y;
     let n0 = normalize(front.xyz);
     let cos0 = dot(n0, l);
@@ -152,7 +153,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
             let t2 = refract(t1, -n1, ior);
             if (back.w >= 0.0 && cos1 > 0.0 && dot(t2, t2) > 0.5) {
                 let transmitted = (1.0 - fresnel_exact(cos0, 1.0, ior)) * (1.0 - fresnel_exact(cos1, ior, 1.0));
-                let tint = exp(-frame.absorption.rgb * s1);
+                let tint = exp(-frame.water.absorption * s1);
                 var s2 = march(p1, t2, 1u);
                 if (s2 < 0.0) {
                     s2 = params.info.w;

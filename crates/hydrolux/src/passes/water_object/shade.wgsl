@@ -6,6 +6,7 @@
 // — in at the front face, out at the back face found by the thickness the
 // back-face pass measured — attenuated by the water inside, then through
 // the fog.
+#import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common
 
 @group(3) @binding(0) var behind_tex: texture_2d<f32>;
 @group(3) @binding(1) var scene_depth: texture_depth_2d;
@@ -29,12 +30,12 @@ fn vs_object(v: VsIn) -> ShadeOut {
 
 @fragment
 fn fs_back(in: ShadeOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(normalize(in.normal), distance(in.world, frame.camera_pos.xyz));
+    return vec4<f32>(normalize(in.normal), distance(in.world, frame.view.position));
 }
 
 // World → (uv, inside the screen).
 fn screen_uv(p: vec3<f32>) -> vec3<f32> {
-    let clip = frame.view_proj * vec4<f32>(p, 1.0);
+    let clip = frame.view.view_proj * vec4<f32>(p, 1.0);
     let ndc = clip.xy / clip.w;
     let inside = clip.w > 0.0 && all(abs(ndc) <= vec2<f32>(1.0));
     return vec3<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y, select(0.0, 1.0, inside));
@@ -61,10 +62,10 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     if (in.clip.z < textureLoad(scene_depth, px, 0)) {
         discard;
     }
-    let eye = frame.camera_pos.xyz;
+    let eye = frame.view.position;
     let v = normalize(in.world - eye);
     let n0 = normalize(in.normal);
-    if (frame.modes.w == VIEW_NORMALS) {
+    if (frame.modes.debug_view == VIEW_NORMALS) {
         return vec4<f32>(n0 * 0.5 + 0.5, 1.0);
     }
     // ior stored as bits in flags.y (geometry upload).
@@ -93,13 +94,13 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     // under the exit point, then look it up where that point projects.
     let z = textureLoad(scene_depth, exit_texel, 0);
     let ndc = vec2<f32>(2.0 * at_exit.x - 1.0, 1.0 - 2.0 * at_exit.y);
-    let h = frame.inv_view_proj * vec4<f32>(ndc, max(z, 1e-7), 1.0);
+    let h = frame.view.inv_view_proj * vec4<f32>(ndc, max(z, 1e-7), 1.0);
     let gap = max(distance(h.xyz / h.w, eye) - distance(p1, eye), 0.05);
     let q = screen_uv(p1 + t2 * gap);
     let zq = textureLoad(scene_depth, texel_at(q.xy, size), 0);
     let seen = textureSampleLevel(behind_tex, sky_sampler, clamp(q.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
     let behind = select(sky_towards(t2), seen, at_exit.z > 0.5 && z > 0.0 && q.z > 0.5 && zq > 0.0);
-    let inside = exp(-frame.absorption.rgb * thickness);
+    let inside = exp(-frame.water.absorption * thickness);
     let color = r0 * reflected + (1.0 - r0) * (1.0 - r1) * inside * behind;
     return vec4<f32>(clamp(through_fog(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0)), 1.0);
 }

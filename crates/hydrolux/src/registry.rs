@@ -1,0 +1,140 @@
+//! What each technique (`passes/<name>`) declares about itself, gathered in
+//! frame order: its shaders (composed, with representative settings) and its
+//! uniform structs. The offline checks walk this list, so a new technique is
+//! validated by adding its line here; the passes themselves import only the
+//! shader resolver and the uniform macro (no import circle).
+
+use crate::passes::{
+    caustics, geometry, godrays, mips, ocean, probe, sky, tonemap, water, water_object,
+};
+use crate::uniforms::Layout;
+
+/// One technique's offline description (read by the offline checks, the
+/// registry's tests, and by `hydrolux info` for the names).
+pub(crate) struct TechniqueInfo {
+    pub name: &'static str,
+    /// (label, composed WGSL) of every shader it builds.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub shaders: fn() -> Vec<(String, String)>,
+    /// Its uniform structs and the shader each is checked against.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub uniforms: fn() -> Vec<Layout>,
+}
+
+/// Every technique, in frame order.
+pub(crate) const TECHNIQUES: &[TechniqueInfo] = &[
+    crate::uniforms::INFO,
+    ocean::INFO,
+    sky::INFO,
+    caustics::INFO,
+    geometry::INFO,
+    water_object::INFO,
+    water::INFO,
+    godrays::INFO,
+    tonemap::INFO,
+    probe::INFO,
+    mips::INFO,
+];
+
+/// The names of the renderer's techniques, in frame order.
+pub fn technique_names() -> Vec<&'static str> {
+    TECHNIQUES.iter().map(|t| t.name).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TECHNIQUES;
+    use crate::uniforms::{Field, Layout};
+
+    fn parse(name: &str, source: &str) -> naga::Module {
+        naga::front::wgsl::parse_str(source)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)))
+    }
+
+    #[test]
+    fn every_shader_composes_parses_and_validates() {
+        let shaders: Vec<_> = TECHNIQUES.iter().flat_map(|t| (t.shaders)()).collect();
+        assert!(shaders.len() >= 20, "{} shaders", shaders.len());
+        for (name, source) in shaders {
+            let module = parse(&name, &source);
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::default(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
+        }
+    }
+
+    /// naga's members of a WGSL struct: (name, offset, size).
+    fn wgsl_fields(module: &naga::Module, ty: &naga::Type) -> (usize, Vec<Field>) {
+        let size = ty.inner.size(module.to_ctx()) as usize;
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            return (size, Vec::new());
+        };
+        let fields = members
+            .iter()
+            .map(|m| Field {
+                name: m.name.clone().map_or("", |n| n.leak()),
+                offset: m.offset as usize,
+                size: module.types[m.ty].inner.size(module.to_ctx()) as usize,
+            })
+            .collect();
+        (size, fields)
+    }
+
+    #[test]
+    fn every_uniform_field_has_the_wgsl_offset_and_size_by_name() {
+        let layouts: Vec<Layout> = TECHNIQUES.iter().flat_map(|t| (t.uniforms)()).collect();
+        assert!(layouts.len() >= 20, "{} uniform structs", layouts.len());
+        for l in layouts {
+            let module = parse(l.wgsl_name, &l.source);
+            let (_, ty) = module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some(l.wgsl_name))
+                .unwrap_or_else(|| panic!("struct {} not found in its shader", l.wgsl_name));
+            let (size, wgsl) = wgsl_fields(&module, ty);
+            assert_eq!(size, l.size, "{}: WGSL {size} bytes, Rust {}", l.wgsl_name, l.size);
+            if l.fields.is_empty() {
+                continue; // a storage record checked by size (e.g. `Tube`)
+            }
+            let names = |f: &[Field]| f.iter().map(|f| f.name).collect::<Vec<_>>();
+            assert_eq!(names(&wgsl), names(&l.fields), "{}: fields differ", l.wgsl_name);
+            for (w, r) in wgsl.iter().zip(&l.fields) {
+                assert_eq!(
+                    (w.offset, w.size),
+                    (r.offset, r.size),
+                    "{}.{}: WGSL (offset, size) vs Rust",
+                    l.wgsl_name,
+                    w.name
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_swapped_field_would_be_caught() {
+        // The check above compares names in order and offsets by name: a
+        // Rust struct whose two vec4 fields are swapped has the same size
+        // but not the same field order.
+        let wgsl =
+            "struct S { a: vec4<f32>, b: vec4<u32> }\n@group(0) @binding(0) var<uniform> s: S;";
+        let module = parse("S", wgsl);
+        let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("S")).unwrap();
+        let (_, fields) = wgsl_fields(&module, ty);
+        let swapped =
+            [Field { name: "b", offset: 0, size: 16 }, Field { name: "a", offset: 16, size: 16 }];
+        assert_ne!(fields.iter().map(|f| f.name).collect::<Vec<_>>(), ["b", "a"]);
+        assert_eq!(fields[0].offset, 0);
+        assert_ne!(fields[0].name, swapped[0].name);
+    }
+
+    #[test]
+    fn technique_names_are_unique() {
+        let mut names: Vec<_> = TECHNIQUES.iter().map(|t| t.name).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), TECHNIQUES.len());
+    }
+}
