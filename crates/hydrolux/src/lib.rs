@@ -22,6 +22,7 @@ pub(crate) mod registry;
 pub mod renderer;
 pub(crate) mod shaders;
 pub(crate) mod targets;
+pub(crate) mod technique;
 pub(crate) mod timing;
 pub(crate) mod uniforms;
 

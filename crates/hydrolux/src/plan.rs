@@ -40,6 +40,9 @@ pub(crate) struct World {
     pub has_geometry: bool,
     /// How far (m) the surface rises or falls from y = 0 in practice.
     pub vertical_reach: f32,
+    /// How far (m) the surface's displacement reaches sideways and up, for
+    /// culling its tiles.
+    pub cull_margin: f32,
     /// The surface changes by itself from frame to frame (waves), so what
     /// is computed from it (caustics) is due every frame.
     pub surface_moving: bool,
@@ -122,6 +125,8 @@ pub(crate) struct FramePlan {
     /// How far (m) along refracted paths the water shader marches god rays
     /// for a viewer above the water (0: none).
     pub shafts_from_above: f32,
+    /// The surface's culling margin (m).
+    pub cull_margin: f32,
     /// The frame globals, filled from the decisions above.
     pub frame: FrameUniforms,
 }
@@ -172,6 +177,7 @@ impl FramePlan {
             godrays,
             object_light,
             shafts_from_above,
+            cull_margin: world.cull_margin,
             frame: FrameUniforms::default(),
         };
         plan.frame = plan.frame_uniforms(s, world);
@@ -436,6 +442,7 @@ mod tests {
             refractive_bounds: None,
             has_geometry: true,
             vertical_reach: 0.5,
+            cull_margin: 2.0,
             surface_moving: matches!(scene.water.model, WaterModel::Fft | WaterModel::Sines),
             unresolved_variance: [1e-3, 1e-3],
             shadow_resolution: 1024,

@@ -1,12 +1,14 @@
-//! What each technique (`passes/<name>`) declares about itself, gathered in
-//! frame order: its shaders (composed, with representative settings) and its
-//! uniform structs. The offline checks walk this list, so a new technique is
-//! validated by adding its line here; the passes themselves import only the
-//! shader resolver and the uniform macro (no import circle).
+//! The ordered registry of techniques. One line per technique in
+//! [`registry!`] below declares it: the renderer holds it by that name,
+//! walks it in this order for every stage of a frame (`Technique`), and the
+//! offline checks validate its shaders and uniform layouts (`TechniqueInfo`).
+//! The passes import only the shader resolver and the uniform macro, not
+//! the renderer (no import circle).
 
 use crate::passes::{
-    caustics, geometry, godrays, mips, ocean, probe, sky, tonemap, water, water_object,
+    caustics, geometry, godrays, mips, probe, sky, surface, tonemap, water, water_object,
 };
+use crate::technique::Technique;
 use crate::uniforms::Layout;
 
 /// One technique's offline description (read by the offline checks, the
@@ -21,20 +23,45 @@ pub(crate) struct TechniqueInfo {
     pub uniforms: fn() -> Vec<Layout>,
 }
 
-/// Every technique, in frame order.
-pub(crate) const TECHNIQUES: &[TechniqueInfo] = &[
-    crate::uniforms::INFO,
-    ocean::INFO,
-    sky::INFO,
-    caustics::INFO,
-    geometry::INFO,
-    water_object::INFO,
-    water::INFO,
-    godrays::INFO,
-    tonemap::INFO,
-    probe::INFO,
-    mips::INFO,
-];
+macro_rules! registry {
+    ($($field:ident: $ty:ty => $info:path),* $(,)?) => {
+        /// Every technique of the frame, by name, in frame order.
+        pub(crate) struct Techniques {
+            $(pub $field: $ty),*
+        }
+
+        impl Techniques {
+            /// Each technique, in frame order.
+            pub fn each_mut(&mut self) -> Vec<&mut dyn Technique> {
+                vec![$(&mut self.$field as &mut dyn Technique),*]
+            }
+
+            pub fn each(&self) -> Vec<&dyn Technique> {
+                vec![$(&self.$field as &dyn Technique),*]
+            }
+        }
+
+        /// The frame's techniques, then what is validated offline besides
+        /// them (the frame globals, probes, mip chains).
+        pub(crate) const TECHNIQUES: &[TechniqueInfo] = &[
+            $($info,)*
+            crate::uniforms::INFO,
+            probe::INFO,
+            mips::INFO,
+        ];
+    };
+}
+
+registry! {
+    sky: sky::SkyPass => sky::INFO,
+    surface: surface::Surface => surface::INFO,
+    caustics: caustics::Caustics => caustics::INFO,
+    geometry: geometry::Geometry => geometry::INFO,
+    water_objects: water_object::WaterObjects => water_object::INFO,
+    water: water::WaterPass => water::INFO,
+    godrays: godrays::GodRays => godrays::INFO,
+    tonemap: tonemap::TonemapPass => tonemap::INFO,
+}
 
 /// The names of the renderer's techniques, in frame order.
 pub fn technique_names() -> Vec<&'static str> {

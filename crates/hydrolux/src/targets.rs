@@ -141,16 +141,17 @@ fn scaled(size: (u32, u32), s: f32) -> (u32, u32) {
 
 impl Targets {
     pub fn new(
-        device: &wgpu::Device,
+        shared: &crate::technique::Shared,
+        techniques: &crate::registry::Techniques,
         size: (u32, u32),
         settings: TargetSettings,
-        tonemap: &crate::passes::tonemap::TonemapPass,
-        downsampler: &crate::passes::mips::Downsampler,
-        water_inputs_layout: &wgpu::BindGroupLayout,
-        shadow_view: &wgpu::TextureView,
-        godrays: &crate::passes::godrays::GodRaysPass,
-        water_object: &crate::passes::water_object::WaterObjectPass,
     ) -> Self {
+        let device = &shared.device;
+        let downsampler = &shared.downsampler;
+        let tonemap = &techniques.tonemap;
+        let water_inputs_layout = &techniques.water.inputs_layout;
+        let godrays = &techniques.godrays.pass;
+        let water_object = &techniques.water_objects.pass;
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC;
@@ -211,14 +212,7 @@ impl Targets {
         );
         let tonemap_input = tonemap.input_group(
             device,
-            [
-                &hdr_view,
-                &reflection.color_view,
-                &refraction.color_view,
-                &depth_view,
-                shadow_view,
-                &stencil_view,
-            ],
+            [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, &stencil_view],
         );
         Targets {
             size,

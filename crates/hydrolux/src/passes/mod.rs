@@ -12,6 +12,7 @@ pub mod mips;
 pub mod ocean;
 pub mod probe;
 pub mod sky;
+pub mod surface;
 pub mod tonemap;
 pub mod water;
 pub mod water_object;

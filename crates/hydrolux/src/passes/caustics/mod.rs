@@ -7,6 +7,7 @@
 
 use crate::gpu_util::*;
 use crate::shaders;
+use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
 use hydrolux_core::scene::CausticMethod;
 
@@ -317,3 +318,59 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
         ]
     },
 };
+
+/// The caustics technique: the pass, its maps, and whether they still hold
+/// for the scene (a still surface keeps them from frame to frame).
+pub(crate) struct Caustics {
+    pub pass: CausticsPass,
+    pub map: CausticMap,
+    /// The maps match the scene and the surface.
+    pub current: bool,
+}
+
+impl Caustics {
+    pub fn new(shared: &crate::technique::Shared, scene: &hydrolux_core::scene::Scene) -> Self {
+        // Group 0 is the frame alone: the globals hold the maps it writes.
+        let l = &shared.layouts;
+        let pass = CausticsPass::new(&shared.device, &l.frame_only, &l.surface);
+        let c = &scene.caustics;
+        let map = pass.create_map(&shared.device, c.photons, c.map_resolution, c.layers);
+        Caustics { pass, map, current: false }
+    }
+
+    /// Remake the maps when their size changed; true if they were.
+    pub fn resize(&mut self, device: &wgpu::Device, scene: &hydrolux_core::scene::Scene) -> bool {
+        let c = &scene.caustics;
+        let changed = c.photons != self.map.photons_per_side
+            || c.map_resolution != self.map.resolution
+            || c.layers != self.map.layers;
+        if changed {
+            self.map = self.pass.create_map(device, c.photons, c.map_resolution, c.layers);
+        }
+        self.current = false;
+        changed
+    }
+}
+
+impl Technique for Caustics {
+    fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
+        if let Some(c) = frame.plan.caustics.filter(|c| c.due) {
+            self.pass.prepare(queue, &self.map, c.patch, c.depth);
+        }
+    }
+
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        timer: Option<&mut GpuTimer>,
+    ) {
+        if stage == Stage::Simulate && frame.plan.caustics.is_some_and(|c| c.due) {
+            let (frame_only, surface) = (&frame.shared.frame_only, &frame.bound.surface);
+            let method = frame.scene.caustics.method;
+            self.pass.record(encoder, frame_only, surface, &self.map, method, timer);
+            self.current = true;
+        }
+    }
+}

@@ -20,6 +20,7 @@
 
 use crate::gpu_util::*;
 use crate::shaders;
+use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
 use hydrolux_core::scene::GodRayMethod;
 
@@ -74,6 +75,7 @@ crate::uniforms::uniform! { FrameVolume;
 pub const TUBE_BYTES: u64 = 48;
 
 /// A tube buffer: one tube per photon of a square grid (`per_side`²).
+#[derive(Clone)]
 pub struct GodRayTubes {
     pub per_side: u32,
     /// The tubes; the water object pass writes its paths here.
@@ -514,3 +516,70 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
         ]
     },
 };
+
+/// The god-ray technique: the pass, the surface photons' tubes, and the
+/// refractive objects' paths it draws into the fog (their buffer belongs to
+/// the water-object technique, which writes it).
+pub(crate) struct GodRays {
+    pub pass: GodRaysPass,
+    pub tubes: GodRayTubes,
+    pub object_tubes: Option<GodRayTubes>,
+}
+
+impl GodRays {
+    pub fn new(shared: &crate::technique::Shared, scene: &hydrolux_core::scene::Scene) -> Self {
+        let l = &shared.layouts;
+        let pass = GodRaysPass::new(
+            &shared.device,
+            &l.globals,
+            &l.frame_only,
+            &l.surface,
+            crate::targets::HDR_FORMAT,
+        );
+        let tubes = pass.create_tubes(&shared.device, scene.godrays.photons);
+        GodRays { pass, tubes, object_tubes: None }
+    }
+
+    /// Remake the tubes when the photon count changed.
+    pub fn resize(&mut self, device: &wgpu::Device, scene: &hydrolux_core::scene::Scene) {
+        if scene.godrays.photons != self.tubes.per_side {
+            self.tubes = self.pass.create_tubes(device, scene.godrays.photons);
+        }
+    }
+}
+
+impl Technique for GodRays {
+    fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
+        if let Some(g) = &frame.plan.godrays {
+            self.pass.prepare(queue, &g.uniforms);
+        }
+    }
+
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        timer: Option<&mut GpuTimer>,
+    ) {
+        let (Stage::Volume, Some(g)) = (stage, &frame.plan.godrays) else {
+            return;
+        };
+        let shafts = if g.in_air {
+            let lit = frame.plan.object_light.is_some();
+            Shafts::Air { object_tubes: self.object_tubes.as_ref().filter(|_| lit) }
+        } else {
+            Shafts::Water(frame.scene.godrays.method)
+        };
+        let targets = frame.targets();
+        self.pass.record(
+            encoder,
+            [&frame.bound.globals, &frame.shared.frame_only, &frame.bound.surface],
+            shafts,
+            &self.tubes,
+            &targets.godrays,
+            &targets.hdr_view,
+            timer,
+        );
+    }
+}

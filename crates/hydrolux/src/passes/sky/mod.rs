@@ -6,6 +6,7 @@
 use super::mips::{Downsampler, FORMAT, MipChain};
 use crate::gpu_util::*;
 use crate::shaders;
+use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
 use hydrolux_core::sky::SkyParams;
 
@@ -181,3 +182,25 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
     },
     uniforms: || vec![crate::uniforms::Layout::of::<hydrolux_core::sky::SkyParams>(bake_source())],
 };
+
+impl Technique for SkyPass {
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        timer: Option<&mut GpuTimer>,
+    ) {
+        if stage == Stage::Simulate {
+            self.record_bake(encoder, &frame.shared.downsampler, timer);
+        }
+    }
+
+    fn draw(&self, stage: Stage, pass: &mut wgpu::RenderPass<'_>, frame: &FrameContext) {
+        // The normals view shows only what has a normal.
+        let normals = frame.scene.render.view == hydrolux_core::scene::DebugView::Normals;
+        if stage == Stage::Main && !normals {
+            self.record_background(pass, &frame.bound.globals);
+        }
+    }
+}

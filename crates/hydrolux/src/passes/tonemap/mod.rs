@@ -4,6 +4,7 @@
 
 use crate::gpu_util::*;
 use crate::shaders;
+use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
 
 pub fn source(srgb_target: bool) -> String {
@@ -39,9 +40,8 @@ impl TonemapPass {
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
                 depth,
-                wgpu::BindGroupLayoutEntry { binding: 4, ..depth },
                 layout_entry(
-                    5,
+                    4,
                     fs,
                     wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Uint,
@@ -57,12 +57,14 @@ impl TonemapPass {
         TonemapPass { layout, pipeline }
     }
 
-    /// The HDR image and the textures the debug views show, in binding order:
-    /// hdr, reflection, refraction, depth, shadow map, medium (stencil).
+    /// The HDR image and the screen-size textures the debug views show, in
+    /// binding order: hdr, reflection, refraction, depth, medium (stencil).
+    /// The shadow map's view reads it from the frame globals, so a new
+    /// shadow resolution does not touch the screen targets.
     pub fn input_group(
         &self,
         device: &wgpu::Device,
-        views: [&wgpu::TextureView; 6],
+        views: [&wgpu::TextureView; 5],
     ) -> wgpu::BindGroup {
         let entries: Vec<wgpu::BindGroupEntry> = views
             .iter()
@@ -120,3 +122,18 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
     },
     uniforms: Vec::new,
 };
+
+impl Technique for TonemapPass {
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        timer: Option<&mut GpuTimer>,
+    ) {
+        if let (Stage::Output, Some(output)) = (stage, frame.output) {
+            let input = &frame.targets().tonemap_input;
+            TonemapPass::record(self, encoder, output, &frame.bound.globals, input, timer);
+        }
+    }
+}

@@ -4,14 +4,13 @@
 // normals (written raw by the geometry and water shaders), the sun's
 // shadow map, each pixel's medium (the stencil), or the floor caustic map. frame.modes.tonemap: 0 ACES, 1 clamp. If the target is not an sRGB
 // format the transfer curve is applied here (OUTPUT_SRGB_CURVE prepended).
-#import constants, frame, fullscreen, tonemap_curve, caustics_lookup
+#import constants, frame, fullscreen, tonemap_curve, caustics_lookup, shadow_lookup
 
 @group(1) @binding(0) var hdr: texture_2d<f32>;
 @group(1) @binding(1) var reflection_tex: texture_2d<f32>;
 @group(1) @binding(2) var refraction_tex: texture_2d<f32>;
 @group(1) @binding(3) var depth_tex: texture_depth_2d;
-@group(1) @binding(4) var shadow_tex: texture_depth_2d;
-@group(1) @binding(5) var medium_tex: texture_2d<u32>;
+@group(1) @binding(4) var medium_tex: texture_2d<u32>;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -63,8 +62,8 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             mapped = vec3<f32>(0.0, 0.0, 0.15);
             let uv = letterbox(pos.xy);
             if (all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0))) {
-                let dims = vec2<f32>(textureDimensions(shadow_tex));
-                mapped = vec3<f32>(1.0 - textureLoad(shadow_tex, vec2<i32>(uv * dims), 0));
+                let dims = vec2<f32>(textureDimensions(shadow_map));
+                mapped = vec3<f32>(1.0 - textureLoad(shadow_map, vec2<i32>(uv * dims), 0));
             }
         }
         case VIEW_CAUSTICS: {

@@ -4,6 +4,7 @@
 
 use crate::gpu_util::*;
 use crate::shaders;
+use crate::technique::{FrameContext, Stage, Technique};
 use hydrolux_core::camera::Camera;
 use wgpu::util::DeviceExt;
 
@@ -154,6 +155,9 @@ pub struct WaterPass {
     volume_rings: wgpu::RenderPipeline,
     volume_far: wgpu::RenderPipeline,
     volume_box: wgpu::RenderPipeline,
+    /// Layout of its inputs (the reflection and refraction textures), which
+    /// the screen targets bind.
+    pub inputs_layout: wgpu::BindGroupLayout,
 }
 
 /// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
@@ -366,6 +370,7 @@ impl WaterPass {
             bias: Default::default(),
         };
         WaterPass {
+            inputs_layout: inputs.clone(),
             full: GridMesh::new(device, "water full grid", RING_HALF, &[None]),
             ring: GridMesh::new(device, "water ring", RING_HALF, &hole_offsets()),
             far: GridMesh::new(device, "water far field", FAR_HALF, &[Some((0, 0))]),
@@ -515,3 +520,23 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
     shaders: || vec![("water".to_string(), source())],
     uniforms: || vec![crate::uniforms::Layout::of::<crate::uniforms::SurfaceUniforms>(source())],
 };
+
+impl Technique for WaterPass {
+    fn draw(&self, stage: Stage, pass: &mut wgpu::RenderPass<'_>, frame: &FrameContext) {
+        let plan = frame.plan;
+        if !plan.has_water {
+            return;
+        }
+        let (globals, surface) = (&frame.bound.globals, &frame.bound.surface);
+        let inputs = &frame.targets().water_inputs;
+        match stage {
+            Stage::Medium => self.record_medium(pass, globals, surface, inputs, &plan.camera),
+            Stage::Main => {
+                let aspect = plan.size.0.max(1) as f32 / plan.size.1.max(1) as f32;
+                let margin = plan.cull_margin;
+                self.record(pass, globals, surface, inputs, &plan.camera, aspect, margin);
+            }
+            _ => {}
+        }
+    }
+}

@@ -23,6 +23,7 @@ use crate::passes::geometry::{
 };
 use crate::passes::godrays::{GodRayTubes, GodRaysPass};
 use crate::shaders;
+use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
 
 /// Front/back faces from the light: outward normal and depth.
@@ -589,3 +590,67 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
         ]
     },
 };
+
+/// The water-object technique: the pass, the light-view resources for the
+/// scene's refractive objects, and whether their paths still hold (they
+/// depend only on the scene, so they are made once per scene).
+pub(crate) struct WaterObjects {
+    pub pass: WaterObjectPass,
+    pub light: ObjectLight,
+    pub current: bool,
+}
+
+impl WaterObjects {
+    /// Light-view texels per side for `scene` (1 without refractive objects).
+    pub fn resolution(geometry: &SceneGeometry, scene: &hydrolux_core::scene::Scene) -> u32 {
+        if geometry.refractive_bounds.is_some() { scene.godrays.object_resolution } else { 1 }
+    }
+}
+
+impl Technique for WaterObjects {
+    fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
+        if let Some(o) = &frame.plan.object_light {
+            self.pass.prepare(queue, &o.uniforms);
+        }
+    }
+
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        timer: Option<&mut GpuTimer>,
+    ) {
+        let shared = frame.shared;
+        match stage {
+            Stage::Light if frame.plan.object_light.is_some_and(|o| o.due) => {
+                self.pass.record_light(
+                    encoder,
+                    &shared.frame_only,
+                    &shared.meshes,
+                    &shared.geometry,
+                    &shared.views.object_light,
+                    &self.light,
+                    timer,
+                );
+                self.current = true;
+            }
+            Stage::Composite => {
+                let targets = frame.targets();
+                if let Some(object_targets) = &targets.water_object {
+                    self.pass.record_camera(
+                        encoder,
+                        &frame.bound.globals,
+                        &shared.meshes,
+                        &shared.geometry,
+                        &shared.views.main,
+                        object_targets,
+                        (&targets.hdr, &targets.hdr_view),
+                        timer,
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! Techniques as plug-ins. Each technique (`passes/<name>/`) owns its
+//! settings' GPU side, resources, uniforms, shaders and recording, and
+//! implements [`Technique`]; the renderer walks them in registry order
+//! (`registry.rs`) for each [`Stage`] of a planned frame. What techniques
+//! read from each other is in [`Shared`] (created once) and [`Bound`] (the
+//! bind groups that join resources several techniques write).
+
+use crate::passes::geometry::{GeometryPass, SceneGeometry, ViewSlot};
+use crate::passes::mips::Downsampler;
+use crate::plan::FramePlan;
+use crate::targets::Targets;
+use crate::timing::GpuTimer;
+use hydrolux_core::scene::Scene;
+
+/// Where in a frame a technique records, in frame order. `Medium` and
+/// `Main` are drawn inside the main view's two shared render passes
+/// ([`Technique::draw`]); the others open passes of their own
+/// ([`Technique::record`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Stage {
+    /// Compute that later stages read: the sky bake, the ocean, caustics.
+    Simulate,
+    /// Views from the sun: the shadow map, refractive objects' light.
+    Light,
+    /// Views the water looks up: reflection and refraction.
+    Offscreen,
+    /// The main view's medium classification (stencil).
+    Medium,
+    /// The main view: background, scene and water, per medium.
+    Main,
+    /// Light scattered in the media (god rays, fog).
+    Volume,
+    /// What is drawn over the lit image (refractive objects).
+    Composite,
+    /// Into the caller's target (tone map or a debug view).
+    Output,
+}
+
+impl Stage {
+    /// Every stage, in frame order.
+    pub const ALL: [Stage; 8] = [
+        Stage::Simulate,
+        Stage::Light,
+        Stage::Offscreen,
+        Stage::Medium,
+        Stage::Main,
+        Stage::Volume,
+        Stage::Composite,
+        Stage::Output,
+    ];
+}
+
+/// The geometry views: one uniform slot per view.
+pub(crate) struct ViewSlots {
+    pub main: ViewSlot,
+    pub reflection: ViewSlot,
+    pub refraction: ViewSlot,
+    pub reflection_under: ViewSlot,
+    pub refraction_over: ViewSlot,
+    pub shadow: ViewSlot,
+    /// Refractive objects' light view.
+    pub object_light: ViewSlot,
+}
+
+/// Bind group layouts every technique may bind.
+pub(crate) struct Layouts {
+    /// Group 0 of render passes: the frame globals, sky, shadow map, caustics.
+    pub globals: wgpu::BindGroupLayout,
+    /// Group 0 of passes that write something the globals hold: the frame alone.
+    pub frame_only: wgpu::BindGroupLayout,
+    /// The water surface (whichever model makes it).
+    pub surface: wgpu::BindGroupLayout,
+}
+
+/// What is created once and read by several techniques.
+pub(crate) struct Shared {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub layouts: Layouts,
+    /// The frame globals' uniform buffer (written once per frame from the plan).
+    pub frame_buffer: wgpu::Buffer,
+    pub frame_only: wgpu::BindGroup,
+    pub downsampler: Downsampler,
+    /// Pipelines that draw the scene's meshes (any view), and the meshes.
+    pub meshes: GeometryPass,
+    pub geometry: SceneGeometry,
+    pub views: ViewSlots,
+}
+
+/// Bind groups over resources that different techniques write, rebuilt by
+/// the renderer when one of them is replaced.
+pub(crate) struct Bound {
+    /// Group 0 of render passes: frame, sky (sky), shadow map (geometry),
+    /// caustic layers (caustics), object caustic map (water objects).
+    pub globals: wgpu::BindGroup,
+    /// The surface's group (surface).
+    pub surface: wgpu::BindGroup,
+}
+
+/// Everything a technique sees while recording one frame.
+pub(crate) struct FrameContext<'a> {
+    pub plan: &'a FramePlan,
+    pub scene: &'a Scene,
+    pub shared: &'a Shared,
+    pub bound: &'a Bound,
+    /// The screen targets (`None` when only simulating).
+    pub targets: Option<&'a Targets>,
+    /// The caller's target (`None` when only simulating).
+    pub output: Option<&'a wgpu::TextureView>,
+}
+
+impl FrameContext<'_> {
+    pub fn targets(&self) -> &Targets {
+        self.targets.expect("a stage after Simulate runs with targets")
+    }
+}
+
+/// One technique of the frame. Every method has a default that does
+/// nothing, so a technique implements only the stages it takes part in.
+pub(crate) trait Technique {
+    /// Write this frame's uniforms (the plan decided them).
+    fn prepare(&mut self, _queue: &wgpu::Queue, _frame: &FrameContext) {}
+
+    /// Record this technique's own passes for `stage`.
+    fn record(
+        &mut self,
+        _stage: Stage,
+        _encoder: &mut wgpu::CommandEncoder,
+        _frame: &FrameContext,
+        _timer: Option<&mut GpuTimer>,
+    ) {
+    }
+
+    /// Draw into the main view's shared render pass of `stage`
+    /// ([`Stage::Medium`] or [`Stage::Main`]).
+    fn draw(&self, _stage: Stage, _pass: &mut wgpu::RenderPass<'_>, _frame: &FrameContext) {}
+}
