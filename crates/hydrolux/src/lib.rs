@@ -18,6 +18,7 @@ pub(crate) mod gpu_util;
 pub mod headless;
 pub(crate) mod passes;
 pub(crate) mod plan;
+mod readback;
 pub(crate) mod registry;
 pub mod renderer;
 pub(crate) mod shaders;

@@ -25,9 +25,8 @@ use crate::uniforms::FrameUniforms;
 use hydrolux_core::camera::Camera;
 use hydrolux_core::geometry::load::AssetError;
 use hydrolux_core::projective::ClipPlane;
-use hydrolux_core::scene::{Scene, WaterModel};
+use hydrolux_core::scene::Scene;
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
-use hydrolux_core::waves::SurfaceSample;
 
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
@@ -56,22 +55,22 @@ struct GlobalSamplers {
 }
 
 pub struct Renderer {
-    target_format: wgpu::TextureFormat,
-    shared: Shared,
-    techniques: Techniques,
-    bound: Bound,
+    pub(crate) target_format: wgpu::TextureFormat,
+    pub(crate) shared: Shared,
+    pub(crate) techniques: Techniques,
+    pub(crate) bound: Bound,
     samplers: GlobalSamplers,
-    probe: ProbePass,
+    pub(crate) probe: ProbePass,
     /// Screen-size targets, keyed by (size, what sizes them); rebuilt in
     /// one place ([`Renderer::render`]) when the key changes.
-    targets: Option<Targets>,
-    scene: Scene,
-    sky_irradiance: glam::Vec3,
-    timer: Option<GpuTimer>,
-    timing: bool,
-    last_timings: Vec<(&'static str, f64)>,
+    pub(crate) targets: Option<Targets>,
+    pub(crate) scene: Scene,
+    pub(crate) sky_irradiance: glam::Vec3,
+    pub(crate) timer: Option<GpuTimer>,
+    pub(crate) timing: bool,
+    pub(crate) last_timings: Vec<(&'static str, f64)>,
     /// The last frame's (or simulation step's) plan, for readbacks.
-    last_plan: Option<FramePlan>,
+    pub(crate) last_plan: Option<FramePlan>,
 }
 
 impl Renderer {
@@ -442,22 +441,6 @@ impl Renderer {
         self.shared.queue.submit([encoder.finish()]);
     }
 
-    /// The floor caustic map after the last frame or simulation step: M×M
-    /// cells over the patch around the origin (row = z, col = x), in floor
-    /// irradiance relative to the sun's irradiance on a plane facing it,
-    /// without absorption (hydrolux_core::caustics); `None` when caustics are
-    /// off or there is no floor.
-    pub fn read_caustics(&self) -> Option<(u32, Vec<f32>)> {
-        if !self.scene.has_caustics() {
-            return None;
-        }
-        let map = &self.techniques.caustics.map;
-        let bytes =
-            read_texture_layer(self.device(), self.queue(), &map.texture, 8, map.layers - 1);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        Some((map.resolution, halves.chunks_exact(4).map(|c| f16_to_f32(c[0])).collect()))
-    }
-
     fn target_settings(&self) -> TargetSettings {
         TargetSettings {
             reflection_resolution: self.scene.render.reflection_resolution,
@@ -475,156 +458,6 @@ impl Renderer {
         }
         let frame = (input.camera, input.size, input.time);
         self.run(encoder, frame, Some(input.target), &Stage::ALL);
-    }
-
-    /// The last frame's god-ray buffer (linear radiance, pre-exposed, before
-    /// upsampling), RGBA float, rows top to bottom; `None` before a frame.
-    pub fn read_godrays(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
-        let t = &self.targets.as_ref()?.godrays;
-        let bytes = read_texture(self.device(), self.queue(), &t.buffer, 8);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        let px = halves
-            .chunks_exact(4)
-            .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
-            .collect();
-        Some((t.size.0, t.size.1, px))
-    }
-
-    /// The beam tubes of the last frame (lines method): per photon, where it
-    /// enters the water (xyz), its length, its direction (xyz) and its flux
-    /// relative to the sun's irradiance (m²; 0 = not drawn).
-    pub fn read_godray_tubes(&self) -> Vec<[f32; 12]> {
-        self.techniques.godrays.pass.read_tubes(
-            self.device(),
-            self.queue(),
-            &self.techniques.godrays.tubes,
-        )
-    }
-
-    /// The paths of light out of refractive objects in the last frame, one
-    /// per light-view texel: exit point p1 (xyz), length to p2, exit
-    /// direction (xyz), flux (m², relative to the sun; 0 = no path), rgb
-    /// tint (absorption inside), unused.
-    pub fn read_object_paths(&self) -> Vec<[f32; 12]> {
-        self.techniques.godrays.pass.read_tubes(
-            self.device(),
-            self.queue(),
-            &self.techniques.water_objects.light.tubes,
-        )
-    }
-
-    /// The caustic of refractive objects after the last frame, in their
-    /// light view (K × K texels, rows top to bottom): rgb irradiance landing
-    /// there relative to the sun's on a plane facing it, and the depth of
-    /// the surface it landed on.
-    pub fn read_object_caustics(&self) -> (u32, Vec<[f32; 4]>) {
-        let bytes =
-            read_texture(self.device(), self.queue(), &self.techniques.water_objects.light.map, 8);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        (
-            self.techniques.water_objects.light.resolution,
-            halves
-                .chunks_exact(4)
-                .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
-                .collect(),
-        )
-    }
-
-    /// The refractive objects' light view (world → clip) and its texels per
-    /// side; `None` without refractive objects or with the sun down.
-    pub fn object_light_view(&self) -> Option<(glam::Mat4, u32)> {
-        let plan = self.last_plan.as_ref()?;
-        plan.object_light.map(|o| (o.view_proj, self.techniques.water_objects.light.resolution))
-    }
-
-    /// Each pixel's medium in the last frame (0 air, 1 water: where its
-    /// near-plane point lies), rows top to bottom.
-    pub fn read_medium(&self) -> Option<(u32, u32, Vec<u8>)> {
-        let t = self.targets.as_ref()?;
-        let bytes = read_texture_aspect(
-            self.device(),
-            self.queue(),
-            &t.depth_stencil,
-            1,
-            wgpu::TextureAspect::StencilOnly,
-        );
-        Some((t.size.0, t.size.1, bytes))
-    }
-
-    /// Triangles of the scene's opaque geometry (objects, terrain, floor).
-    pub fn scene_triangles(&self) -> usize {
-        self.shared.geometry.triangle_count
-    }
-
-    /// The last frame's linear HDR image (pre-exposed radiance, before the
-    /// tone map), RGBA float, rows top to bottom.
-    pub fn read_hdr(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
-        let t = self.targets.as_ref()?;
-        let bytes = read_texture(self.device(), self.queue(), &t.hdr, 8);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        let px = halves
-            .chunks_exact(4)
-            .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
-            .collect();
-        Some((t.size.0, t.size.1, px))
-    }
-
-    /// The FFT fields of every cascade after the last simulation step (see
-    /// [`OceanPass::read_fields`]); `None` unless `water.model = "fft"`.
-    pub fn read_ocean_fields(&self) -> Option<Vec<[f32; 8]>> {
-        (self.scene.water.model == WaterModel::Fft)
-            .then(|| self.techniques.surface.ocean.read_fields(self.device(), self.queue()))
-    }
-
-    /// The surface as the renderer samples it (finest level) at undisplaced
-    /// points (x, z), after the last simulation step.
-    pub fn probe_surface(&self, points: &[[f32; 2]]) -> Vec<SurfaceSample> {
-        self.probe.surface(
-            self.device(),
-            self.queue(),
-            [&self.bound.globals, &self.bound.surface],
-            points,
-        )
-    }
-
-    /// Height of the rendered surface above world (x, z): inverts the choppy
-    /// displacement on the CPU from GPU samples (what buoyancy code needs).
-    /// Each call waits for the GPU several times; for many points, batch
-    /// [`Renderer::probe_surface`] or use the CPU twin
-    /// `hydrolux_core::waves::ocean::OceanFields::height_at`.
-    pub fn height_at(&self, x: f32, z: f32) -> f32 {
-        let mut p = [x, z];
-        for _ in 0..8 {
-            let s = self.probe_surface(&[p])[0];
-            p = [x - s.displacement[0], z - s.displacement[2]];
-        }
-        self.probe_surface(&[p])[0].displacement[1]
-    }
-
-    /// Fresnel reflectance as the shaders compute it for (cos θi, n1, n2), in
-    /// every mode: [exact, Schlick, Jensen–Goliáš, power (`water.fresnel_power`)].
-    /// Needs a frame's uniforms ([`Renderer::simulate`]) for the exponent.
-    pub fn probe_fresnel(&self, queries: &[(f32, f32, f32)]) -> Vec<[f32; 4]> {
-        self.probe.fresnel(
-            self.device(),
-            self.queue(),
-            [&self.bound.globals, &self.bound.surface],
-            queries,
-        )
-    }
-
-    /// Radiance (kcd/m²) of the baked sky cube map in the given directions.
-    pub fn probe_sky(&self, dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {
-        self.probe.sky(
-            self.device(),
-            self.queue(),
-            [&self.bound.globals, &self.bound.surface],
-            dirs,
-        )
-    }
-
-    pub fn ocean_resolution(&self) -> u32 {
-        self.techniques.surface.ocean.n
     }
 }
 
