@@ -510,12 +510,10 @@ impl ApplicationHandler for Viewer {
         let consumed = g.egui_state.on_window_event(&g.window, &event).consumed;
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => {
-                if size.width > 0 && size.height > 0 {
-                    g.config.width = size.width;
-                    g.config.height = size.height;
-                    g.surface.configure(&g.ctx.device, &g.config);
-                }
+            WindowEvent::Resized(size) if size.width > 0 && size.height > 0 => {
+                g.config.width = size.width;
+                g.config.height = size.height;
+                g.surface.configure(&g.ctx.device, &g.config);
             }
             WindowEvent::KeyboardInput { event, .. }
                 if !consumed || event.state == ElementState::Released =>
@@ -550,15 +548,13 @@ impl ApplicationHandler for Viewer {
                 self.looking = state == ElementState::Pressed && !consumed;
                 self.last_cursor = None;
             }
-            WindowEvent::CursorMoved { position, .. } => {
-                if self.looking {
-                    if let Some((x, y)) = self.last_cursor {
-                        self.camera.yaw += (position.x - x) as f32 * 0.003;
-                        self.camera.pitch =
-                            (self.camera.pitch - (position.y - y) as f32 * 0.003).clamp(-1.5, 1.5);
-                    }
-                    self.last_cursor = Some((position.x, position.y));
+            WindowEvent::CursorMoved { position, .. } if self.looking => {
+                if let Some((x, y)) = self.last_cursor {
+                    self.camera.yaw += (position.x - x) as f32 * 0.003;
+                    self.camera.pitch =
+                        (self.camera.pitch - (position.y - y) as f32 * 0.003).clamp(-1.5, 1.5);
                 }
+                self.last_cursor = Some((position.x, position.y));
             }
             WindowEvent::RedrawRequested => {
                 if let Err(e) = self.redraw() {

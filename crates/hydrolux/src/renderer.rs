@@ -465,7 +465,7 @@ impl Renderer {
 /// buffers fit this device's storage-buffer limit with `cascades` cascades.
 pub fn largest_ocean_resolution(device: &wgpu::Device, cascades: u32) -> u32 {
     let limits = device.limits();
-    let max = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+    let max = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
     [1024u32, 512, 256, 128, 64]
         .into_iter()
         .find(|&n| crate::passes::ocean::fields_bytes(n, cascades) <= max)

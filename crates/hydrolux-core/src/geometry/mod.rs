@@ -82,7 +82,7 @@ impl Mesh {
         let n = self.positions.len();
         self.normals.len() == n
             && self.uvs.len() == n
-            && self.indices.len() % 3 == 0
+            && self.indices.len().is_multiple_of(3)
             && self.indices.iter().all(|&i| (i as usize) < n)
             && self.positions.iter().all(|p| p.is_finite())
     }

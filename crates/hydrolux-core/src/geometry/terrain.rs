@@ -178,7 +178,7 @@ impl Terrain {
             border.extend((1..n).rev().map(|j| (0, j)));
             let base = m.positions.len() as u32;
             for &(i, j) in &border {
-                let p = m.positions[(j * n + i) as usize];
+                let p = m.positions[j * n + i];
                 let dir = Vec2::new(p.x, p.z);
                 let out = dir / dir.abs().max_element().max(1e-6) * skirt;
                 m.positions.push(Vec3::new(out.x, p.y, out.y));

@@ -144,7 +144,8 @@ impl OceanSpectrum {
             let amplitude = |fx: i64, fz: i64| -> (f64, f64) {
                 let (kx, kz) = (fx as f64 * dk, fz as f64 * dk);
                 let k = (kx * kx + kz * kz).sqrt();
-                let nyquist = fx.abs() as usize == n / 2 || fz.abs() as usize == n / 2;
+                let nyquist =
+                    fx.unsigned_abs() as usize == n / 2 || fz.unsigned_abs() as usize == n / 2;
                 if k == 0.0 || nyquist || k < cascade.k_min || k >= cascade.k_max {
                     return (0.0, 0.0);
                 }
@@ -199,7 +200,8 @@ impl OceanSpectrum {
                     let (fx, fz) = (bin_frequency(x, n), bin_frequency(z, n));
                     let (kx, kz) = (fx as f64 * dk, fz as f64 * dk);
                     let k = (kx * kx + kz * kz).sqrt();
-                    let nyquist = fx.abs() as usize == n / 2 || fz.abs() as usize == n / 2;
+                    let nyquist =
+                        fx.unsigned_abs() as usize == n / 2 || fz.unsigned_abs() as usize == n / 2;
                     if k > 0.0 && !nyquist && k >= cascade.k_min && k < cascade.k_max {
                         let v = self.settings.sea.directional_density(kx, kz, &spreading) * dk * dk;
                         total.0 += v;

@@ -167,6 +167,16 @@ impl Spreading {
     }
 }
 
+/// Cox & Munk (1954) mean-square slopes of a wind-roughened sea, rotated
+/// from (upwind, crosswind) into the world's (x, z):
+/// σu² = 3.16e-3·U, σc² = 0.003 + 1.92e-3·U (U at 12.5 m, m/s).
+pub fn cox_munk_slope_variance(wind_speed: f64, wind_direction: f64) -> [f64; 2] {
+    let up = 3.16e-3 * wind_speed;
+    let cross = 0.003 + 1.92e-3 * wind_speed;
+    let (s, c) = wind_direction.sin_cos();
+    [up * c * c + cross * s * s, up * s * s + cross * c * c]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -250,14 +260,4 @@ mod tests {
         assert!(sp.density(0.0) > sp.density(1.0));
         assert!(sp.density(std::f64::consts::PI) < 1e-9);
     }
-}
-
-/// Cox & Munk (1954) mean-square slopes of a wind-roughened sea, rotated
-/// from (upwind, crosswind) into the world's (x, z):
-/// σu² = 3.16e-3·U, σc² = 0.003 + 1.92e-3·U (U at 12.5 m, m/s).
-pub fn cox_munk_slope_variance(wind_speed: f64, wind_direction: f64) -> [f64; 2] {
-    let up = 3.16e-3 * wind_speed;
-    let cross = 0.003 + 1.92e-3 * wind_speed;
-    let (s, c) = wind_direction.sin_cos();
-    [up * c * c + cross * s * s, up * s * s + cross * c * c]
 }

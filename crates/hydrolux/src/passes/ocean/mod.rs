@@ -87,7 +87,7 @@ impl OceanPass {
         let limits = device.limits();
         let need =
             fields_bytes(n, cascades).max(std::mem::size_of_val(spectrum.modes.as_slice()) as u64);
-        let max = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        let max = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
         if need > max {
             return Err(OceanTooLarge {
                 n,
@@ -272,7 +272,7 @@ impl OceanPass {
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("ocean textures"),
-            timestamp_writes: timer.as_deref_mut().and_then(|t| t.compute_writes("ocean textures")),
+            timestamp_writes: timer.and_then(|t| t.compute_writes("ocean textures")),
         });
         pass.set_pipeline(&self.assemble);
         pass.set_bind_group(0, &self.assemble_group, &[]);
