@@ -16,6 +16,7 @@
 pub mod context;
 pub(crate) mod gpu_util;
 pub mod headless;
+pub(crate) mod history;
 pub(crate) mod passes;
 pub(crate) mod plan;
 mod readback;

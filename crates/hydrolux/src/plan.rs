@@ -127,6 +127,9 @@ pub(crate) struct FramePlan {
     pub shafts_from_above: f32,
     /// The surface's culling margin (m).
     pub cull_margin: f32,
+    /// What stateful simulations do to reach this frame's time (set by the
+    /// renderer from its simulation clock).
+    pub simulation: hydrolux_core::clock::Advance,
     /// The frame globals, filled from the decisions above.
     pub frame: FrameUniforms,
 }
@@ -178,6 +181,7 @@ impl FramePlan {
             object_light,
             shafts_from_above,
             cull_margin: world.cull_margin,
+            simulation: hydrolux_core::clock::Advance { reset: false, steps: 0 },
             frame: FrameUniforms::default(),
         };
         plan.frame = plan.frame_uniforms(s, world);

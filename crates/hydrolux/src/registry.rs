@@ -41,6 +41,9 @@ macro_rules! registry {
             }
         }
 
+        /// The frame's techniques by name, in frame order.
+        pub(crate) const ORDER: &[&str] = &[$(stringify!($field)),*];
+
         /// The frame's techniques, then what is validated offline besides
         /// them (the frame globals, probes, mip chains).
         pub(crate) const TECHNIQUES: &[TechniqueInfo] = &[
@@ -65,7 +68,7 @@ registry! {
 
 /// The names of the renderer's techniques, in frame order.
 pub fn technique_names() -> Vec<&'static str> {
-    TECHNIQUES.iter().map(|t| t.name).collect()
+    TECHNIQUES[..ORDER.len()].iter().map(|t| t.name).collect()
 }
 
 #[cfg(test)]
@@ -155,6 +158,11 @@ mod tests {
         assert_ne!(fields.iter().map(|f| f.name).collect::<Vec<_>>(), ["b", "a"]);
         assert_eq!(fields[0].offset, 0);
         assert_ne!(fields[0].name, swapped[0].name);
+    }
+
+    #[test]
+    fn each_technique_is_named_as_its_registry_field() {
+        assert_eq!(super::technique_names(), super::ORDER);
     }
 
     #[test]

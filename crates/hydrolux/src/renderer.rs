@@ -23,6 +23,7 @@ use crate::technique::{Bound, FrameContext, Layouts, Shared, Stage, ViewSlots};
 use crate::timing::GpuTimer;
 use crate::uniforms::FrameUniforms;
 use hydrolux_core::camera::Camera;
+use hydrolux_core::clock::SimulationClock;
 use hydrolux_core::geometry::load::AssetError;
 use hydrolux_core::projective::ClipPlane;
 use hydrolux_core::scene::Scene;
@@ -71,7 +72,14 @@ pub struct Renderer {
     pub(crate) last_timings: Vec<(&'static str, f64)>,
     /// The last frame's (or simulation step's) plan, for readbacks.
     pub(crate) last_plan: Option<FramePlan>,
+    /// The fixed-step clock stateful simulations advance on.
+    clock: SimulationClock,
 }
+
+/// Fixed step of stateful simulations (s): 120 Hz.
+pub const SIMULATION_STEP_S: f64 = 1.0 / 120.0;
+/// Steps recorded per GPU submission when catching up to a late time.
+pub const SIMULATION_BATCH: u32 = 1024;
 
 impl Renderer {
     /// Create every technique for drawing into textures of `target_format`.
@@ -221,6 +229,8 @@ impl Renderer {
             timing: false,
             last_timings: Vec::new(),
             last_plan: None,
+            clock: SimulationClock::new(SIMULATION_STEP_S, SIMULATION_BATCH)
+                .expect("valid clock constants"),
         };
         r.update_sky();
         Ok(r)
@@ -377,7 +387,11 @@ impl Renderer {
         output: Option<&wgpu::TextureView>,
         stages: &[Stage],
     ) {
-        let plan = FramePlan::new(&self.scene, &self.world(), input.0, input.1, input.2);
+        let mut plan = FramePlan::new(&self.scene, &self.world(), input.0, input.1, input.2);
+        // Simulations start at t = 0: earlier (or non-finite) times show the
+        // initial state.
+        let sim_time = if input.2.is_finite() { input.2.max(0.0) } else { 0.0 };
+        plan.simulation = self.clock.advance_to(sim_time).expect("a finite time from 0 on");
         let (shared, queue) = (&self.shared, &self.shared.queue);
         let (m, v) = (&plan.matrices, &shared.views);
         v.main.write(queue, m.view_proj, ClipPlane::none().0);
@@ -403,6 +417,7 @@ impl Renderer {
         for t in self.techniques.each_mut() {
             t.prepare(queue, &frame);
         }
+        record_simulation_steps(&mut self.techniques, &self.clock, encoder, &frame);
         let mut timer = if self.timing && output.is_some() { self.timer.as_mut() } else { None };
         if let Some(t) = timer.as_deref_mut() {
             t.begin_frame();
@@ -431,6 +446,18 @@ impl Renderer {
             t.resolve(encoder);
         }
         self.last_plan = Some(plan);
+    }
+
+    /// Start stateful simulations again from their initial state; the next
+    /// frame steps them from t = 0 to its time.
+    pub fn reset_simulation(&mut self) {
+        self.clock.reset();
+    }
+
+    /// Simulated time (s) of the stateful simulations' current state: the
+    /// last frame's time rounded down to the clock's step.
+    pub fn simulation_time(&self) -> f64 {
+        self.clock.time()
     }
 
     /// Write this frame's inputs and advance the simulation, without drawing:
@@ -529,4 +556,42 @@ fn main_pass(
             multiview_mask: None,
         })
         .forget_lifetime()
+}
+
+/// Advance every stateful technique to the plan's time: a reset first if
+/// the clock went back, then its steps in batches; all batches but the
+/// last are submitted at once (a late still is a few large submissions,
+/// not thousands of frames), the last goes into the frame's encoder.
+fn record_simulation_steps(
+    techniques: &mut Techniques,
+    clock: &SimulationClock,
+    encoder: &mut wgpu::CommandEncoder,
+    frame: &FrameContext,
+) {
+    let advance = frame.plan.simulation;
+    let (queue, dt) = (&frame.shared.queue, clock.dt());
+    let mut stateful: Vec<_> =
+        techniques.each_mut().into_iter().filter(|t| t.simulates()).collect();
+    if stateful.is_empty() {
+        return;
+    }
+    if advance.reset {
+        for t in stateful.iter_mut() {
+            t.reset_state(queue);
+        }
+    }
+    let batches: Vec<u32> = clock.batches(advance.steps).collect();
+    for (i, &steps) in batches.iter().enumerate() {
+        if i + 1 == batches.len() {
+            for t in stateful.iter_mut() {
+                t.step(encoder, frame, steps, dt);
+            }
+        } else {
+            let mut early = frame.shared.device.create_command_encoder(&Default::default());
+            for t in stateful.iter_mut() {
+                t.step(&mut early, frame, steps, dt);
+            }
+            queue.submit([early.finish()]);
+        }
+    }
 }

@@ -134,4 +134,23 @@ pub(crate) trait Technique {
     /// Draw into the main view's shared render pass of `stage`
     /// ([`Stage::Medium`] or [`Stage::Main`]).
     fn draw(&self, _stage: Stage, _pass: &mut wgpu::RenderPass<'_>, _frame: &FrameContext) {}
+
+    /// Whether it keeps state that advances on the simulation clock.
+    fn simulates(&self) -> bool {
+        false
+    }
+
+    /// Back to its initial state (the clock went back, or was reset).
+    fn reset_state(&mut self, _queue: &wgpu::Queue) {}
+
+    /// Record `steps` fixed steps of `clock_dt` seconds of its simulation,
+    /// before the frame's stages (see `hydrolux_core::clock`).
+    fn step(
+        &mut self,
+        _encoder: &mut wgpu::CommandEncoder,
+        _frame: &FrameContext,
+        _steps: u32,
+        _clock_dt: f64,
+    ) {
+    }
 }

@@ -622,6 +622,8 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     let mut r = renderer(&ctx, &s);
     let t = 12.0;
     r.simulate(&s.camera(), (16, 16), t);
+    // The simulation clock follows the frame's time in fixed steps.
+    assert_eq!(r.simulation_time(), t);
     let (_, gpu_map) = r.read_caustics().expect("caustics are on");
     let fields = OceanFields::evaluate(&OceanSpectrum::new(&s.ocean_settings()), t);
     let p = PhotonSettings {
@@ -715,6 +717,25 @@ fn caustics_under_a_given_heightfield_match_the_cpu_tracer() {
     let max = cpu_map.iter().cloned().fold(0.0, f32::max);
     assert!(max > 1.3 * mc, "this surface focuses light: max {max}, mean {mc}");
     let _ = std::fs::remove_file(&path);
+
+    // The update path (a caller's own simulation): new heights are drawn and
+    // the caustics follow them on the next frame.
+    let moved: Vec<f32> = (0..n * n).map(|i| field.heights[(i + 7 * n + 5) % (n * n)]).collect();
+    r.update_heightfield(&moved).expect("same size");
+    r.simulate(&s.camera(), (16, 16), 0.0);
+    let (_, gpu_moved) = r.read_caustics().expect("caustics are on");
+    let field = Heightfield { nx: n, nz: n, size: [l, l], heights: moved };
+    let cpu_moved = trace_floor_caustics(|x, z| field.sample(x, z), &p).0.blurred().irradiance;
+    let (_, _, corr) = means_and_correlation(&gpu_moved, &cpu_moved);
+    assert!(corr > 0.97, "after the update: correlation {corr}");
+    let (_, _, stale) = means_and_correlation(&gpu_moved, &gpu_map);
+    assert!(stale < 0.9, "the map followed the new surface ({stale} with the old one)");
+    let p0 = r.probe_surface(&[[0.0, 0.0]])[0].displacement[1];
+    assert!((p0 - field.height(0.0, 0.0)).abs() < 1e-3, "probe {p0}");
+    let e = r.update_heightfield(&[0.0; 3]).unwrap_err().to_string();
+    assert!(e.contains("got 3 heights, the surface has 64 × 64"), "{e}");
+    let e = r.update_heightfield(&vec![f32::NAN; n * n]).unwrap_err().to_string();
+    assert!(e.contains("must be finite"), "{e}");
 }
 
 /// An object above the water casts a caustic shadow: on the floor in its

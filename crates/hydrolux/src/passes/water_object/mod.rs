@@ -574,7 +574,7 @@ impl WaterObjectPass {
 }
 
 pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
-    name: "water_object",
+    name: "water_objects",
     shaders: || {
         vec![
             ("water_object/light".to_string(), light_source()),
