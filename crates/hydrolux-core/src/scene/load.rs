@@ -311,357 +311,27 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Range checks. Device-dependent limits (N against buffer sizes) are
-    /// checked by the renderer, which knows the device.
+    /// Range checks: each section's own (next to its defaults in
+    /// scene/mod.rs), then those that span sections. Device-dependent limits
+    /// (N against buffer sizes) are checked by the renderer, which knows the
+    /// device.
     pub fn validate(&self) -> Result<(), SceneError> {
-        fn range(key: &str, v: f32, ok: bool, allowed: &str) -> Result<(), SceneError> {
-            if ok && v.is_finite() {
-                Ok(())
-            } else {
-                Err(SceneError::OutOfRange {
-                    key: key.into(),
-                    value: v.to_string(),
-                    allowed: allowed.into(),
-                })
-            }
-        }
-        let c = &self.camera;
-        range(
-            "camera.fov_y_deg",
-            c.fov_y_deg,
-            c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0,
-            "must be in (0, 180)",
-        )?;
-        let (p, t, up) =
-            (glam::Vec3::from(c.position), glam::Vec3::from(c.look_at), glam::Vec3::from(c.up));
-        if (t - p).length() < 1e-4 || !(p.is_finite() && t.is_finite()) {
-            return Err(SceneError::OutOfRange {
-                key: "camera.look_at".into(),
-                value: format!("{:?}", c.look_at),
-                allowed: "must differ from camera.position".into(),
-            });
-        }
-        if up.length() < 1e-6 || (t - p).normalize().cross(up.normalize()).length() < 1e-4 {
-            return Err(SceneError::OutOfRange {
-                key: "camera.up".into(),
-                value: format!("{:?}", c.up),
-                allowed: "must be non-zero and not parallel to the view direction".into(),
-            });
-        }
-        let s = &self.sun;
-        range(
-            "sun.elevation_deg",
-            s.elevation_deg,
-            (-10.0..=90.0).contains(&s.elevation_deg),
-            "must be in [-10, 90]",
-        )?;
-        range(
-            "sun.azimuth_deg",
-            s.azimuth_deg,
-            s.azimuth_deg.is_finite(),
-            "must be a finite angle",
-        )?;
-        range(
-            "sky.turbidity",
-            self.sky.turbidity,
-            (1.7..=10.0).contains(&self.sky.turbidity),
-            "must be in [1.7, 10]",
-        )?;
-        let o = &self.ocean;
-        range(
-            "ocean.wind_speed",
-            o.wind_speed,
-            (0.0..=40.0).contains(&o.wind_speed),
-            "must be in [0, 40] m/s",
-        )?;
-        range("ocean.wind_direction_deg", o.wind_direction_deg, true, "must be a finite angle")?;
-        range(
-            "ocean.fetch_km",
-            o.fetch_km,
-            o.fetch_km > 0.0 && o.fetch_km <= 10_000.0,
-            "must be in (0, 10000] km",
-        )?;
-        range("ocean.depth", o.depth, o.depth > 0.0, "must be > 0 m")?;
-        range(
-            "ocean.patch_size",
-            o.patch_size,
-            (1.0..=20_000.0).contains(&o.patch_size),
-            "must be in [1, 20000] m",
-        )?;
-        if !o.resolution.is_power_of_two() || !(64..=1024).contains(&o.resolution) {
-            return Err(SceneError::OutOfRange {
-                key: "ocean.resolution".into(),
-                value: o.resolution.to_string(),
-                allowed: "must be a power of two from 64 to 1024".into(),
-            });
-        }
-        if !(1..=4).contains(&o.cascades) {
-            return Err(SceneError::OutOfRange {
-                key: "ocean.cascades".into(),
-                value: o.cascades.to_string(),
-                allowed: "must be 1 to 4".into(),
-            });
-        }
-        range(
-            "ocean.choppiness",
-            o.choppiness,
-            (0.0..=3.0).contains(&o.choppiness),
-            "must be in [0, 3]",
-        )?;
-        range(
-            "ocean.peak_enhancement",
-            o.peak_enhancement,
-            (1.0..=10.0).contains(&o.peak_enhancement),
-            "must be in [1, 10]",
-        )?;
-        range(
-            "ocean.spreading",
-            o.spreading,
-            (0.0..=100.0).contains(&o.spreading),
-            "must be in [0, 100]",
-        )?;
-        let w = &self.water;
-        range("water.ior", w.ior, (1.0..=3.0).contains(&w.ior), "must be in [1, 3]")?;
-        for (i, v) in w.body_color.iter().enumerate() {
-            range(
-                &format!("water.body_color[{i}]"),
-                *v,
-                (0.0..=1.0).contains(v),
-                "must be in [0, 1]",
-            )?;
-        }
+        self.camera.validate()?;
+        self.sun.validate()?;
+        self.sky.validate()?;
+        self.ocean.validate()?;
+        self.water.validate()?;
+        self.sines.validate()?;
+        self.render.validate()?;
+        self.floor.validate()?;
+        self.caustics.validate()?;
+        self.air.validate()?;
+        self.godrays.validate()?;
         if self.water.model == WaterModel::Sines && !(1..=64).contains(&self.sines.count) {
             return Err(SceneError::OutOfRange {
                 key: "sines.count".into(),
                 value: self.sines.count.to_string(),
                 allowed: "must be 1 to 64".into(),
-            });
-        }
-        range(
-            "sines.gerstner",
-            self.sines.gerstner,
-            (0.0..=1.0).contains(&self.sines.gerstner),
-            "must be in [0, 1]",
-        )?;
-        if self.render.anisotropy > 16 {
-            return Err(SceneError::OutOfRange {
-                key: "render.anisotropy".into(),
-                value: self.render.anisotropy.to_string(),
-                allowed: "must be 0 (automatic) or 1 to 16".into(),
-            });
-        }
-        range(
-            "render.exposure",
-            self.render.exposure,
-            (-10.0..=30.0).contains(&self.render.exposure),
-            "must be in [-10, 30] EV",
-        )?;
-        let r = &self.render;
-        if !(256..=8192).contains(&r.shadow_resolution) {
-            return Err(SceneError::OutOfRange {
-                key: "render.shadow_resolution".into(),
-                value: r.shadow_resolution.to_string(),
-                allowed: "must be 256 to 8192".into(),
-            });
-        }
-        range(
-            "render.reflection_resolution",
-            r.reflection_resolution,
-            r.reflection_resolution > 0.05 && r.reflection_resolution <= 1.0,
-            "must be in (0.05, 1]",
-        )?;
-        range(
-            "render.fov_margin",
-            r.fov_margin,
-            (0.0..=2.0).contains(&r.fov_margin),
-            "must be in [0, 2]",
-        )?;
-        if w.model == WaterModel::Heightfield && w.heightfield.is_empty() {
-            return Err(SceneError::OutOfRange {
-                key: "water.heightfield".into(),
-                value: "\"\"".into(),
-                allowed: "must name a float32 .npy file when water.model = \"heightfield\"".into(),
-            });
-        }
-        for (i, v) in w.size.iter().enumerate() {
-            range(
-                &format!("water.size[{i}]"),
-                *v,
-                *v > 0.0 && *v <= 100_000.0,
-                "must be in (0, 100000] m",
-            )?;
-        }
-        range(
-            "water.fresnel_power",
-            w.fresnel_power,
-            w.fresnel_power > 0.0 && w.fresnel_power <= 50.0,
-            "must be in (0, 50]",
-        )?;
-        for (name, v) in [("absorption", w.absorption), ("scattering", w.scattering)] {
-            for (i, c) in v.iter().enumerate() {
-                range(
-                    &format!("water.{name}[{i}]"),
-                    *c,
-                    (0.0..=100.0).contains(c),
-                    "must be in [0, 100] per metre",
-                )?;
-            }
-        }
-        range(
-            "water.phase_g",
-            w.phase_g,
-            (-0.99..=0.99).contains(&w.phase_g),
-            "must be in [-0.99, 0.99]",
-        )?;
-        range(
-            "water.simple_attenuation",
-            w.simple_attenuation,
-            (0.0..=100.0).contains(&w.simple_attenuation),
-            "must be in [0, 100] per metre",
-        )?;
-        range(
-            "water.refraction_depth",
-            w.refraction_depth,
-            w.refraction_depth > 0.0 && w.refraction_depth <= 1000.0,
-            "must be in (0, 1000] m",
-        )?;
-        range(
-            "water.refraction_max",
-            w.refraction_max,
-            w.refraction_max > 0.0 && w.refraction_max <= 1000.0,
-            "must be in (0, 1000] m",
-        )?;
-        range(
-            "water.roughness_scale",
-            w.roughness_scale,
-            (0.0..=4.0).contains(&w.roughness_scale),
-            "must be in [0, 4]",
-        )?;
-        range(
-            "water.reflection_height",
-            w.reflection_height,
-            (0.0..=1000.0).contains(&w.reflection_height),
-            "must be in [0, 1000] m",
-        )?;
-        let f = &self.floor;
-        range(
-            "floor.depth",
-            f.depth,
-            (0.0..=10_000.0).contains(&f.depth),
-            "must be in [0, 10000] m (0 = no floor)",
-        )?;
-        range(
-            "floor.size",
-            f.size,
-            f.size > 0.0 && f.size <= 100_000.0,
-            "must be in (0, 100000] m",
-        )?;
-        if !(2..=2048).contains(&f.resolution) {
-            return Err(SceneError::OutOfRange {
-                key: "floor.resolution".into(),
-                value: f.resolution.to_string(),
-                allowed: "must be 2 to 2048".into(),
-            });
-        }
-        range(
-            "floor.relief",
-            f.relief,
-            (0.0..=10_000.0).contains(&f.relief),
-            "must be in [0, 10000] m",
-        )?;
-        range("floor.shore_radius", f.shore_radius, f.shore_radius > 0.0, "must be > 0 m")?;
-        range(
-            "floor.shore_height",
-            f.shore_height,
-            f.shore_height.abs() <= 10_000.0,
-            "must be in [-10000, 10000] m",
-        )?;
-        if f.terrain == super::TerrainKind::Heightmap && f.heightmap.is_empty() {
-            return Err(SceneError::OutOfRange {
-                key: "floor.heightmap".into(),
-                value: "\"\"".into(),
-                allowed: "must name a PNG or JPEG file when floor.terrain = \"heightmap\"".into(),
-            });
-        }
-        if f.terrain != super::TerrainKind::None && f.depth <= 0.0 {
-            return Err(SceneError::OutOfRange {
-                key: "floor.depth".into(),
-                value: f.depth.to_string(),
-                allowed: "must be > 0 m under a terrain (the depth of its lowest point)".into(),
-            });
-        }
-        validate_material("floor.material", &f.material)?;
-        let c = &self.caustics;
-        if !(16..=4096).contains(&c.photons) {
-            return Err(SceneError::OutOfRange {
-                key: "caustics.photons".into(),
-                value: c.photons.to_string(),
-                allowed: "must be 16 to 4096 (per side)".into(),
-            });
-        }
-        if !(1..=32).contains(&c.layers) {
-            return Err(SceneError::OutOfRange {
-                key: "caustics.layers".into(),
-                value: c.layers.to_string(),
-                allowed: "must be 1 to 32".into(),
-            });
-        }
-        if !(16..=2048).contains(&c.map_resolution) {
-            return Err(SceneError::OutOfRange {
-                key: "caustics.map_resolution".into(),
-                value: c.map_resolution.to_string(),
-                allowed: "must be 16 to 2048".into(),
-            });
-        }
-        let a = &self.air;
-        range("air.fog", a.fog, (0.0..=1.0).contains(&a.fog), "must be 0 to 1 per metre")?;
-        range("air.fog_g", a.fog_g, a.fog_g > -1.0 && a.fog_g < 1.0, "must be between -1 and 1")?;
-        range("air.fog_sky", a.fog_sky, (0.0..=1.0).contains(&a.fog_sky), "must be 0 to 1")?;
-        range(
-            "air.fog_distance",
-            a.fog_distance,
-            a.fog_distance > 0.0 && a.fog_distance <= 10_000.0,
-            "must be > 0 and at most 10000 m",
-        )?;
-        if self.floor.material.ior != 0.0 {
-            return Err(SceneError::OutOfRange {
-                key: "floor.material.ior".into(),
-                value: self.floor.material.ior.to_string(),
-                allowed: "must be 0: the floor is opaque".into(),
-            });
-        }
-        let g = &self.godrays;
-        if !(4..=2048).contains(&g.photons) {
-            return Err(SceneError::OutOfRange {
-                key: "godrays.photons".into(),
-                value: g.photons.to_string(),
-                allowed: "must be 4 to 2048 (per side)".into(),
-            });
-        }
-        range(
-            "godrays.resolution",
-            g.resolution,
-            g.resolution > 0.0 && g.resolution <= 1.0,
-            "must be > 0 and at most 1 (a fraction of the output size)",
-        )?;
-        range(
-            "godrays.distance",
-            g.distance,
-            g.distance > 0.0 && g.distance <= 1000.0,
-            "must be > 0 and at most 1000 m",
-        )?;
-        if !(4..=512).contains(&g.steps) {
-            return Err(SceneError::OutOfRange {
-                key: "godrays.steps".into(),
-                value: g.steps.to_string(),
-                allowed: "must be 4 to 512".into(),
-            });
-        }
-        if !(16..=2048).contains(&g.object_resolution) {
-            return Err(SceneError::OutOfRange {
-                key: "godrays.object_resolution".into(),
-                value: g.object_resolution.to_string(),
-                allowed: "must be 16 to 2048".into(),
             });
         }
         if let Some(i) = self
@@ -703,7 +373,20 @@ impl Scene {
     }
 }
 
-fn validate_material(key: &str, m: &super::MaterialDesc) -> Result<(), SceneError> {
+/// `v` is finite and `ok`, else an error naming `key` and what is allowed.
+pub(super) fn range(key: &str, v: f32, ok: bool, allowed: &str) -> Result<(), SceneError> {
+    if ok && v.is_finite() {
+        Ok(())
+    } else {
+        Err(SceneError::OutOfRange {
+            key: key.into(),
+            value: v.to_string(),
+            allowed: allowed.into(),
+        })
+    }
+}
+
+pub(super) fn validate_material(key: &str, m: &super::MaterialDesc) -> Result<(), SceneError> {
     for (name, v) in [("albedo", m.albedo), ("pattern_color", m.pattern_color)] {
         for (i, c) in v.iter().enumerate() {
             if !(0.0..=1.0).contains(c) {

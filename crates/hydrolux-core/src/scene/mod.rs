@@ -11,6 +11,7 @@ pub use builtin::{BUILTIN_SCENES, BuiltinScene};
 pub use choices::{Choice, enumerated_keys};
 pub use geometry::{FLOOR_EXTENT, SceneObject};
 pub use load::{SceneError, apply_override, parse_override};
+use load::{range, validate_material};
 
 use crate::camera::Camera;
 use crate::medium::Medium;
@@ -297,6 +298,36 @@ impl Default for CausticsDesc {
     }
 }
 
+impl CausticsDesc {
+    /// The `[caustics]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let c = self;
+        if !(16..=4096).contains(&c.photons) {
+            return Err(SceneError::OutOfRange {
+                key: "caustics.photons".into(),
+                value: c.photons.to_string(),
+                allowed: "must be 16 to 4096 (per side)".into(),
+            });
+        }
+        if !(1..=32).contains(&c.layers) {
+            return Err(SceneError::OutOfRange {
+                key: "caustics.layers".into(),
+                value: c.layers.to_string(),
+                allowed: "must be 1 to 32".into(),
+            });
+        }
+        if !(16..=2048).contains(&c.map_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "caustics.map_resolution".into(),
+                value: c.map_resolution.to_string(),
+                allowed: "must be 16 to 2048".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum GodRayMethod {
@@ -342,6 +373,48 @@ impl Default for GodRaysDesc {
     }
 }
 
+impl GodRaysDesc {
+    /// The `[godrays]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let g = self;
+        if !(4..=2048).contains(&g.photons) {
+            return Err(SceneError::OutOfRange {
+                key: "godrays.photons".into(),
+                value: g.photons.to_string(),
+                allowed: "must be 4 to 2048 (per side)".into(),
+            });
+        }
+        range(
+            "godrays.resolution",
+            g.resolution,
+            g.resolution > 0.0 && g.resolution <= 1.0,
+            "must be > 0 and at most 1 (a fraction of the output size)",
+        )?;
+        range(
+            "godrays.distance",
+            g.distance,
+            g.distance > 0.0 && g.distance <= 1000.0,
+            "must be > 0 and at most 1000 m",
+        )?;
+        if !(4..=512).contains(&g.steps) {
+            return Err(SceneError::OutOfRange {
+                key: "godrays.steps".into(),
+                value: g.steps.to_string(),
+                allowed: "must be 4 to 512".into(),
+            });
+        }
+        if !(16..=2048).contains(&g.object_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "godrays.object_resolution".into(),
+                value: g.object_resolution.to_string(),
+                allowed: "must be 16 to 2048".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// The air as a participating medium: a light, grey fog (no absorption).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -361,6 +434,24 @@ pub struct AirDesc {
 impl Default for AirDesc {
     fn default() -> Self {
         AirDesc { fog: 0.0, fog_g: 0.3, fog_distance: 40.0, fog_sky: 1.0 }
+    }
+}
+
+impl AirDesc {
+    /// The `[air]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let a = self;
+        range("air.fog", a.fog, (0.0..=1.0).contains(&a.fog), "must be 0 to 1 per metre")?;
+        range("air.fog_g", a.fog_g, a.fog_g > -1.0 && a.fog_g < 1.0, "must be between -1 and 1")?;
+        range("air.fog_sky", a.fog_sky, (0.0..=1.0).contains(&a.fog_sky), "must be 0 to 1")?;
+        range(
+            "air.fog_distance",
+            a.fog_distance,
+            a.fog_distance > 0.0 && a.fog_distance <= 10_000.0,
+            "must be > 0 and at most 10000 m",
+        )?;
+        Ok(())
     }
 }
 
@@ -474,15 +565,81 @@ impl Default for CameraDesc {
     }
 }
 
+impl CameraDesc {
+    /// The `[camera]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let c = self;
+        range(
+            "camera.fov_y_deg",
+            c.fov_y_deg,
+            c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0,
+            "must be in (0, 180)",
+        )?;
+        let (p, t, up) =
+            (glam::Vec3::from(c.position), glam::Vec3::from(c.look_at), glam::Vec3::from(c.up));
+        if (t - p).length() < 1e-4 || !(p.is_finite() && t.is_finite()) {
+            return Err(SceneError::OutOfRange {
+                key: "camera.look_at".into(),
+                value: format!("{:?}", c.look_at),
+                allowed: "must differ from camera.position".into(),
+            });
+        }
+        if up.length() < 1e-6 || (t - p).normalize().cross(up.normalize()).length() < 1e-4 {
+            return Err(SceneError::OutOfRange {
+                key: "camera.up".into(),
+                value: format!("{:?}", c.up),
+                allowed: "must be non-zero and not parallel to the view direction".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 impl Default for SunDesc {
     fn default() -> Self {
         SunDesc { elevation_deg: 35.0, azimuth_deg: -70.0 }
     }
 }
 
+impl SunDesc {
+    /// The `[sun]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let s = self;
+        range(
+            "sun.elevation_deg",
+            s.elevation_deg,
+            (-10.0..=90.0).contains(&s.elevation_deg),
+            "must be in [-10, 90]",
+        )?;
+        range(
+            "sun.azimuth_deg",
+            s.azimuth_deg,
+            s.azimuth_deg.is_finite(),
+            "must be a finite angle",
+        )?;
+        Ok(())
+    }
+}
+
 impl Default for SkyDesc {
     fn default() -> Self {
         SkyDesc { turbidity: 2.5 }
+    }
+}
+
+impl SkyDesc {
+    /// The `[sky]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        range(
+            "sky.turbidity",
+            self.turbidity,
+            (1.7..=10.0).contains(&self.turbidity),
+            "must be in [1.7, 10]",
+        )?;
+        Ok(())
     }
 }
 
@@ -502,6 +659,67 @@ impl Default for OceanDesc {
             peak_enhancement: 3.3,
             spreading: 8.0,
         }
+    }
+}
+
+impl OceanDesc {
+    /// The `[ocean]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let o = self;
+        range(
+            "ocean.wind_speed",
+            o.wind_speed,
+            (0.0..=40.0).contains(&o.wind_speed),
+            "must be in [0, 40] m/s",
+        )?;
+        range("ocean.wind_direction_deg", o.wind_direction_deg, true, "must be a finite angle")?;
+        range(
+            "ocean.fetch_km",
+            o.fetch_km,
+            o.fetch_km > 0.0 && o.fetch_km <= 10_000.0,
+            "must be in (0, 10000] km",
+        )?;
+        range("ocean.depth", o.depth, o.depth > 0.0, "must be > 0 m")?;
+        range(
+            "ocean.patch_size",
+            o.patch_size,
+            (1.0..=20_000.0).contains(&o.patch_size),
+            "must be in [1, 20000] m",
+        )?;
+        if !o.resolution.is_power_of_two() || !(64..=1024).contains(&o.resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "ocean.resolution".into(),
+                value: o.resolution.to_string(),
+                allowed: "must be a power of two from 64 to 1024".into(),
+            });
+        }
+        if !(1..=4).contains(&o.cascades) {
+            return Err(SceneError::OutOfRange {
+                key: "ocean.cascades".into(),
+                value: o.cascades.to_string(),
+                allowed: "must be 1 to 4".into(),
+            });
+        }
+        range(
+            "ocean.choppiness",
+            o.choppiness,
+            (0.0..=3.0).contains(&o.choppiness),
+            "must be in [0, 3]",
+        )?;
+        range(
+            "ocean.peak_enhancement",
+            o.peak_enhancement,
+            (1.0..=10.0).contains(&o.peak_enhancement),
+            "must be in [1, 10]",
+        )?;
+        range(
+            "ocean.spreading",
+            o.spreading,
+            (0.0..=100.0).contains(&o.spreading),
+            "must be in [0, 100]",
+        )?;
+        Ok(())
     }
 }
 
@@ -527,6 +745,91 @@ impl Default for WaterDesc {
             reflection_height: 1.5,
             roughness_scale: 1.0,
         }
+    }
+}
+
+impl WaterDesc {
+    /// The `[water]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let w = self;
+        range("water.ior", w.ior, (1.0..=3.0).contains(&w.ior), "must be in [1, 3]")?;
+        for (i, v) in w.body_color.iter().enumerate() {
+            range(
+                &format!("water.body_color[{i}]"),
+                *v,
+                (0.0..=1.0).contains(v),
+                "must be in [0, 1]",
+            )?;
+        }
+        if w.model == WaterModel::Heightfield && w.heightfield.is_empty() {
+            return Err(SceneError::OutOfRange {
+                key: "water.heightfield".into(),
+                value: "\"\"".into(),
+                allowed: "must name a float32 .npy file when water.model = \"heightfield\"".into(),
+            });
+        }
+        for (i, v) in w.size.iter().enumerate() {
+            range(
+                &format!("water.size[{i}]"),
+                *v,
+                *v > 0.0 && *v <= 100_000.0,
+                "must be in (0, 100000] m",
+            )?;
+        }
+        range(
+            "water.fresnel_power",
+            w.fresnel_power,
+            w.fresnel_power > 0.0 && w.fresnel_power <= 50.0,
+            "must be in (0, 50]",
+        )?;
+        for (name, v) in [("absorption", w.absorption), ("scattering", w.scattering)] {
+            for (i, c) in v.iter().enumerate() {
+                range(
+                    &format!("water.{name}[{i}]"),
+                    *c,
+                    (0.0..=100.0).contains(c),
+                    "must be in [0, 100] per metre",
+                )?;
+            }
+        }
+        range(
+            "water.phase_g",
+            w.phase_g,
+            (-0.99..=0.99).contains(&w.phase_g),
+            "must be in [-0.99, 0.99]",
+        )?;
+        range(
+            "water.simple_attenuation",
+            w.simple_attenuation,
+            (0.0..=100.0).contains(&w.simple_attenuation),
+            "must be in [0, 100] per metre",
+        )?;
+        range(
+            "water.refraction_depth",
+            w.refraction_depth,
+            w.refraction_depth > 0.0 && w.refraction_depth <= 1000.0,
+            "must be in (0, 1000] m",
+        )?;
+        range(
+            "water.refraction_max",
+            w.refraction_max,
+            w.refraction_max > 0.0 && w.refraction_max <= 1000.0,
+            "must be in (0, 1000] m",
+        )?;
+        range(
+            "water.roughness_scale",
+            w.roughness_scale,
+            (0.0..=4.0).contains(&w.roughness_scale),
+            "must be in [0, 4]",
+        )?;
+        range(
+            "water.reflection_height",
+            w.reflection_height,
+            (0.0..=1000.0).contains(&w.reflection_height),
+            "must be in [0, 1000] m",
+        )?;
+        Ok(())
     }
 }
 
@@ -561,6 +864,69 @@ impl Default for FloorDesc {
     }
 }
 
+impl FloorDesc {
+    /// The `[floor]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let f = self;
+        range(
+            "floor.depth",
+            f.depth,
+            (0.0..=10_000.0).contains(&f.depth),
+            "must be in [0, 10000] m (0 = no floor)",
+        )?;
+        range(
+            "floor.size",
+            f.size,
+            f.size > 0.0 && f.size <= 100_000.0,
+            "must be in (0, 100000] m",
+        )?;
+        if !(2..=2048).contains(&f.resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "floor.resolution".into(),
+                value: f.resolution.to_string(),
+                allowed: "must be 2 to 2048".into(),
+            });
+        }
+        range(
+            "floor.relief",
+            f.relief,
+            (0.0..=10_000.0).contains(&f.relief),
+            "must be in [0, 10000] m",
+        )?;
+        range("floor.shore_radius", f.shore_radius, f.shore_radius > 0.0, "must be > 0 m")?;
+        range(
+            "floor.shore_height",
+            f.shore_height,
+            f.shore_height.abs() <= 10_000.0,
+            "must be in [-10000, 10000] m",
+        )?;
+        if f.terrain == TerrainKind::Heightmap && f.heightmap.is_empty() {
+            return Err(SceneError::OutOfRange {
+                key: "floor.heightmap".into(),
+                value: "\"\"".into(),
+                allowed: "must name a PNG or JPEG file when floor.terrain = \"heightmap\"".into(),
+            });
+        }
+        if f.terrain != TerrainKind::None && f.depth <= 0.0 {
+            return Err(SceneError::OutOfRange {
+                key: "floor.depth".into(),
+                value: f.depth.to_string(),
+                allowed: "must be > 0 m under a terrain (the depth of its lowest point)".into(),
+            });
+        }
+        validate_material("floor.material", &f.material)?;
+        if self.material.ior != 0.0 {
+            return Err(SceneError::OutOfRange {
+                key: "floor.material.ior".into(),
+                value: self.material.ior.to_string(),
+                allowed: "must be 0: the floor is opaque".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 impl Default for ObjectDesc {
     fn default() -> Self {
         ObjectDesc {
@@ -581,6 +947,20 @@ impl Default for SinesDesc {
     }
 }
 
+impl SinesDesc {
+    /// The `[sines]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        range(
+            "sines.gerstner",
+            self.gerstner,
+            (0.0..=1.0).contains(&self.gerstner),
+            "must be in [0, 1]",
+        )?;
+        Ok(())
+    }
+}
+
 impl Default for RenderDesc {
     fn default() -> Self {
         RenderDesc {
@@ -592,6 +972,47 @@ impl Default for RenderDesc {
             reflection_resolution: 0.5,
             fov_margin: 0.5,
         }
+    }
+}
+
+impl RenderDesc {
+    /// The `[render]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let r = self;
+        if self.anisotropy > 16 {
+            return Err(SceneError::OutOfRange {
+                key: "render.anisotropy".into(),
+                value: self.anisotropy.to_string(),
+                allowed: "must be 0 (automatic) or 1 to 16".into(),
+            });
+        }
+        range(
+            "render.exposure",
+            self.exposure,
+            (-10.0..=30.0).contains(&self.exposure),
+            "must be in [-10, 30] EV",
+        )?;
+        if !(256..=8192).contains(&r.shadow_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "render.shadow_resolution".into(),
+                value: r.shadow_resolution.to_string(),
+                allowed: "must be 256 to 8192".into(),
+            });
+        }
+        range(
+            "render.reflection_resolution",
+            r.reflection_resolution,
+            r.reflection_resolution > 0.05 && r.reflection_resolution <= 1.0,
+            "must be in (0.05, 1]",
+        )?;
+        range(
+            "render.fov_margin",
+            r.fov_margin,
+            (0.0..=2.0).contains(&r.fov_margin),
+            "must be in [0, 2]",
+        )?;
+        Ok(())
     }
 }
 
