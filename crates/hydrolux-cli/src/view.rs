@@ -340,6 +340,15 @@ impl Viewer {
             egui::Panel::left("scene").default_size(300.0).show(ui, |ui| self.panel(ui));
         });
         g.egui_state.handle_platform_output(&g.window, out.platform_output);
+        // The panel edits `self.scene` while the graphics are borrowed for
+        // this frame; hand the edit to the renderer now. A scene it cannot
+        // build (a missing mesh) stays an error and the old scene renders.
+        if g.renderer.scene() != &self.scene
+            && let Err(e) = g.renderer.set_scene(&self.scene)
+        {
+            self.error = Some(e.to_string());
+            self.scene = g.renderer.scene().clone();
+        }
         let jobs = g.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [g.config.width, g.config.height],

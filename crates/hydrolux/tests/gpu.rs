@@ -208,6 +208,35 @@ fn means_and_correlation(a: &[f32], b: &[f32]) -> (f32, f32, f32) {
     (ma, mb, cov / (var(a, ma) * var(b, mb)).sqrt())
 }
 
+/// What the viewer's panel does: editing the scene on a live renderer gives
+/// the same frame as a renderer made for the edited scene.
+#[test]
+fn editing_the_scene_live_gives_the_same_image_as_a_fresh_renderer() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let load = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        Scene::load("underwater", &sets).expect("test scene")
+    };
+    let base = load(&[]);
+    let size = (48, 32);
+    let edits: &[&[&str]] = &[
+        &["water.model=flat"],
+        &["water.model=sines", "godrays.method=march"],
+        &["render.shadow_resolution=512", "caustics.photons=128", "water.medium=coastal"],
+    ];
+    let mut live = renderer(&ctx, &base);
+    let target = HeadlessTarget::new(&ctx.device, size);
+    target.render(&mut live, base.camera(), 3.0);
+    for edit in edits {
+        let edited = load(edit);
+        live.set_scene(&edited).expect("valid edit");
+        let a = target.render(&mut live, edited.camera(), 3.0);
+        let mut fresh = renderer(&ctx, &edited);
+        let b = target.render(&mut fresh, edited.camera(), 3.0);
+        assert_eq!(a, b, "{edit:?}: the live renderer's frame differs from a fresh one");
+    }
+}
+
 #[test]
 fn same_inputs_give_the_same_image_and_the_tone_map_matches_cpu() {
     let s = scene(SMALL_OCEAN);
