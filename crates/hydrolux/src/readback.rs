@@ -7,6 +7,15 @@ use hydrolux_core::scene::WaterModel;
 use hydrolux_core::waves::SurfaceSample;
 
 impl Renderer {
+    /// An RGBA half-float texture's texels as f32, rows top to bottom.
+    fn read_rgba16f(&self, texture: &wgpu::Texture) -> Vec<[f32; 4]> {
+        let bytes = read_texture(self.device(), self.queue(), texture, 8);
+        let halves: &[u16] = bytemuck::cast_slice(&bytes);
+        let texel =
+            |c: &[u16]| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])];
+        halves.chunks_exact(4).map(texel).collect()
+    }
+
     /// The floor caustic map after the last frame or simulation step: M×M
     /// cells over the patch around the origin (row = z, col = x), in floor
     /// irradiance relative to the sun's irradiance on a plane facing it,
@@ -27,13 +36,7 @@ impl Renderer {
     /// upsampling), RGBA float, rows top to bottom; `None` before a frame.
     pub fn read_godrays(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
         let t = &self.targets.as_ref()?.godrays;
-        let bytes = read_texture(self.device(), self.queue(), &t.buffer, 8);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        let px = halves
-            .chunks_exact(4)
-            .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
-            .collect();
-        Some((t.size.0, t.size.1, px))
+        Some((t.size.0, t.size.1, self.read_rgba16f(&t.buffer)))
     }
 
     /// The beam tubes of the last frame (lines method): per photon, where it
@@ -52,11 +55,10 @@ impl Renderer {
     /// direction (xyz), flux (m², relative to the sun; 0 = no path), rgb
     /// tint (absorption inside), unused.
     pub fn read_object_paths(&self) -> Vec<[f32; 12]> {
-        self.techniques.godrays.pass.read_tubes(
-            self.device(),
-            self.queue(),
-            &self.techniques.water_objects.light.tubes,
-        )
+        let godrays = &self.techniques.godrays;
+        godrays.object_tubes.as_ref().map_or_else(Vec::new, |tubes| {
+            godrays.pass.read_tubes(self.device(), self.queue(), tubes)
+        })
     }
 
     /// The caustic of refractive objects after the last frame, in their
@@ -64,16 +66,8 @@ impl Renderer {
     /// there relative to the sun's on a plane facing it, and the depth of
     /// the surface it landed on.
     pub fn read_object_caustics(&self) -> (u32, Vec<[f32; 4]>) {
-        let bytes =
-            read_texture(self.device(), self.queue(), &self.techniques.water_objects.light.map, 8);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        (
-            self.techniques.water_objects.light.resolution,
-            halves
-                .chunks_exact(4)
-                .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
-                .collect(),
-        )
+        let light = &self.techniques.water_objects.light;
+        (light.resolution, self.read_rgba16f(&light.map))
     }
 
     /// The refractive objects' light view (world → clip) and its texels per
@@ -106,13 +100,7 @@ impl Renderer {
     /// tone map), RGBA float, rows top to bottom.
     pub fn read_hdr(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
         let t = self.targets.as_ref()?;
-        let bytes = read_texture(self.device(), self.queue(), &t.hdr, 8);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        let px = halves
-            .chunks_exact(4)
-            .map(|c| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])])
-            .collect();
-        Some((t.size.0, t.size.1, px))
+        Some((t.size.0, t.size.1, self.read_rgba16f(&t.hdr)))
     }
 
     /// The FFT fields of every cascade after the last simulation step (see

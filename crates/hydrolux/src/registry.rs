@@ -8,8 +8,10 @@
 use crate::passes::{
     caustics, geometry, godrays, mips, probe, sky, surface, tonemap, water, water_object,
 };
-use crate::technique::Technique;
+use crate::renderer::RenderError;
+use crate::technique::{Shared, Technique};
 use crate::uniforms::Layout;
+use hydrolux_core::scene::Scene;
 
 /// One technique's offline description (read by the offline checks, the
 /// registry's tests, and by `hydrolux info` for the names).
@@ -31,6 +33,30 @@ macro_rules! registry {
         }
 
         impl Techniques {
+            /// Build every technique for `scene`, in registry order, and
+            /// link them.
+            pub fn new(shared: &Shared, scene: &Scene) -> Result<Self, RenderError> {
+                let mut t = Techniques { $($field: <$ty as Technique>::create(shared, scene)?),* };
+                t.connect(shared);
+                Ok(t)
+            }
+
+            /// The scene was edited; returns whether a resource the shared
+            /// bind groups hold was replaced.
+            pub fn set_scene(
+                &mut self,
+                shared: &Shared,
+                old: &Scene,
+                new: &Scene,
+            ) -> Result<bool, RenderError> {
+                let mut rebind = false;
+                for t in self.each_mut() {
+                    rebind |= t.set_scene(shared, old, new)?;
+                }
+                self.connect(shared);
+                Ok(rebind)
+            }
+
             /// Each technique, in frame order.
             pub fn each_mut(&mut self) -> Vec<&mut dyn Technique> {
                 vec![$(&mut self.$field as &mut dyn Technique),*]
@@ -64,6 +90,18 @@ registry! {
     water: water::WaterPass => water::INFO,
     godrays: godrays::GodRays => godrays::INFO,
     tonemap: tonemap::TonemapPass => tonemap::INFO,
+}
+
+impl Techniques {
+    /// Links between techniques: what one writes and another reads. The
+    /// god rays draw the refractive objects' paths (their buffer belongs to
+    /// the water objects, which write it) into the fog.
+    fn connect(&mut self, shared: &Shared) {
+        let light = &self.water_objects.light;
+        let tubes =
+            self.godrays.pass.bind_tubes(&shared.device, light.tubes.clone(), light.resolution);
+        self.godrays.object_tubes = Some(tubes);
+    }
 }
 
 /// The names of the renderer's techniques, in frame order.

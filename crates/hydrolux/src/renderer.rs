@@ -5,17 +5,10 @@
 //! (see ARCHITECTURE.md).
 
 use crate::gpu_util::*;
-use crate::passes::caustics::Caustics;
-use crate::passes::geometry::{Geometry, GeometryPass, ShadowMap, Winding};
-use crate::passes::godrays::GodRays;
+use crate::passes::geometry::{GeometryPass, Winding};
 use crate::passes::mips::Downsampler;
 use crate::passes::ocean::OceanTooLarge;
 use crate::passes::probe::ProbePass;
-use crate::passes::sky::SkyPass;
-use crate::passes::surface::Surface;
-use crate::passes::tonemap::TonemapPass;
-use crate::passes::water::WaterPass;
-use crate::passes::water_object::{WaterObjectPass, WaterObjects};
 use crate::plan::{FramePlan, World};
 use crate::registry::Techniques;
 use crate::targets::{TargetSettings, Targets};
@@ -56,7 +49,6 @@ struct GlobalSamplers {
 }
 
 pub struct Renderer {
-    pub(crate) target_format: wgpu::TextureFormat,
     pub(crate) shared: Shared,
     pub(crate) techniques: Techniques,
     pub(crate) bound: Bound,
@@ -186,6 +178,8 @@ impl Renderer {
         let shared = Shared {
             device: device.clone(),
             queue: queue.clone(),
+            target_format,
+            depth_format,
             layouts,
             frame_buffer,
             frame_only,
@@ -194,29 +188,14 @@ impl Renderer {
             geometry,
             views,
         };
+        let techniques = Techniques::new(&shared, scene)?;
         let l = &shared.layouts;
-        let sky = SkyPass::new(device, &shared.downsampler, &l.globals, depth_format);
-        let surface = Surface::new(&shared, scene)?;
-        let caustics = Caustics::new(&shared, scene);
-        let godrays = GodRays::new(&shared, scene);
-        let object_pass = WaterObjectPass::new(device, &l.globals, &l.frame_only, &shared.meshes);
-        let resolution = WaterObjects::resolution(&shared.geometry, scene);
-        let light = object_pass.create_light(device, &godrays.pass, resolution);
-        let water_objects = WaterObjects { pass: object_pass, light, current: false };
-        let water_inputs = WaterPass::inputs_layout(device);
-        let water = WaterPass::new(device, &l.globals, &l.surface, &water_inputs, depth_format);
-        let tonemap = TonemapPass::new(device, &l.globals, target_format);
-        let geometry = Geometry { shadow: ShadowMap::new(device, scene.render.shadow_resolution) };
-        let mut techniques =
-            Techniques { sky, surface, caustics, geometry, water_objects, water, godrays, tonemap };
-        techniques.godrays.object_tubes = Some(techniques.water_objects.light.tubes.clone());
         let probe = ProbePass::new(device, &l.globals, &l.surface);
         let bound = Bound {
             globals: Self::globals(&shared, &techniques, &samplers),
             surface: techniques.surface.group.clone(),
         };
         let mut r = Renderer {
-            target_format,
             shared,
             techniques,
             bound,
@@ -270,7 +249,7 @@ impl Renderer {
     }
 
     pub fn target_format(&self) -> wgpu::TextureFormat {
-        self.target_format
+        self.shared.target_format
     }
 
     pub fn scene(&self) -> &Scene {
@@ -279,36 +258,18 @@ impl Renderer {
 
     /// Switch to another scene (or an edited one): rebuilds only what changed.
     pub fn set_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
-        let (shared, t) = (&mut self.shared, &mut self.techniques);
-        let device = shared.device.clone();
-        if t.surface.outdated(scene) {
-            t.surface = Surface::new(shared, scene)?;
-            self.bound.surface = t.surface.group.clone();
-        }
+        let shared = &mut self.shared;
         if scene.floor != self.scene.floor
             || scene.objects != self.scene.objects
             || scene.base_dir != self.scene.base_dir
         {
-            shared.geometry = shared.meshes.upload(&device, &shared.queue, scene)?;
+            shared.geometry = shared.meshes.upload(&shared.device, &shared.queue, scene)?;
             self.targets = None;
         }
-        let mut globals_changed = t.caustics.resize(&device, scene);
-        let resolution = WaterObjects::resolution(&shared.geometry, scene);
-        if resolution != t.water_objects.light.resolution {
-            t.water_objects.light =
-                t.water_objects.pass.create_light(&device, &t.godrays.pass, resolution);
-            t.godrays.object_tubes = Some(t.water_objects.light.tubes.clone());
-            globals_changed = true;
-        }
-        t.water_objects.current = false;
-        if scene.render.shadow_resolution != t.geometry.shadow.resolution {
-            t.geometry.shadow = ShadowMap::new(&device, scene.render.shadow_resolution);
-            globals_changed = true;
-        }
-        if globals_changed {
+        if self.techniques.set_scene(&self.shared, &self.scene, scene)? {
             self.bound.globals = Self::globals(&self.shared, &self.techniques, &self.samplers);
         }
-        self.techniques.godrays.resize(&device, scene);
+        self.bound.surface = self.techniques.surface.group.clone();
         self.scene = scene.clone();
         self.last_plan = None;
         self.update_sky();

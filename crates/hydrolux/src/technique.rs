@@ -8,6 +8,7 @@
 use crate::passes::geometry::{GeometryPass, SceneGeometry, ViewSlot};
 use crate::passes::mips::Downsampler;
 use crate::plan::FramePlan;
+use crate::renderer::RenderError;
 use crate::targets::Targets;
 use crate::timing::GpuTimer;
 use hydrolux_core::scene::Scene;
@@ -76,6 +77,10 @@ pub(crate) struct Layouts {
 pub(crate) struct Shared {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
+    /// The caller's target format (the tone map writes it).
+    pub target_format: wgpu::TextureFormat,
+    /// The main view's depth-stencil format (the device's best).
+    pub depth_format: wgpu::TextureFormat,
     pub layouts: Layouts,
     /// The frame globals' uniform buffer (written once per frame from the plan).
     pub frame_buffer: wgpu::Buffer,
@@ -118,6 +123,24 @@ impl FrameContext<'_> {
 /// One technique of the frame. Every method has a default that does
 /// nothing, so a technique implements only the stages it takes part in.
 pub(crate) trait Technique {
+    /// Build it for `scene` (techniques are built in registry order, after
+    /// `Shared`; links between them are made in `Techniques::connect`).
+    fn create(shared: &Shared, scene: &Scene) -> Result<Self, RenderError>
+    where
+        Self: Sized;
+
+    /// The scene was edited: rebuild what depends on what changed. Returns
+    /// whether it replaced a resource that `Bound`'s groups hold. The
+    /// scene's meshes (`Shared::geometry`) are already the new ones.
+    fn set_scene(
+        &mut self,
+        _shared: &Shared,
+        _old: &Scene,
+        _new: &Scene,
+    ) -> Result<bool, RenderError> {
+        Ok(false)
+    }
+
     /// Write this frame's uniforms (the plan decided them).
     fn prepare(&mut self, _queue: &wgpu::Queue, _frame: &FrameContext) {}
 

@@ -353,6 +353,22 @@ impl Caustics {
 }
 
 impl Technique for Caustics {
+    fn create(
+        shared: &crate::technique::Shared,
+        scene: &hydrolux_core::scene::Scene,
+    ) -> Result<Self, crate::renderer::RenderError> {
+        Ok(Caustics::new(shared, scene))
+    }
+
+    fn set_scene(
+        &mut self,
+        shared: &crate::technique::Shared,
+        _old: &hydrolux_core::scene::Scene,
+        new: &hydrolux_core::scene::Scene,
+    ) -> Result<bool, crate::renderer::RenderError> {
+        Ok(self.resize(&shared.device, new))
+    }
+
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
         if let Some(c) = frame.plan.caustics.filter(|c| c.due) {
             self.pass.prepare(queue, &self.map, c.patch, c.depth);

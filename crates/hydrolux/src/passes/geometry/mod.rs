@@ -641,6 +641,27 @@ impl Geometry {
 }
 
 impl Technique for Geometry {
+    fn create(
+        shared: &crate::technique::Shared,
+        scene: &Scene,
+    ) -> Result<Self, crate::renderer::RenderError> {
+        Ok(Geometry { shadow: ShadowMap::new(&shared.device, scene.render.shadow_resolution) })
+    }
+
+    fn set_scene(
+        &mut self,
+        shared: &crate::technique::Shared,
+        _old: &Scene,
+        new: &Scene,
+    ) -> Result<bool, crate::renderer::RenderError> {
+        let resolution = new.render.shadow_resolution;
+        let changed = resolution != self.shadow.resolution;
+        if changed {
+            self.shadow = ShadowMap::new(&shared.device, resolution);
+        }
+        Ok(changed)
+    }
+
     fn record(
         &mut self,
         stage: Stage,

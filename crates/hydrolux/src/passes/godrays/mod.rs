@@ -84,6 +84,16 @@ pub struct GodRayTubes {
     draw_group: wgpu::BindGroup,
 }
 
+/// A buffer of `per_side`² tubes (`shaders/tube.wgsl`).
+pub fn tube_buffer(device: &wgpu::Device, per_side: u32) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("god-ray tubes"),
+        size: (per_side as u64).pow(2) * TUBE_BYTES,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
 /// What the god-ray buffer holds this frame.
 pub enum Shafts<'a> {
     /// A viewer in the water: the surface's photons as ribbons (lines), or the march.
@@ -289,12 +299,16 @@ impl GodRaysPass {
     }
 
     pub fn create_tubes(&self, device: &wgpu::Device, per_side: u32) -> GodRayTubes {
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("god-ray tubes"),
-            size: (per_side as u64).pow(2) * TUBE_BYTES,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        self.bind_tubes(device, tube_buffer(device, per_side), per_side)
+    }
+
+    /// Bind a tube buffer (`per_side`² tubes) that another technique writes.
+    pub fn bind_tubes(
+        &self,
+        device: &wgpu::Device,
+        buffer: wgpu::Buffer,
+        per_side: u32,
+    ) -> GodRayTubes {
         let group = |layout, label| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(label),
@@ -549,6 +563,23 @@ impl GodRays {
 }
 
 impl Technique for GodRays {
+    fn create(
+        shared: &crate::technique::Shared,
+        scene: &hydrolux_core::scene::Scene,
+    ) -> Result<Self, crate::renderer::RenderError> {
+        Ok(GodRays::new(shared, scene))
+    }
+
+    fn set_scene(
+        &mut self,
+        shared: &crate::technique::Shared,
+        _old: &hydrolux_core::scene::Scene,
+        new: &hydrolux_core::scene::Scene,
+    ) -> Result<bool, crate::renderer::RenderError> {
+        self.resize(&shared.device, new);
+        Ok(false)
+    }
+
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
         if let Some(g) = &frame.plan.godrays {
             self.pass.prepare(queue, &g.uniforms);

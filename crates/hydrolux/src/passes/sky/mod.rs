@@ -184,6 +184,14 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
 };
 
 impl Technique for SkyPass {
+    fn create(
+        shared: &crate::technique::Shared,
+        _scene: &hydrolux_core::scene::Scene,
+    ) -> Result<Self, crate::renderer::RenderError> {
+        let l = &shared.layouts;
+        Ok(SkyPass::new(&shared.device, &shared.downsampler, &l.globals, shared.depth_format))
+    }
+
     fn record(
         &mut self,
         stage: Stage,

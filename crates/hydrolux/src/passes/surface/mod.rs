@@ -306,6 +306,23 @@ impl Surface {
 }
 
 impl Technique for Surface {
+    fn create(shared: &Shared, scene: &Scene) -> Result<Self, RenderError> {
+        Surface::new(shared, scene)
+    }
+
+    fn set_scene(
+        &mut self,
+        shared: &Shared,
+        _old: &Scene,
+        new: &Scene,
+    ) -> Result<bool, RenderError> {
+        let outdated = self.outdated(new);
+        if outdated {
+            *self = Surface::new(shared, new)?;
+        }
+        Ok(outdated)
+    }
+
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
         self.write_uniforms(queue, frame.plan.time);
         self.ocean.prepare(queue, frame.plan.time);

@@ -124,6 +124,13 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
 };
 
 impl Technique for TonemapPass {
+    fn create(
+        shared: &crate::technique::Shared,
+        _scene: &hydrolux_core::scene::Scene,
+    ) -> Result<Self, crate::renderer::RenderError> {
+        Ok(TonemapPass::new(&shared.device, &shared.layouts.globals, shared.target_format))
+    }
+
     fn record(
         &mut self,
         stage: Stage,

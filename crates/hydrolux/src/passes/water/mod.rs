@@ -460,6 +460,15 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
 };
 
 impl Technique for WaterPass {
+    fn create(
+        shared: &crate::technique::Shared,
+        _scene: &hydrolux_core::scene::Scene,
+    ) -> Result<Self, crate::renderer::RenderError> {
+        let (device, l) = (&shared.device, &shared.layouts);
+        let inputs = WaterPass::inputs_layout(device);
+        Ok(WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format))
+    }
+
     fn draw(&self, stage: Stage, pass: &mut wgpu::RenderPass<'_>, frame: &FrameContext) {
         let plan = frame.plan;
         if !plan.has_water {

@@ -21,7 +21,6 @@ use crate::gpu_util::*;
 use crate::passes::geometry::{
     self, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,
 };
-use crate::passes::godrays::{GodRayTubes, GodRaysPass};
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
@@ -84,7 +83,9 @@ pub struct ObjectLight {
     pub map: wgpu::Texture,
     pub map_view: wgpu::TextureView,
     paths_group: wgpu::BindGroup,
-    pub tubes: GodRayTubes,
+    /// The paths as tubes (`resolution`² of them); the god rays draw them
+    /// into the fog.
+    pub tubes: wgpu::Buffer,
 }
 
 /// Camera-size targets: the back faces and a copy of the image behind.
@@ -272,12 +273,7 @@ impl WaterObjectPass {
 
     /// The light-view targets for `resolution`² paths (1 when there are no
     /// refractive objects: the map globals bind must exist).
-    pub fn create_light(
-        &self,
-        device: &wgpu::Device,
-        godrays: &GodRaysPass,
-        resolution: u32,
-    ) -> ObjectLight {
+    pub fn create_light(&self, device: &wgpu::Device, resolution: u32) -> ObjectLight {
         let k = (resolution, resolution);
         let att = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let view = |t: wgpu::Texture| t.create_view(&Default::default());
@@ -315,7 +311,7 @@ impl WaterObjectPass {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let tubes = godrays.create_tubes(device, resolution);
+        let tubes = crate::passes::godrays::tube_buffer(device, resolution);
         let tv = wgpu::BindingResource::TextureView;
         let paths_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("water object paths"),
@@ -325,7 +321,7 @@ impl WaterObjectPass {
                 wgpu::BindGroupEntry { binding: 1, resource: tv(&front_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: tv(&back_view) },
                 wgpu::BindGroupEntry { binding: 3, resource: tv(&scene_depth) },
-                wgpu::BindGroupEntry { binding: 4, resource: tubes.buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: tubes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 5, resource: accum.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: tv(&map_view) },
             ],
@@ -608,6 +604,31 @@ impl WaterObjects {
 }
 
 impl Technique for WaterObjects {
+    fn create(
+        shared: &crate::technique::Shared,
+        scene: &hydrolux_core::scene::Scene,
+    ) -> Result<Self, crate::renderer::RenderError> {
+        let (device, l) = (&shared.device, &shared.layouts);
+        let pass = WaterObjectPass::new(device, &l.globals, &l.frame_only, &shared.meshes);
+        let light = pass.create_light(device, Self::resolution(&shared.geometry, scene));
+        Ok(WaterObjects { pass, light, current: false })
+    }
+
+    fn set_scene(
+        &mut self,
+        shared: &crate::technique::Shared,
+        _old: &hydrolux_core::scene::Scene,
+        new: &hydrolux_core::scene::Scene,
+    ) -> Result<bool, crate::renderer::RenderError> {
+        self.current = false;
+        let resolution = Self::resolution(&shared.geometry, new);
+        let changed = resolution != self.light.resolution;
+        if changed {
+            self.light = self.pass.create_light(&shared.device, resolution);
+        }
+        Ok(changed)
+    }
+
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
         if let Some(o) = &frame.plan.object_light {
             self.pass.prepare(queue, &o.uniforms);
