@@ -81,52 +81,7 @@ impl Renderer {
         target_format: wgpu::TextureFormat,
         scene: &Scene,
     ) -> Result<Self, RenderError> {
-        let (vs, fs, cs) =
-            (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
-        let all = vs | fs | cs;
-        let globals = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("globals"),
-            entries: &[
-                uniform_entry(0, all),
-                uniform_entry(1, all),
-                texture_entry(2, all, wgpu::TextureViewDimension::Cube, true),
-                sampler_entry(3, all),
-                layout_entry(
-                    4,
-                    all,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
-                layout_entry(
-                    5,
-                    all,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                ),
-                texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
-                sampler_entry(7, all),
-                texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
-            ],
-        });
-        let frame_only = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("frame only"),
-            entries: &[uniform_entry(0, all)],
-        });
-        let surface = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("surface"),
-            entries: &[
-                uniform_entry(0, all),
-                texture_entry(1, all, wgpu::TextureViewDimension::D2Array, true),
-                texture_entry(2, all, wgpu::TextureViewDimension::D2Array, true),
-                texture_entry(3, all, wgpu::TextureViewDimension::D2Array, true),
-                sampler_entry(4, all),
-                sampler_entry(5, all),
-                texture_entry(6, all, wgpu::TextureViewDimension::D2, false),
-            ],
-        });
-        let layouts = Layouts { globals, frame_only, surface };
+        let layouts = Layouts::new(device);
         let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
         let samplers = GlobalSamplers {
             sky: device.create_sampler(&wgpu::SamplerDescriptor {

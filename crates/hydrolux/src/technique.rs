@@ -5,6 +5,7 @@
 //! read from each other is in [`Shared`] (created once) and [`Bound`] (the
 //! bind groups that join resources several techniques write).
 
+use crate::gpu_util::*;
 use crate::passes::geometry::{GeometryPass, SceneGeometry, ViewSlot};
 use crate::passes::mips::Downsampler;
 use crate::plan::FramePlan;
@@ -71,6 +72,57 @@ pub(crate) struct Layouts {
     pub frame_only: wgpu::BindGroupLayout,
     /// The water surface (whichever model makes it).
     pub surface: wgpu::BindGroupLayout,
+}
+
+impl Layouts {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let (vs, fs, cs) =
+            (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
+        let all = vs | fs | cs;
+        let globals = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals"),
+            entries: &[
+                uniform_entry(0, all),
+                uniform_entry(1, all),
+                texture_entry(2, all, wgpu::TextureViewDimension::Cube, true),
+                sampler_entry(3, all),
+                layout_entry(
+                    4,
+                    all,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
+                layout_entry(
+                    5,
+                    all,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                ),
+                texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
+                sampler_entry(7, all),
+                texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
+            ],
+        });
+        let frame_only = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame only"),
+            entries: &[uniform_entry(0, all)],
+        });
+        let surface = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("surface"),
+            entries: &[
+                uniform_entry(0, all),
+                texture_entry(1, all, wgpu::TextureViewDimension::D2Array, true),
+                texture_entry(2, all, wgpu::TextureViewDimension::D2Array, true),
+                texture_entry(3, all, wgpu::TextureViewDimension::D2Array, true),
+                sampler_entry(4, all),
+                sampler_entry(5, all),
+                texture_entry(6, all, wgpu::TextureViewDimension::D2, false),
+            ],
+        });
+        Layouts { globals, frame_only, surface }
+    }
 }
 
 /// What is created once and read by several techniques.
