@@ -1,9 +1,11 @@
-//! One module per pass, in frame order: ocean (simulate) → sky (bake) →
-//! caustics → geometry (shadow map, offscreen reflection/refraction views) →
-//! water (medium classification) → sky background, geometry and water in the
-//! main view → god rays → refractive objects (water_object, which also
-//! works from the light before the main view) → tonemap (or a debug view); probe answers queries outside the
-//! frame.
+//! One folder per technique (see `registry.rs` for their frame order and
+//! `technique.rs` for what each implements): sky (bake, background) →
+//! surface (the FFT ocean in `ocean`, sines, heightfields) → caustics →
+//! geometry (shadow map, reflection/refraction views, the scene in the main
+//! view) → water objects (light paths; drawn from the camera after the god
+//! rays) → water (medium classification, surface) → god rays → tonemap (or a
+//! debug view). `probe` answers queries outside the frame; `mips` builds mip
+//! chains for the others.
 
 pub mod caustics;
 pub mod geometry;
