@@ -14,6 +14,7 @@
 //! ```
 
 pub mod context;
+pub(crate) mod error;
 pub(crate) mod gpu_util;
 pub mod headless;
 pub(crate) mod history;
@@ -29,7 +30,8 @@ pub(crate) mod timing;
 pub(crate) mod uniforms;
 
 pub use context::{ContextError, GpuContext};
+pub use error::{OceanTooLarge, RenderError};
 pub use hydrolux_core as core;
 pub use registry::technique_names;
-pub use renderer::{FrameInput, RenderError, Renderer, largest_ocean_resolution};
+pub use renderer::{FrameInput, Renderer, largest_ocean_resolution};
 pub use wgpu;

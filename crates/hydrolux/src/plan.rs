@@ -4,16 +4,13 @@
 //! renderer then uploads what the plan says and records the passes it lists;
 //! nothing is decided twice. Pure CPU code, unit-tested without a GPU.
 
-use crate::passes::caustics::FrameCaustics;
-use crate::passes::godrays::{FrameVolume, GodRayUniforms};
+use crate::passes::godrays::GodRayUniforms;
 use crate::passes::water;
-use crate::passes::water_object::{
-    FIXED_POINT_SCALE, FrameObjects, MARCH_STEPS, ObjectLightUniforms,
-};
+use crate::passes::water_object::{FIXED_POINT_SCALE, MARCH_STEPS, ObjectLightUniforms};
 use crate::targets::{REFRACTION_MARGIN, STENCIL_AIR, STENCIL_WATER};
 use crate::uniforms::{
-    FrameFog, FrameLight, FrameModes, FrameProjective, FrameShadow, FrameSurface, FrameUniforms,
-    FrameView, FrameWater,
+    FrameCaustics, FrameFog, FrameLight, FrameModes, FrameObjects, FrameProjective, FrameShadow,
+    FrameSurface, FrameUniforms, FrameView, FrameVolume, FrameWater,
 };
 use glam::{Mat4, Vec3};
 use hydrolux_core::camera::Camera;

@@ -2,28 +2,16 @@
 //! [`registry!`] below declares it: the renderer holds it by that name,
 //! walks it in this order for every stage of a frame (`Technique`), and the
 //! offline checks validate its shaders and uniform layouts (`TechniqueInfo`).
-//! The passes import only the shader resolver and the uniform macro, not
-//! the renderer (no import circle).
+//! The passes import the shader resolver, the uniform types and the trait;
+//! neither the resolver nor the uniforms import a pass, and no pass imports
+//! the renderer.
 
+use crate::error::RenderError;
 use crate::passes::{
     caustics, geometry, godrays, mips, probe, sky, surface, tonemap, water, water_object,
 };
-use crate::renderer::RenderError;
-use crate::technique::{Shared, Technique};
-use crate::uniforms::Layout;
+use crate::technique::{Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
-
-/// One technique's offline description (read by the offline checks, the
-/// registry's tests, and by `hydrolux info` for the names).
-pub(crate) struct TechniqueInfo {
-    pub name: &'static str,
-    /// (label, composed WGSL) of every shader it builds.
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub shaders: fn() -> Vec<(String, String)>,
-    /// Its uniform structs and the shader each is checked against.
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub uniforms: fn() -> Vec<Layout>,
-}
 
 macro_rules! registry {
     ($($field:ident: $ty:ty => $info:path),* $(,)?) => {
@@ -74,7 +62,7 @@ macro_rules! registry {
         /// them (the frame globals, probes, mip chains).
         pub(crate) const TECHNIQUES: &[TechniqueInfo] = &[
             $($info,)*
-            crate::uniforms::INFO,
+            FRAME_INFO,
             probe::INFO,
             mips::INFO,
         ];
@@ -91,6 +79,26 @@ registry! {
     godrays: godrays::GodRays => godrays::INFO,
     tonemap: tonemap::TonemapPass => tonemap::INFO,
 }
+
+/// The frame globals, checked against the water shader (which imports them).
+const FRAME_INFO: TechniqueInfo = TechniqueInfo {
+    name: "frame",
+    shaders: Vec::new,
+    uniforms: || {
+        let src = crate::passes::water::source;
+        vec![
+            crate::uniforms::Layout::of::<crate::uniforms::FrameUniforms>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameView>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameLight>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameWater>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameSurface>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameProjective>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameShadow>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameFog>(src()),
+            crate::uniforms::Layout::of::<crate::uniforms::FrameModes>(src()),
+        ]
+    },
+};
 
 impl Techniques {
     /// Links between techniques: what one writes and another reads. The

@@ -4,10 +4,10 @@
 //! technique's uniforms) and records every stage by walking the techniques
 //! (see ARCHITECTURE.md).
 
+pub use crate::error::RenderError;
 use crate::gpu_util::*;
 use crate::passes::geometry::{GeometryPass, Winding};
 use crate::passes::mips::Downsampler;
-use crate::passes::ocean::OceanTooLarge;
 use crate::passes::probe::ProbePass;
 use crate::plan::{FramePlan, World};
 use crate::registry::Techniques;
@@ -17,20 +17,9 @@ use crate::timing::GpuTimer;
 use crate::uniforms::FrameUniforms;
 use hydrolux_core::camera::Camera;
 use hydrolux_core::clock::SimulationClock;
-use hydrolux_core::geometry::load::AssetError;
 use hydrolux_core::projective::ClipPlane;
 use hydrolux_core::scene::Scene;
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
-
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    #[error(transparent)]
-    OceanTooLarge(#[from] OceanTooLarge),
-    #[error(transparent)]
-    Asset(#[from] AssetError),
-    #[error("cannot update the heightfield: {0}")]
-    Heightfield(String),
-}
 
 /// What one frame needs beyond the scene: where to draw, and when.
 pub struct FrameInput<'a> {

@@ -5,11 +5,11 @@
 //! read from each other is in [`Shared`] (created once) and [`Bound`] (the
 //! bind groups that join resources several techniques write).
 
+use crate::error::RenderError;
 use crate::gpu_util::*;
 use crate::passes::geometry::{GeometryPass, SceneGeometry, ViewSlot};
 use crate::passes::mips::Downsampler;
 use crate::plan::FramePlan;
-use crate::renderer::RenderError;
 use crate::targets::Targets;
 use crate::timing::GpuTimer;
 use hydrolux_core::scene::Scene;
@@ -228,4 +228,16 @@ pub(crate) trait Technique {
         _clock_dt: f64,
     ) {
     }
+}
+
+/// One technique's offline description (read by the offline checks, the
+/// registry's tests, and by `hydrolux info` for the names).
+pub(crate) struct TechniqueInfo {
+    pub name: &'static str,
+    /// (label, composed WGSL) of every shader it builds.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub shaders: fn() -> Vec<(String, String)>,
+    /// Its uniform structs and the shader each is checked against.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub uniforms: fn() -> Vec<crate::uniforms::Layout>,
 }

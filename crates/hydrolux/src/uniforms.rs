@@ -197,9 +197,47 @@ uniform! { FrameModes;
     }
 }
 
-use crate::passes::caustics::FrameCaustics;
-use crate::passes::godrays::FrameVolume;
-use crate::passes::water_object::FrameObjects;
+uniform! { FrameCaustics;
+    /// The caustics' part of the frame globals (shaders/frame.wgsl): what
+    /// receivers need to read the layers.
+    pub(crate) struct FrameCaustics {
+        /// Patch the maps tile (m); x = 0 when caustics are off.
+        pub patch_size: [f32; 2],
+        /// The floor depth the layers reach (m).
+        pub floor_depth: f32,
+        /// 1 / the map's value under flat water.
+        pub inv_flat_value: f32,
+    }
+}
+
+uniform! { FrameVolume;
+    /// The god rays' part of the frame globals (shaders/frame.wgsl).
+    pub(crate) struct FrameVolume {
+        /// Distance from the eye (m) within which god rays replace the
+        /// uniform sun in-scattering (0: no god rays this frame).
+        pub godray_distance: f32,
+        /// 1 when this pass marches the sun's light in the fog this frame.
+        pub fog_marched: u32,
+        /// How far (m) along refracted paths seen from above the water
+        /// shaders march god rays (0: not this frame).
+        pub shafts_from_above: f32,
+        pub _pad0: f32,
+    }
+}
+
+uniform! { FrameObjects;
+    /// The refractive objects' part of the frame globals (shaders/frame.wgsl).
+    pub(crate) struct FrameObjects {
+        /// Their light view (world → clip, orthographic along the sun).
+        pub light_view_proj: [[f32; 4]; 4],
+        /// 1 when they bend the sunlight (their caustic map is in use).
+        pub enabled: u32,
+        /// Depth tolerance of a receiver in that view.
+        pub depth_tolerance: f32,
+        pub _pad0: f32,
+        pub _pad1: f32,
+    }
+}
 
 uniform! { Frame;
     /// WGSL `Frame` (shaders/frame.wgsl): group 0, binding 0 of every render pass.
@@ -294,23 +332,3 @@ core_uniform!(
     hydrolux_core::waves::ocean::SpectrumMode,
     [h0, h0_minus_conj, kx, kz, omega_cycles, _pad,]
 );
-
-/// The frame globals, checked against the water shader (which imports them).
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
-    name: "frame",
-    shaders: Vec::new,
-    uniforms: || {
-        let src = crate::passes::water::source;
-        vec![
-            Layout::of::<FrameUniforms>(src()),
-            Layout::of::<FrameView>(src()),
-            Layout::of::<FrameLight>(src()),
-            Layout::of::<FrameWater>(src()),
-            Layout::of::<FrameSurface>(src()),
-            Layout::of::<FrameProjective>(src()),
-            Layout::of::<FrameShadow>(src()),
-            Layout::of::<FrameFog>(src()),
-            Layout::of::<FrameModes>(src()),
-        ]
-    },
-};

@@ -104,7 +104,7 @@ pub(crate) fn source() -> String {
     shaders::compose("", "#import downsample")
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "mips",
     shaders: || vec![("downsample".to_string(), source())],
     uniforms: Vec::new,

@@ -31,19 +31,6 @@ crate::uniforms::uniform! { CausticParams;
     }
 }
 
-crate::uniforms::uniform! { FrameCaustics;
-    /// The caustics' part of the frame globals (shaders/frame.wgsl): what
-    /// receivers need to read the layers.
-    pub(crate) struct FrameCaustics {
-        /// Patch the maps tile (m); x = 0 when caustics are off.
-        pub patch_size: [f32; 2],
-        /// The floor depth the layers reach (m).
-        pub floor_depth: f32,
-        /// 1 / the map's value under flat water.
-        pub inv_flat_value: f32,
-    }
-}
-
 /// The map and its accumulator for one photon count and map size.
 pub struct CausticMap {
     pub photons_per_side: u32,
@@ -304,7 +291,7 @@ impl CausticsPass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "caustics",
     shaders: || {
         vec![("caustics".to_string(), source()), ("caustics/beam".to_string(), beam_source())]
@@ -314,7 +301,7 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
         vec![
             Layout::of::<CausticUniforms>(source()),
             Layout::of::<CausticUniforms>(beam_source()).named("BeamParams"),
-            Layout::of::<FrameCaustics>(source()),
+            Layout::of::<crate::uniforms::FrameCaustics>(source()),
         ]
     },
 };
@@ -356,7 +343,7 @@ impl Technique for Caustics {
     fn create(
         shared: &crate::technique::Shared,
         scene: &hydrolux_core::scene::Scene,
-    ) -> Result<Self, crate::renderer::RenderError> {
+    ) -> Result<Self, crate::error::RenderError> {
         Ok(Caustics::new(shared, scene))
     }
 
@@ -365,7 +352,7 @@ impl Technique for Caustics {
         shared: &crate::technique::Shared,
         _old: &hydrolux_core::scene::Scene,
         new: &hydrolux_core::scene::Scene,
-    ) -> Result<bool, crate::renderer::RenderError> {
+    ) -> Result<bool, crate::error::RenderError> {
         Ok(self.resize(&shared.device, new))
     }
 

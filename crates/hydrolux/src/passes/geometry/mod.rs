@@ -512,7 +512,7 @@ fn upload_rgba8(
     texture.create_view(&Default::default())
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "geometry",
     shaders: || {
         vec![("geometry".to_string(), source()), ("geometry/shadow".to_string(), shadow_source())]
@@ -644,7 +644,7 @@ impl Technique for Geometry {
     fn create(
         shared: &crate::technique::Shared,
         scene: &Scene,
-    ) -> Result<Self, crate::renderer::RenderError> {
+    ) -> Result<Self, crate::error::RenderError> {
         Ok(Geometry { shadow: ShadowMap::new(&shared.device, scene.render.shadow_resolution) })
     }
 
@@ -653,7 +653,7 @@ impl Technique for Geometry {
         shared: &crate::technique::Shared,
         _old: &Scene,
         new: &Scene,
-    ) -> Result<bool, crate::renderer::RenderError> {
+    ) -> Result<bool, crate::error::RenderError> {
         let resolution = new.render.shadow_resolution;
         let changed = resolution != self.shadow.resolution;
         if changed {

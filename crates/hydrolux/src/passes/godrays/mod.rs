@@ -56,21 +56,6 @@ crate::uniforms::uniform! { GodRayParams;
     }
 }
 
-crate::uniforms::uniform! { FrameVolume;
-    /// The god rays' part of the frame globals (shaders/frame.wgsl).
-    pub(crate) struct FrameVolume {
-        /// Distance from the eye (m) within which god rays replace the
-        /// uniform sun in-scattering (0: no god rays this frame).
-        pub godray_distance: f32,
-        /// 1 when this pass marches the sun's light in the fog this frame.
-        pub fog_marched: u32,
-        /// How far (m) along refracted paths seen from above the water
-        /// shaders march god rays (0: not this frame).
-        pub shafts_from_above: f32,
-        pub _pad0: f32,
-    }
-}
-
 /// WGSL `Tube` (shaders/tube.wgsl): 48 bytes per path.
 pub const TUBE_BYTES: u64 = 48;
 
@@ -511,7 +496,7 @@ impl GodRaysPass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "godrays",
     shaders: || {
         vec![
@@ -525,7 +510,7 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
         use crate::uniforms::Layout;
         vec![
             Layout::of::<GodRayUniforms>(ribbons_source()),
-            Layout::of::<FrameVolume>(ribbons_source()),
+            Layout::of::<crate::uniforms::FrameVolume>(ribbons_source()),
             Layout::sized("Tube", ribbons_source(), TUBE_BYTES as usize),
         ]
     },
@@ -566,7 +551,7 @@ impl Technique for GodRays {
     fn create(
         shared: &crate::technique::Shared,
         scene: &hydrolux_core::scene::Scene,
-    ) -> Result<Self, crate::renderer::RenderError> {
+    ) -> Result<Self, crate::error::RenderError> {
         Ok(GodRays::new(shared, scene))
     }
 
@@ -575,7 +560,7 @@ impl Technique for GodRays {
         shared: &crate::technique::Shared,
         _old: &hydrolux_core::scene::Scene,
         new: &hydrolux_core::scene::Scene,
-    ) -> Result<bool, crate::renderer::RenderError> {
+    ) -> Result<bool, crate::error::RenderError> {
         self.resize(&shared.device, new);
         Ok(false)
     }

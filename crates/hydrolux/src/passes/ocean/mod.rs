@@ -6,6 +6,7 @@
 //! `hydrolux_core::waves::ocean`.
 
 use super::mips::{Downsampler, MipChain, storage_array_texture};
+use crate::error::OceanTooLarge;
 use crate::gpu_util::*;
 use crate::shaders;
 use crate::timing::GpuTimer;
@@ -38,18 +39,6 @@ pub fn fft_source(n: u32) -> String {
 /// Bytes of the FFT working buffer: 2 vec4 planes per cascade.
 pub fn fields_bytes(n: u32, cascades: u32) -> u64 {
     n as u64 * n as u64 * cascades as u64 * 2 * 16
-}
-
-#[derive(Debug, thiserror::Error)]
-#[error(
-    "ocean.resolution = {n} with {cascades} cascades needs a {need_mib} MiB GPU buffer, but this device allows {max_mib} MiB: \
-     lower ocean.resolution or ocean.cascades"
-)]
-pub struct OceanTooLarge {
-    pub n: u32,
-    pub cascades: u32,
-    pub need_mib: u64,
-    pub max_mib: u64,
 }
 
 /// The ocean's textures, sampled by every pass that draws the surface.
@@ -300,7 +289,7 @@ impl OceanPass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "ocean",
     shaders: || {
         let mut v = vec![

@@ -135,7 +135,7 @@ impl ProbePass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "probe",
     shaders: || vec![("probe".to_string(), source())],
     uniforms: Vec::new,

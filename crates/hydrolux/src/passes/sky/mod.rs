@@ -172,7 +172,7 @@ impl SkyPass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "sky",
     shaders: || {
         vec![
@@ -187,7 +187,7 @@ impl Technique for SkyPass {
     fn create(
         shared: &crate::technique::Shared,
         _scene: &hydrolux_core::scene::Scene,
-    ) -> Result<Self, crate::renderer::RenderError> {
+    ) -> Result<Self, crate::error::RenderError> {
         let l = &shared.layouts;
         Ok(SkyPass::new(&shared.device, &shared.downsampler, &l.globals, shared.depth_format))
     }

@@ -5,9 +5,9 @@
 //! and what the frame plan needs to know of it (reach, unresolved slopes,
 //! whether it moves by itself).
 
+use crate::error::RenderError;
 use crate::gpu_util::*;
 use crate::passes::ocean::OceanPass;
-use crate::renderer::RenderError;
 use crate::technique::{FrameContext, Shared, Stage, Technique};
 use crate::timing::GpuTimer;
 use crate::uniforms::SurfaceUniforms;
@@ -342,5 +342,5 @@ impl Technique for Surface {
 }
 
 /// The surface's GPU work is the ocean's FFT: its shaders and uniforms.
-pub(crate) const INFO: crate::registry::TechniqueInfo =
-    crate::registry::TechniqueInfo { name: "surface", ..crate::passes::ocean::INFO };
+pub(crate) const INFO: crate::technique::TechniqueInfo =
+    crate::technique::TechniqueInfo { name: "surface", ..crate::passes::ocean::INFO };

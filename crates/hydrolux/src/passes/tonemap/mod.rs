@@ -112,7 +112,7 @@ impl TonemapPass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "tonemap",
     shaders: || {
         vec![
@@ -127,7 +127,7 @@ impl Technique for TonemapPass {
     fn create(
         shared: &crate::technique::Shared,
         _scene: &hydrolux_core::scene::Scene,
-    ) -> Result<Self, crate::renderer::RenderError> {
+    ) -> Result<Self, crate::error::RenderError> {
         Ok(TonemapPass::new(&shared.device, &shared.layouts.globals, shared.target_format))
     }
 

@@ -453,7 +453,7 @@ impl WaterPass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "water",
     shaders: || vec![("water".to_string(), source())],
     uniforms: || vec![crate::uniforms::Layout::of::<crate::uniforms::SurfaceUniforms>(source())],
@@ -463,7 +463,7 @@ impl Technique for WaterPass {
     fn create(
         shared: &crate::technique::Shared,
         _scene: &hydrolux_core::scene::Scene,
-    ) -> Result<Self, crate::renderer::RenderError> {
+    ) -> Result<Self, crate::error::RenderError> {
         let (device, l) = (&shared.device, &shared.layouts);
         let inputs = WaterPass::inputs_layout(device);
         Ok(WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format))

@@ -58,20 +58,6 @@ crate::uniforms::uniform! { ObjectLightParams;
     }
 }
 
-crate::uniforms::uniform! { FrameObjects;
-    /// The refractive objects' part of the frame globals (shaders/frame.wgsl).
-    pub(crate) struct FrameObjects {
-        /// Their light view (world → clip, orthographic along the sun).
-        pub light_view_proj: [[f32; 4]; 4],
-        /// 1 when they bend the sunlight (their caustic map is in use).
-        pub enabled: u32,
-        /// Depth tolerance of a receiver in that view.
-        pub depth_tolerance: f32,
-        pub _pad0: f32,
-        pub _pad1: f32,
-    }
-}
-
 /// The light-view targets for one resolution, and the paths' tubes.
 pub struct ObjectLight {
     pub resolution: u32,
@@ -569,7 +555,7 @@ impl WaterObjectPass {
     }
 }
 
-pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::TechniqueInfo {
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "water_objects",
     shaders: || {
         vec![
@@ -582,7 +568,7 @@ pub(crate) const INFO: crate::registry::TechniqueInfo = crate::registry::Techniq
         use crate::uniforms::Layout;
         vec![
             Layout::of::<ObjectLightUniforms>(paths_source()),
-            Layout::of::<FrameObjects>(paths_source()),
+            Layout::of::<crate::uniforms::FrameObjects>(paths_source()),
         ]
     },
 };
@@ -607,7 +593,7 @@ impl Technique for WaterObjects {
     fn create(
         shared: &crate::technique::Shared,
         scene: &hydrolux_core::scene::Scene,
-    ) -> Result<Self, crate::renderer::RenderError> {
+    ) -> Result<Self, crate::error::RenderError> {
         let (device, l) = (&shared.device, &shared.layouts);
         let pass = WaterObjectPass::new(device, &l.globals, &l.frame_only, &shared.meshes);
         let light = pass.create_light(device, Self::resolution(&shared.geometry, scene));
@@ -619,7 +605,7 @@ impl Technique for WaterObjects {
         shared: &crate::technique::Shared,
         _old: &hydrolux_core::scene::Scene,
         new: &hydrolux_core::scene::Scene,
-    ) -> Result<bool, crate::renderer::RenderError> {
+    ) -> Result<bool, crate::error::RenderError> {
         self.current = false;
         let resolution = Self::resolution(&shared.geometry, new);
         let changed = resolution != self.light.resolution;
