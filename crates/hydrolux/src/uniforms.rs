@@ -5,9 +5,9 @@
 //! missing pad fail, not only a size change.
 //!
 //! The per-frame globals (`Frame`, shaders/frame.wgsl) are one struct per
-//! concern; the parts a technique decides are declared in its folder
-//! (`FrameCaustics` in passes/caustics, `FrameVolume` in passes/godrays, …)
-//! and the frame plan fills them (`plan.rs`).
+//! concern, all declared here (so that no pass is imported to build the
+//! frame) and filled by the frame plan (`plan.rs`); techniques declare their
+//! own uniform structs in their folders.
 
 // The layout records are read by the offline checks (registry's tests) only.
 #![cfg_attr(not(test), allow(dead_code))]
