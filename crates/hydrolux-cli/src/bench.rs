@@ -17,7 +17,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub size: crate::SizeArgs,
     /// Frames to measure (after 3 warm-up frames).
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = 60, allow_negative_numbers = true)]
     pub frames: u32,
     /// Print one JSON object instead of a table.
     #[arg(long)]

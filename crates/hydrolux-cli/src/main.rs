@@ -39,9 +39,9 @@ pub struct SceneArgs {
 /// Output size, shared by every command that draws.
 #[derive(Args, Clone, Copy)]
 pub struct SizeArgs {
-    #[arg(long, default_value_t = 1280)]
+    #[arg(long, default_value_t = 1280, allow_negative_numbers = true)]
     pub width: u32,
-    #[arg(long, default_value_t = 720)]
+    #[arg(long, default_value_t = 720, allow_negative_numbers = true)]
     pub height: u32,
 }
 
@@ -113,7 +113,23 @@ fn scenes() {
 }
 
 fn main() {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // Help and version go to stdout as clap writes them.
+        Err(e) if !e.use_stderr() => e.exit(),
+        // Bad arguments: one line naming the option (and clap's tip, such
+        // as a similar option's name), exit 1, like every other bad input.
+        Err(e) => {
+            let text = e.to_string();
+            let parts: Vec<&str> = text
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty() && !l.starts_with("Usage:") && !l.starts_with("For more"))
+                .collect();
+            eprintln!("error: {}", parts.join("; ").trim_start_matches("error: "));
+            std::process::exit(1);
+        }
+    };
     let result = match cli.command {
         Command::Render(a) => render::run(a),
         Command::View(a) => view::run(a),

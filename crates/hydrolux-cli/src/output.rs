@@ -39,6 +39,14 @@ pub fn format_of(path: &Path, allowed: &[Format], what: &str) -> Result<Format> 
 }
 
 /// Fail early if `path` cannot be written (missing folder, not a folder, read-only).
+/// What identifies the file `path` names, whatever the spelling
+/// (`./x.npy`, `dir/../x.npy`): its folder made canonical, and its name.
+pub fn same_file_key(path: &Path) -> PathBuf {
+    let dir = parent_dir(path);
+    let dir = std::fs::canonicalize(&dir).unwrap_or(dir);
+    dir.join(path.file_name().unwrap_or_default())
+}
+
 pub fn check_writable(path: &Path) -> Result<()> {
     let dir = parent_dir(path);
     if !dir.is_dir() {

@@ -19,13 +19,13 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub size: crate::SizeArgs,
     /// Simulation time of the (first) frame, seconds.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub time: f64,
     /// Number of frames; more than one writes OUT_0000.png, OUT_0001.png, …
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub frames: u32,
     /// Frames per second of simulated time in a sequence.
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     pub fps: f64,
     /// Write an internal buffer: KIND=FILE.npy|FILE.exr with KIND one of height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics. Repeatable.
     #[arg(long = "dump", value_name = "KIND=FILE")]
@@ -58,6 +58,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
     output::check_writable(&a.out)?;
     for d in &dumps {
         output::check_writable(&d.path)?;
+    }
+    // Two outputs to one file: the second would silently replace the first.
+    let mut outputs = vec![(format!("--out {}", a.out.display()), output::same_file_key(&a.out))];
+    for (d, text) in dumps.iter().zip(&a.dump) {
+        let key = output::same_file_key(&d.path);
+        if let Some((first, _)) = outputs.iter().find(|(_, k)| *k == key) {
+            bail!("--dump {text}: the same file as {first}; give each output its own file");
+        }
+        outputs.push((format!("--dump {text}"), key));
     }
     let scene = a.scene.load()?;
     for d in &dumps {

@@ -101,6 +101,15 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--scene", "unknown_builtin_mesh.toml"], "cannot load mesh builtin:teapot"),
         (&["render", "--set", "godrays.method=off", "--dump", "godrays=g.npy"], "god rays are off"),
         (&["render", "--dump", "object_caustics=o.npy"], "no refractive object"),
+        (&["render", "--out", "x.exr", "--dump", "hdr=./x.exr"], "the same file as --out x.exr"),
+        (
+            &["render", "--dump", "hdr=h.npy", "--dump", "height=h.npy"],
+            "--dump height=h.npy: the same file as --dump hdr=h.npy",
+        ),
+        (&["render", "--width", "-1"], "'--width <WIDTH>'"),
+        (&["render", "--widht", "3"], "a similar argument exists: '--width'"),
+        (&["render", "--frames", "-2"], "'--frames <FRAMES>'"),
+        (&["render", "--set", "air.fog_g=1"], "open interval (-1, 1)"),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);
@@ -126,6 +135,18 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         ],
         "files were written: {left:?}"
     );
+}
+
+#[test]
+fn a_negative_time_is_a_time_in_either_spelling() {
+    let dir = scratch("negative-time");
+    for args in [&["--time", "-1.5"][..], &["--time=-1.5"][..]] {
+        let mut all = vec!["render", "--width", "16", "--height", "16", "--out", "t.png"];
+        all.extend_from_slice(args);
+        let (code, err) = hydrolux(&all, &dir);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(dir.join("t.png").is_file());
+    }
 }
 
 #[test]

@@ -443,7 +443,12 @@ impl AirDesc {
     pub fn validate(&self) -> Result<(), SceneError> {
         let a = self;
         range("air.fog", a.fog, (0.0..=1.0).contains(&a.fog), "must be 0 to 1 per metre")?;
-        range("air.fog_g", a.fog_g, a.fog_g > -1.0 && a.fog_g < 1.0, "must be between -1 and 1")?;
+        range(
+            "air.fog_g",
+            a.fog_g,
+            a.fog_g > -1.0 && a.fog_g < 1.0,
+            "must be in the open interval (-1, 1)",
+        )?;
         range("air.fog_sky", a.fog_sky, (0.0..=1.0).contains(&a.fog_sky), "must be 0 to 1")?;
         range(
             "air.fog_distance",
