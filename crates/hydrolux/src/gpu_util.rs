@@ -74,6 +74,38 @@ pub fn storage_entry(
     )
 }
 
+/// A 2D depth texture (read with a comparison sampler or `textureLoad`).
+pub fn depth_texture_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Depth,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+    )
+}
+
+/// A 2D unsigned-integer texture (the stencil's medium, read with `textureLoad`).
+pub fn uint_texture_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Uint,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+    )
+}
+
 pub fn texture_entry(
     binding: u32,
     visibility: wgpu::ShaderStages,

@@ -86,15 +86,7 @@ impl Layouts {
                 uniform_entry(1, all),
                 texture_entry(2, all, wgpu::TextureViewDimension::Cube, true),
                 sampler_entry(3, all),
-                layout_entry(
-                    4,
-                    all,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
+                depth_texture_entry(4, all),
                 layout_entry(
                     5,
                     all,

@@ -178,36 +178,17 @@ impl GodRaysPass {
             label: Some("god-ray depth"),
             entries: &[texture_entry(0, fs, wgpu::TextureViewDimension::D2, false)],
         });
-        let depth_texture = |binding| {
-            layout_entry(
-                binding,
-                fs,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-            )
-        };
         let reduce_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("god-ray reduce"),
-            entries: &[depth_texture(0), uniform_entry(4, fs)],
+            entries: &[depth_texture_entry(0, fs), uniform_entry(4, fs)],
         });
         let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("god-ray composite"),
             entries: &[
-                depth_texture(0),
+                depth_texture_entry(0, fs),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
-                layout_entry(
-                    3,
-                    fs,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Uint,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
+                uint_texture_entry(3, fs),
                 uniform_entry(4, fs),
             ],
         });

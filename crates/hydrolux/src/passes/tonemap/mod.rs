@@ -24,31 +24,14 @@ impl TonemapPass {
         target_format: wgpu::TextureFormat,
     ) -> Self {
         let fs = wgpu::ShaderStages::FRAGMENT;
-        let depth = layout_entry(
-            3,
-            fs,
-            wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Depth,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-        );
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tonemap input"),
             entries: &[
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
-                depth,
-                layout_entry(
-                    4,
-                    fs,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Uint,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
+                depth_texture_entry(3, fs),
+                uint_texture_entry(4, fs),
             ],
         });
         let module = shader(device, "tonemap", &source(target_format.is_srgb()));

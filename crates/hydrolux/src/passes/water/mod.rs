@@ -200,27 +200,11 @@ impl WaterPass {
             entries: &[
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, true),
-                layout_entry(
-                    2,
-                    fs,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
+                depth_texture_entry(2, fs),
                 sampler_entry(3, fs),
                 texture_entry(4, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(5, fs, wgpu::TextureViewDimension::D2, true),
-                layout_entry(
-                    6,
-                    fs,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
+                depth_texture_entry(6, fs),
             ],
         })
     }

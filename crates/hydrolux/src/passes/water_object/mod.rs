@@ -181,15 +181,7 @@ impl WaterObjectPass {
                 uniform_entry(0, cs),
                 unfilterable(1),
                 unfilterable(2),
-                layout_entry(
-                    3,
-                    cs,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
+                depth_texture_entry(3, cs),
                 storage_entry(4, cs, false),
                 storage_entry(5, cs, false),
                 storage_texture_entry(6, MAP_FORMAT, wgpu::TextureViewDimension::D2),
@@ -203,15 +195,7 @@ impl WaterObjectPass {
             label: Some("water object inputs"),
             entries: &[
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
-                layout_entry(
-                    1,
-                    fs,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                ),
+                depth_texture_entry(1, fs),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
             ],
         });
