@@ -33,8 +33,10 @@ impl Renderer {
     }
 
     /// The last frame's god-ray buffer (linear radiance, pre-exposed, before
-    /// upsampling), RGBA float, rows top to bottom; `None` before a frame.
+    /// upsampling), RGBA float, rows top to bottom; `None` before a frame
+    /// and when the last frame drew none (camera above water, no fog).
     pub fn read_godrays(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
+        self.last_plan.as_ref()?.godrays.as_ref()?;
         let t = &self.targets.as_ref()?.godrays;
         Some((t.size.0, t.size.1, self.read_rgba16f(&t.buffer)))
     }

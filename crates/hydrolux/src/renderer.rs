@@ -134,7 +134,7 @@ impl Renderer {
         };
         let techniques = Techniques::new(&shared, scene)?;
         let l = &shared.layouts;
-        let probe = ProbePass::new(device, &l.globals, &l.surface);
+        let probe = ProbePass::new(device, &l.globals, &l.surface, scene.water.model);
         let bound = Bound {
             globals: Self::globals(&shared, &techniques, &samplers),
             surface: techniques.surface.group.clone(),
@@ -214,6 +214,8 @@ impl Renderer {
             self.bound.globals = Self::globals(&self.shared, &self.techniques, &self.samplers);
         }
         self.bound.surface = self.techniques.surface.group.clone();
+        let (device, l) = (&self.shared.device, &self.shared.layouts);
+        self.probe.specialise(device, &l.globals, &l.surface, scene.water.model);
         self.scene = scene.clone();
         self.last_plan = None;
         self.update_sky();

@@ -16,19 +16,17 @@ fn fog_sky_radiance() -> vec3<f32> {
     return frame.fog.sky_fraction * frame.light.sky_ambient / PI * 0.5 * (1.0 + FOG_GROUND_BOUNCE);
 }
 
-// What the eye sees of radiance `l` leaving `p` through the fog.
+// What the eye sees of radiance `l` leaving `p` through the fog. Without
+// branches on the frame's values (no fog gives t = 1, i.e. `l`): Mesa's
+// lavapipe 22 recompiles a shader that branches on a uniform each time its
+// bind groups are set, and keeps every copy.
 fn through_fog(eye: vec3<f32>, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let sigma = frame.fog.scattering;
-    if (sigma <= 0.0) {
-        return l;
-    }
+    let sigma = max(frame.fog.scattering, 0.0);
     let full = distance(eye, p);
     let s = min(full, frame.fog.distance);
     let t = exp(-sigma * s);
-    var glow = fog_sky_radiance();
-    if (frame.volume.fog_marched == 0u) {
-        let dir = (p - eye) / max(full, 1e-6);
-        glow += frame.light.sun_illuminance * henyey_greenstein(dot(frame.light.sun_dir, dir), frame.fog.g);
-    }
+    let dir = (p - eye) / max(full, 1e-6);
+    let sun = frame.light.sun_illuminance * henyey_greenstein(dot(frame.light.sun_dir, dir), frame.fog.g);
+    let glow = fog_sky_radiance() + select(vec3<f32>(0.0), sun, frame.volume.fog_marched == 0u);
     return l * t + glow * (1.0 - t);
 }

@@ -150,8 +150,24 @@ fn heightfield_sample(p: vec2<f32>) -> SurfaceSample {
     return s;
 }
 
+// The surface model as a pipeline constant, for pipelines built for one
+// model (0 fft, 1 sines, 2 flat, 3 heightfield); SURFACE_MODEL_DYNAMIC
+// reads it from the uniform. The renderer's pipelines are specialised: the
+// dead models' code folds away, and Mesa's lavapipe 22 would otherwise
+// recompile them (a switch on a uniform) each time their bind groups are
+// set, keeping every copy: about 1 MB a frame.
+override SURFACE_MODEL: u32 = 255u;
+const SURFACE_MODEL_DYNAMIC: u32 = 255u;
+
+fn surface_model() -> u32 {
+    if (SURFACE_MODEL == SURFACE_MODEL_DYNAMIC) {
+        return surface.counts.y;
+    }
+    return SURFACE_MODEL;
+}
+
 fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
-    switch surface.counts.y {
+    switch surface_model() {
         case 0u: { return fft_sample_footprint(p, footprint); }
         case 1u: { return sines_sample(p, footprint); }
         case 3u: { return heightfield_sample(p); }
@@ -160,7 +176,7 @@ fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
 }
 
 fn surface_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSample {
-    switch surface.counts.y {
+    switch surface_model() {
         case 0u: { return fft_sample_grad(p, dpdx, dpdy); }
         case 1u: { return sines_sample(p, max(length(dpdx), length(dpdy))); }
         case 3u: { return heightfield_sample(p); }

@@ -9,7 +9,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
-use hydrolux_core::scene::CausticMethod;
+use hydrolux_core::scene::{CausticMethod, WaterModel};
 
 pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Fixed-point scale of the accumulator: 2¹⁶ per unit of relative irradiance.
@@ -49,37 +49,34 @@ pub struct CausticMap {
 
 pub struct CausticsPass {
     layout: wgpu::BindGroupLayout,
+    beam_layout: wgpu::BindGroupLayout,
+    pipelines: Pipelines,
+}
+
+/// The pipelines, specialised to one surface model.
+struct Pipelines {
+    model: WaterModel,
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
     procedural: wgpu::ComputePipeline,
-    beam_layout: wgpu::BindGroupLayout,
     beam: wgpu::RenderPipeline,
 }
 
-impl CausticsPass {
-    pub fn new(
+impl Pipelines {
+    fn new(
         device: &wgpu::Device,
-        frame_only: &wgpu::BindGroupLayout,
-        surface: &wgpu::BindGroupLayout,
+        [frame_only, surface, layout, beam_layout]: [&wgpu::BindGroupLayout; 4],
+        model: WaterModel,
     ) -> Self {
-        let cs = wgpu::ShaderStages::COMPUTE;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("caustics"),
-            entries: &[
-                uniform_entry(0, cs),
-                storage_entry(1, cs, false),
-                storage_texture_entry(2, MAP_FORMAT, wgpu::TextureViewDimension::D2Array),
-            ],
-        });
+        let constants = crate::passes::surface::specialised_to(model);
+        let options =
+            || wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let module = shader(device, "caustics", &source());
         let p = |entry| {
-            compute_pipeline(device, entry, &module, entry, &[frame_only, surface, &layout])
+            let layouts = [frame_only, surface, layout];
+            compute_pipeline_with(device, entry, &module, entry, &layouts, &constants)
         };
-        let beam_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("caustics beam"),
-            entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT)],
-        });
         let beam_module = shader(device, "caustics beam", &beam_source());
         let add = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::One,
@@ -91,12 +88,12 @@ impl CausticsPass {
             layout: Some(&pipeline_layout(
                 device,
                 "caustics beam",
-                &[frame_only, surface, &beam_layout],
+                &[frame_only, surface, beam_layout],
             )),
             vertex: wgpu::VertexState {
                 module: &beam_module,
                 entry_point: Some("vs_beam"),
-                compilation_options: Default::default(),
+                compilation_options: options(),
                 buffers: &[],
             },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
@@ -105,7 +102,7 @@ impl CausticsPass {
             fragment: Some(wgpu::FragmentState {
                 module: &beam_module,
                 entry_point: Some("fs_beam"),
-                compilation_options: Default::default(),
+                compilation_options: options(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: MAP_FORMAT,
                     blend: Some(wgpu::BlendState { color: add, alpha: add }),
@@ -115,14 +112,53 @@ impl CausticsPass {
             multiview_mask: None,
             cache: None,
         });
-        CausticsPass {
+        Pipelines {
+            model,
             clear: p("clear"),
             splat: p("splat"),
             resolve: p("resolve"),
             procedural: p("procedural"),
-            layout,
-            beam_layout,
             beam,
+        }
+    }
+}
+
+impl CausticsPass {
+    pub fn new(
+        device: &wgpu::Device,
+        frame_only: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+        model: WaterModel,
+    ) -> Self {
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustics"),
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, false),
+                storage_texture_entry(2, MAP_FORMAT, wgpu::TextureViewDimension::D2Array),
+            ],
+        });
+        let beam_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("caustics beam"),
+            entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT)],
+        });
+        let pipelines = Pipelines::new(device, [frame_only, surface, &layout, &beam_layout], model);
+        CausticsPass { layout, beam_layout, pipelines }
+    }
+
+    /// Pipelines for another surface model; layouts (and so the maps' bind
+    /// groups) stay.
+    pub fn specialise(
+        &mut self,
+        device: &wgpu::Device,
+        frame_only: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+        model: WaterModel,
+    ) {
+        if model != self.pipelines.model {
+            let layouts = [frame_only, surface, &self.layout, &self.beam_layout];
+            self.pipelines = Pipelines::new(device, layouts, model);
         }
     }
 
@@ -257,7 +293,7 @@ impl CausticsPass {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                pass.set_pipeline(&self.beam);
+                pass.set_pipeline(&self.pipelines.beam);
                 pass.set_bind_group(0, frame_only, &[]);
                 pass.set_bind_group(1, surface, &[]);
                 pass.set_bind_group(2, &map.beam_group, &[]);
@@ -278,15 +314,15 @@ impl CausticsPass {
         let n = map.photons_per_side.div_ceil(8);
         let k = map.layers;
         if method == CausticMethod::Procedural {
-            pass.set_pipeline(&self.procedural);
+            pass.set_pipeline(&self.pipelines.procedural);
             pass.dispatch_workgroups(m, m, k);
             return;
         }
-        pass.set_pipeline(&self.clear);
+        pass.set_pipeline(&self.pipelines.clear);
         pass.dispatch_workgroups(m, m, k);
-        pass.set_pipeline(&self.splat);
+        pass.set_pipeline(&self.pipelines.splat);
         pass.dispatch_workgroups(n, n, 1);
-        pass.set_pipeline(&self.resolve);
+        pass.set_pipeline(&self.pipelines.resolve);
         pass.dispatch_workgroups(m, m, k);
     }
 }
@@ -319,7 +355,7 @@ impl Caustics {
     pub fn new(shared: &crate::technique::Shared, scene: &hydrolux_core::scene::Scene) -> Self {
         // Group 0 is the frame alone: the globals hold the maps it writes.
         let l = &shared.layouts;
-        let pass = CausticsPass::new(&shared.device, &l.frame_only, &l.surface);
+        let pass = CausticsPass::new(&shared.device, &l.frame_only, &l.surface, scene.water.model);
         let c = &scene.caustics;
         let map = pass.create_map(&shared.device, c.photons, c.map_resolution, c.layers);
         Caustics { pass, map, current: false }
@@ -353,6 +389,8 @@ impl Technique for Caustics {
         _old: &hydrolux_core::scene::Scene,
         new: &hydrolux_core::scene::Scene,
     ) -> Result<bool, crate::error::RenderError> {
+        let l = &shared.layouts;
+        self.pass.specialise(&shared.device, &l.frame_only, &l.surface, new.water.model);
         Ok(self.resize(&shared.device, new))
     }
 

@@ -22,7 +22,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
-use hydrolux_core::scene::GodRayMethod;
+use hydrolux_core::scene::{GodRayMethod, WaterModel};
 
 /// The buffer of scattered light (linear radiance, pre-exposed).
 pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -107,6 +107,8 @@ pub struct GodRaysPass {
     reduce_layout: wgpu::BindGroupLayout,
     composite_layout: wgpu::BindGroupLayout,
     build: wgpu::ComputePipeline,
+    /// The surface model `build` is specialised to.
+    model: WaterModel,
     ribbons: wgpu::RenderPipeline,
     march: wgpu::RenderPipeline,
     fog: wgpu::RenderPipeline,
@@ -157,12 +159,39 @@ fn render_pipeline(
 }
 
 impl GodRaysPass {
+    /// The tubes' build, specialised to the surface model.
+    fn build_pipeline(
+        device: &wgpu::Device,
+        layouts: [&wgpu::BindGroupLayout; 3],
+        model: WaterModel,
+    ) -> wgpu::ComputePipeline {
+        let module = shader(device, "god-ray tubes", &tubes_source());
+        let constants = crate::passes::surface::specialised_to(model);
+        compute_pipeline_with(device, "god-ray tubes", &module, "build", &layouts, &constants)
+    }
+
+    /// Rebuild what depends on the surface model when it changed.
+    pub fn specialise(
+        &mut self,
+        device: &wgpu::Device,
+        frame_only: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+        model: WaterModel,
+    ) {
+        if model != self.model {
+            let layouts = [frame_only, surface, &self.build_layout];
+            self.build = Self::build_pipeline(device, layouts, model);
+            self.model = model;
+        }
+    }
+
     pub fn new(
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
         hdr_format: wgpu::TextureFormat,
+        model: WaterModel,
     ) -> Self {
         let (vs, fs, cs) =
             (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
@@ -192,14 +221,7 @@ impl GodRaysPass {
                 uniform_entry(4, fs),
             ],
         });
-        let tubes_module = shader(device, "god-ray tubes", &tubes_source());
-        let build = compute_pipeline(
-            device,
-            "god-ray tubes",
-            &tubes_module,
-            "build",
-            &[frame_only, surface, &build_layout],
-        );
+        let build = Self::build_pipeline(device, [frame_only, surface, &build_layout], model);
         let ribbons_module = shader(device, "god-ray ribbons", &ribbons_source());
         let ribbons = render_pipeline(
             device,
@@ -251,6 +273,7 @@ impl GodRaysPass {
         GodRaysPass {
             params: uniform_buffer(device, "god-ray params", &GodRayUniforms::default()),
             build_layout,
+            model,
             draw_layout,
             depth_layout,
             reduce_layout,
@@ -515,6 +538,7 @@ impl GodRays {
             &l.frame_only,
             &l.surface,
             crate::targets::HDR_FORMAT,
+            scene.water.model,
         );
         let tubes = pass.create_tubes(&shared.device, scene.godrays.photons);
         GodRays { pass, tubes, object_tubes: None }
@@ -542,6 +566,8 @@ impl Technique for GodRays {
         _old: &hydrolux_core::scene::Scene,
         new: &hydrolux_core::scene::Scene,
     ) -> Result<bool, crate::error::RenderError> {
+        let l = &shared.layouts;
+        self.pass.specialise(&shared.device, &l.frame_only, &l.surface, new.water.model);
         self.resize(&shared.device, new);
         Ok(false)
     }

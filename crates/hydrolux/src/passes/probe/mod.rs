@@ -4,6 +4,7 @@
 
 use crate::gpu_util::*;
 use crate::shaders;
+use hydrolux_core::scene::WaterModel;
 use hydrolux_core::waves::SurfaceSample;
 use wgpu::util::DeviceExt;
 
@@ -13,6 +14,8 @@ pub fn source() -> String {
 
 pub struct ProbePass {
     layout: wgpu::BindGroupLayout,
+    /// The surface model the pipelines are specialised to, as the renderer's are.
+    model: WaterModel,
     surface: wgpu::ComputePipeline,
     sky: wgpu::ComputePipeline,
     fresnel: wgpu::ComputePipeline,
@@ -23,20 +26,47 @@ impl ProbePass {
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
+        model: WaterModel,
     ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("probe io"),
             entries: &[storage_entry(0, cs, true), storage_entry(1, cs, false)],
         });
+        Self::with_layout(device, [globals, surface], layout, model)
+    }
+
+    fn with_layout(
+        device: &wgpu::Device,
+        [globals, surface]: [&wgpu::BindGroupLayout; 2],
+        layout: wgpu::BindGroupLayout,
+        model: WaterModel,
+    ) -> Self {
         let module = shader(device, "probe", &source());
-        let p =
-            |entry| compute_pipeline(device, entry, &module, entry, &[globals, surface, &layout]);
+        let constants = crate::passes::surface::specialised_to(model);
+        let p = |entry| {
+            let layouts = [globals, surface, &layout];
+            compute_pipeline_with(device, entry, &module, entry, &layouts, &constants)
+        };
         ProbePass {
             surface: p("probe_surface"),
             sky: p("probe_sky"),
             fresnel: p("probe_fresnel"),
+            model,
             layout,
+        }
+    }
+
+    /// Pipelines for another surface model.
+    pub fn specialise(
+        &mut self,
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        surface: &wgpu::BindGroupLayout,
+        model: WaterModel,
+    ) {
+        if model != self.model {
+            *self = Self::with_layout(device, [globals, surface], self.layout.clone(), model);
         }
     }
 

@@ -271,12 +271,7 @@ impl Surface {
             u.cascade_sizes[0] = s.water.size[0];
             u.cascade_sizes[1] = s.water.size[1];
         }
-        let model = match s.water.model {
-            WaterModel::Fft => 0,
-            WaterModel::Sines => 1,
-            WaterModel::Flat | WaterModel::None => 2,
-            WaterModel::Heightfield => 3,
-        };
+        let model = model_index(s.water.model);
         let waves = &self.sines.waves;
         u.counts =
             [self.ocean.cascades, model, waves.len().min(MAX_SINE_WAVES) as u32, self.ocean.n];
@@ -303,6 +298,24 @@ impl Surface {
             || scene.render.anisotropy != old.render.anisotropy
             || scene.ocean_settings() != self.ocean_settings
     }
+}
+
+/// The shaders' index of a surface model (`surface.wgsl`: `counts.y` and
+/// the `SURFACE_MODEL` pipeline constant).
+pub fn model_index(model: WaterModel) -> u32 {
+    match model {
+        WaterModel::Fft => 0,
+        WaterModel::Sines => 1,
+        WaterModel::Flat | WaterModel::None => 2,
+        WaterModel::Heightfield => 3,
+    }
+}
+
+/// Pipeline constants that specialise a pipeline importing `surface` to one
+/// model (see `SURFACE_MODEL` in `surface.wgsl`); such a pipeline is rebuilt
+/// when the scene's model changes.
+pub fn specialised_to(model: WaterModel) -> [(&'static str, f64); 1] {
+    [("SURFACE_MODEL", model_index(model) as f64)]
 }
 
 impl Technique for Surface {

@@ -6,6 +6,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use hydrolux_core::camera::Camera;
+use hydrolux_core::scene::{Scene, WaterModel};
 use wgpu::util::DeviceExt;
 
 /// Grid cells from a ring's centre to its edge.
@@ -158,6 +159,8 @@ pub struct WaterPass {
     /// Layout of its inputs (the reflection and refraction textures), which
     /// the screen targets bind.
     pub inputs_layout: wgpu::BindGroupLayout,
+    /// The surface model the pipelines are specialised to.
+    model: WaterModel,
 }
 
 /// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
@@ -215,8 +218,12 @@ impl WaterPass {
         surface: &wgpu::BindGroupLayout,
         inputs: &wgpu::BindGroupLayout,
         main_depth_format: wgpu::TextureFormat,
+        model: WaterModel,
     ) -> Self {
         let module = shader(device, "water", &source());
+        let constants = crate::passes::surface::specialised_to(model);
+        let options =
+            || wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let layout = pipeline_layout(device, "water", &[globals, surface, inputs]);
         let grid_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: 8,
@@ -243,7 +250,7 @@ impl WaterPass {
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some(vs),
-                    compilation_options: Default::default(),
+                    compilation_options: options(),
                     buffers,
                 },
                 primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
@@ -252,7 +259,7 @@ impl WaterPass {
                 fragment: fs.map(|fs| wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fs),
-                    compilation_options: Default::default(),
+                    compilation_options: options(),
                     targets: &targets,
                 }),
                 multiview_mask: None,
@@ -293,6 +300,7 @@ impl WaterPass {
         };
         WaterPass {
             inputs_layout: inputs.clone(),
+            model,
             full: GridMesh::new(device, "water full grid", RING_HALF, &[None]),
             ring: GridMesh::new(device, "water ring", RING_HALF, &hole_offsets()),
             far: GridMesh::new(device, "water far field", FAR_HALF, &[Some((0, 0))]),
@@ -446,11 +454,30 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
 impl Technique for WaterPass {
     fn create(
         shared: &crate::technique::Shared,
-        _scene: &hydrolux_core::scene::Scene,
+        scene: &Scene,
     ) -> Result<Self, crate::error::RenderError> {
         let (device, l) = (&shared.device, &shared.layouts);
         let inputs = WaterPass::inputs_layout(device);
-        Ok(WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format))
+        let model = scene.water.model;
+        Ok(WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format, model))
+    }
+
+    /// A new surface model gets pipelines specialised to it; the inputs'
+    /// layout stays, so the screen targets keep their bind group.
+    fn set_scene(
+        &mut self,
+        shared: &crate::technique::Shared,
+        _old: &Scene,
+        new: &Scene,
+    ) -> Result<bool, crate::error::RenderError> {
+        if new.water.model != self.model {
+            let (device, l) = (&shared.device, &shared.layouts);
+            let inputs = self.inputs_layout.clone();
+            let model = new.water.model;
+            *self =
+                WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format, model);
+        }
+        Ok(false)
     }
 
     fn draw(&self, stage: Stage, pass: &mut wgpu::RenderPass<'_>, frame: &FrameContext) {

@@ -37,7 +37,7 @@ fn fs_back(in: ShadeOut) -> @location(0) vec4<f32> {
 fn screen_uv(p: vec3<f32>) -> vec3<f32> {
     let clip = frame.view.view_proj * vec4<f32>(p, 1.0);
     let ndc = clip.xy / clip.w;
-    let inside = clip.w > 0.0 && all(abs(ndc) <= vec2<f32>(1.0));
+    let inside = (clip.w > 0.0) & all(abs(ndc) <= vec2<f32>(1.0));
     return vec3<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y, select(0.0, 1.0, inside));
 }
 
@@ -65,9 +65,6 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let eye = frame.view.position;
     let v = normalize(in.world - eye);
     let n0 = normalize(in.normal);
-    if (frame.modes.debug_view == VIEW_NORMALS) {
-        return vec4<f32>(n0 * 0.5 + 0.5, 1.0);
-    }
     // ior stored as bits in flags.y (geometry upload).
     let ior = bitcast<f32>(object.flags.y);
     let cos0 = max(-dot(v, n0), 0.0);
@@ -83,7 +80,7 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     // The back face's normal where the ray leaves; where the back-face
     // record is empty there, this pixel's own back face, or the front's.
     let here = textureLoad(back_tex, px, 0);
-    var n1 = select(here.xyz, b.xyz, at_exit.z > 0.5 && b.w > 0.0);
+    var n1 = select(here.xyz, b.xyz, (at_exit.z > 0.5) & (b.w > 0.0));
     n1 = select(n0, normalize(n1), dot(n1, n1) > 0.25);
     let refracted_out = refract(t1, -n1, ior);
     let tir = dot(refracted_out, refracted_out) < 0.5;
@@ -99,8 +96,12 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let q = screen_uv(p1 + t2 * gap);
     let zq = textureLoad(scene_depth, texel_at(q.xy, size), 0);
     let seen = textureSampleLevel(behind_tex, sky_sampler, clamp(q.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
-    let behind = select(sky_towards(t2), seen, at_exit.z > 0.5 && z > 0.0 && q.z > 0.5 && zq > 0.0);
+    let behind = select(sky_towards(t2), seen, (at_exit.z > 0.5) & (z > 0.0) & (q.z > 0.5) & (zq > 0.0));
     let inside = exp(-frame.water.absorption * thickness);
     let color = r0 * reflected + (1.0 - r0) * (1.0 - r1) * inside * behind;
-    return vec4<f32>(clamp(through_fog(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0)), 1.0);
+    let shaded = clamp(through_fog(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0));
+    // The normals debug view as a select, not a branch on the uniform (see
+    // `through_fog`).
+    let normals_view = frame.modes.debug_view == VIEW_NORMALS;
+    return vec4<f32>(select(shaded, n0 * 0.5 + 0.5, normals_view), 1.0);
 }
