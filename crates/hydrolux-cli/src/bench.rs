@@ -24,6 +24,13 @@ pub struct BenchArgs {
     pub json: bool,
 }
 
+/// Resident memory of this process (MB), where /proc tells it (Linux).
+fn resident_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? / 1024.0)
+}
+
 fn percentile(sorted: &[f64], p: f64) -> f64 {
     let i = ((sorted.len() - 1) as f64 * p).round() as usize;
     sorted[i]
@@ -46,6 +53,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
         target.submit(&mut renderer, camera, i as f64 / 60.0);
         renderer.collect_timings();
     }
+    // Resident memory after warm-up and at the end: flat however long it runs.
+    let memory_start = resident_mb();
     let mut frame_ms = Vec::new();
     let mut passes: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     let mut order: Vec<&'static str> = Vec::new();
@@ -65,6 +74,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             passes.entry(name).or_default().push(*ms);
         }
     }
+    let memory = memory_start.zip(resident_mb());
     frame_ms.sort_by(f64::total_cmp);
     let median = percentile(&frame_ms, 0.5);
     let p95 = percentile(&frame_ms, 0.95);
@@ -90,6 +100,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "frame_ms": { "median": median, "p95": p95, "source": "wall clock around submit + wait" },
             "passes_ms": pass_medians.iter().map(|(n, v)| serde_json::json!({"pass": n, "median": v})).collect::<Vec<_>>(),
             "pass_times_source": if timestamps { "GPU timestamp queries" } else { "unavailable (adapter lacks TIMESTAMP_QUERY)" },
+            "resident_mb": memory.map(|(a, b)| serde_json::json!({"after_warm_up": a, "end": b})),
         });
         println!("{}", serde_json::to_string_pretty(&j)?);
     } else {
@@ -106,6 +117,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
             scene.render.shadow_resolution, scene.render.reflection_resolution
         );
         println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
+        if let Some((a, b)) = memory {
+            println!(
+                "memory    {a:.0} MB resident after warm-up, {b:.0} MB at the end ({:+.1} MB)",
+                b - a
+            );
+        }
         if timestamps {
             println!("passes    (GPU timestamps, median ms)");
             for (n, v) in &pass_medians {

@@ -35,6 +35,20 @@ pub struct Dump {
     pub format: Format,
 }
 
+/// The name of a kind as `--dump` spells it.
+pub fn dump_name(kind: DumpKind) -> &'static str {
+    match kind {
+        DumpKind::Height => "height",
+        DumpKind::Displacement => "displacement",
+        DumpKind::Normals => "normals",
+        DumpKind::Jacobian => "jacobian",
+        DumpKind::Hdr => "hdr",
+        DumpKind::Caustics => "caustics",
+        DumpKind::Godrays => "godrays",
+        DumpKind::ObjectCaustics => "object_caustics",
+    }
+}
+
 pub fn parse(text: &str) -> Result<Dump> {
     let Some((kind, file)) = text.split_once('=') else {
         bail!("--dump `{text}`: expected KIND=FILE with KIND one of {KINDS}");
@@ -97,6 +111,16 @@ pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
             "--dump godrays: god rays are off in this scene (set godrays.method to \"lines\" or \"march\")"
         );
     }
+    let surface_dump = matches!(
+        dump.kind,
+        DumpKind::Height | DumpKind::Displacement | DumpKind::Normals | DumpKind::Jacobian
+    );
+    if surface_dump && scene.water.model == WaterModel::None {
+        bail!(
+            "--dump {}: the scene has no water surface (water.model = \"none\")",
+            dump_name(dump.kind)
+        );
+    }
     if dump.kind == DumpKind::ObjectCaustics && !scene.objects.iter().any(|o| o.material.ior > 0.0)
     {
         bail!(
@@ -106,7 +130,8 @@ pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
     Ok(())
 }
 
-pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
+/// Read the buffer back and stage it for writing.
+pub fn write(dump: &Dump, renderer: &Renderer, staged: &mut output::Staged) -> Result<()> {
     let (width, height, channels, data): (usize, usize, usize, Vec<f32>) = if dump.kind
         == DumpKind::Hdr
     {
@@ -123,7 +148,9 @@ pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
         (m as usize, m as usize, 1, map)
     } else if dump.kind == DumpKind::Godrays {
         let Some((w, h, px)) = renderer.read_godrays() else {
-            bail!("no frame has been rendered to dump")
+            bail!(
+                "--dump godrays: this frame has no god-ray buffer: the camera is above the water and the air has no fog (from above, the water's shader draws the shafts itself; the buffer holds them for a camera under water or in fog)"
+            )
         };
         (w as usize, h as usize, 3, px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect())
     } else if dump.kind == DumpKind::ObjectCaustics {
@@ -142,9 +169,5 @@ pub fn write(dump: &Dump, renderer: &Renderer) -> Result<()> {
         };
         (n, n, c, data)
     };
-    output::write_float(
-        &dump.path,
-        dump.format,
-        &FloatImage { width, height, channels, data: &data },
-    )
+    staged.float(&dump.path, dump.format, &FloatImage { width, height, channels, data: &data })
 }

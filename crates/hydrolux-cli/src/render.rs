@@ -2,7 +2,7 @@
 
 use crate::SceneArgs;
 use crate::dumps::{self, Dump};
-use crate::output::{self, FloatImage, Format};
+use crate::output::{self, FloatImage, Format, Staged};
 use anyhow::{Result, bail};
 use clap::Args;
 use hydrolux::Renderer;
@@ -24,6 +24,11 @@ pub struct RenderArgs {
     /// Number of frames; more than one writes OUT_0000.png, OUT_0001.png, …
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub frames: u32,
+    /// Render only frames FIRST to LAST (inclusive, counted from 0) of the
+    /// sequence, numbered and timed as in the whole sequence: to resume one
+    /// that stopped, or to split it between machines.
+    #[arg(long, value_name = "FIRST-LAST")]
+    pub frame_range: Option<String>,
     /// Frames per second of simulated time in a sequence.
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     pub fps: f64,
@@ -72,6 +77,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
     for d in &dumps {
         dumps::check(d, &scene)?;
     }
+    // The frames to render, and how many the sequence's numbering counts.
+    let frames_given = a.frames != 1;
+    let (range, numbering) = match &a.frame_range {
+        Some(text) => {
+            let range = parse_range(text, a.frames, frames_given)?;
+            (range.clone(), a.frames.max(range.end).max(2))
+        }
+        None => (0..a.frames, a.frames),
+    };
     let ctx = crate::headless_context()?;
     let max = ctx.device.limits().max_texture_dimension_2d;
     if a.size.width > max || a.size.height > max {
@@ -83,8 +97,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
-    let progress = (a.frames > 1).then(|| {
-        let bar = indicatif::ProgressBar::new(a.frames as u64);
+    let count = range.end - range.start;
+    let progress = (count > 1).then(|| {
+        let bar = indicatif::ProgressBar::new(count as u64);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
                 "{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})",
@@ -93,24 +108,31 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
         bar
     });
-    for i in 0..a.frames {
-        let time = a.time + i as f64 / a.fps;
-        let pixels = target.render(&mut renderer, scene.camera(), time);
-        let out = numbered(&a.out, i, a.frames);
-        match format {
-            Format::Png => output::write_png(&out, a.size.width, a.size.height, &pixels)?,
-            _ => {
-                let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame rendered") };
-                let data: Vec<f32> = px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
-                output::write_exr(
-                    &out,
-                    &FloatImage { width: w as usize, height: h as usize, channels: 3, data: &data },
-                )?;
+    for i in range.clone() {
+        // Each frame's outputs (image and dumps) appear together or not at all.
+        let written = frame(&a, &dumps, format, &scene, &mut renderer, &target, i, numbering);
+        if let Err(e) = written {
+            if let Some(bar) = &progress {
+                bar.abandon();
             }
-        }
-        for d in &dumps {
-            let path = numbered(&d.path, i, a.frames);
-            dumps::write(&Dump { path, ..d.clone() }, &renderer)?;
+            if numbering == 1 {
+                return Err(e);
+            }
+            let done = i - range.start;
+            let resume = format!("resume with --frame-range {i}-{}", range.end - 1);
+            let so_far = match done {
+                0 => "no frame written".to_string(),
+                1 => format!(
+                    "1 frame written ({})",
+                    numbered(&a.out, range.start, numbering).display()
+                ),
+                n => format!(
+                    "{n} frames written ({} … {})",
+                    numbered(&a.out, range.start, numbering).display(),
+                    numbered(&a.out, i - 1, numbering).display()
+                ),
+            };
+            bail!("frame {i}: {e:#}; {so_far}; {resume}");
         }
         if let Some(bar) = &progress {
             bar.inc(1);
@@ -119,15 +141,72 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if let Some(bar) = progress {
         bar.finish();
     }
-    if a.frames == 1 {
+    if numbering == 1 {
         eprintln!("wrote {}", a.out.display());
     } else {
         eprintln!(
-            "wrote {} frames: {} … {}",
-            a.frames,
-            numbered(&a.out, 0, a.frames).display(),
-            numbered(&a.out, a.frames - 1, a.frames).display()
+            "wrote {count} frame{}: {} … {}",
+            if count == 1 { "" } else { "s" },
+            numbered(&a.out, range.start, numbering).display(),
+            numbered(&a.out, range.end - 1, numbering).display()
         );
     }
     Ok(())
+}
+
+/// Render frame `i` and publish its image and dumps together.
+#[allow(clippy::too_many_arguments)]
+fn frame(
+    a: &RenderArgs,
+    dumps: &[Dump],
+    format: Format,
+    scene: &hydrolux::core::scene::Scene,
+    renderer: &mut Renderer,
+    target: &HeadlessTarget,
+    i: u32,
+    numbering: u32,
+) -> Result<()> {
+    let time = a.time + i as f64 / a.fps;
+    let pixels = target.render(renderer, scene.camera(), time);
+    let out = numbered(&a.out, i, numbering);
+    let mut staged = Staged::new();
+    match format {
+        Format::Png => staged.png(&out, a.size.width, a.size.height, &pixels)?,
+        _ => {
+            let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame rendered") };
+            let data: Vec<f32> = px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
+            let image =
+                FloatImage { width: w as usize, height: h as usize, channels: 3, data: &data };
+            staged.exr(&out, &image)?;
+        }
+    }
+    for d in dumps {
+        let path = numbered(&d.path, i, numbering);
+        dumps::write(&Dump { path, ..d.clone() }, renderer, &mut staged)?;
+    }
+    staged.publish()?;
+    Ok(())
+}
+
+/// `--frame-range FIRST-LAST` → FIRST..LAST+1, checked against `--frames`
+/// when that was given.
+fn parse_range(text: &str, frames: u32, frames_given: bool) -> Result<std::ops::Range<u32>> {
+    let bad = || {
+        anyhow::anyhow!(
+            "--frame-range `{text}`: expected FIRST-LAST, two frame numbers from 0 with FIRST ≤ LAST (e.g. 42-99)"
+        )
+    };
+    let (first, last) = text.split_once('-').ok_or_else(bad)?;
+    let first: u32 = first.trim().parse().map_err(|_| bad())?;
+    let last: u32 = last.trim().parse().map_err(|_| bad())?;
+    if first > last || last == u32::MAX {
+        return Err(bad());
+    }
+    if frames_given && last >= frames {
+        bail!(
+            "--frame-range {text}: the sequence has {frames} frames (--frames), numbered 0 to {}",
+            frames - 1
+        );
+    }
+    Ok(first..last + 1)
 }

@@ -124,7 +124,11 @@ impl Viewer {
             force_fallback_adapter: false,
             apply_limit_buckets: false,
         }))
-        .map_err(|_| hydrolux::ContextError::NoAdapter)?;
+        .map_err(|_| match hydrolux::context::backend_from_env() {
+            Ok(Some(b)) => hydrolux::ContextError::NoAdapterForBackend(b),
+            Ok(None) => hydrolux::ContextError::NoAdapter,
+            Err(bad) => bad,
+        })?;
         let ctx = GpuContext::from_adapter(instance, adapter)?;
         let size = window.inner_size();
         let caps = surface.get_capabilities(&ctx.adapter);
@@ -587,10 +591,19 @@ impl ApplicationHandler for Viewer {
 
 pub fn run(args: ViewArgs) -> Result<()> {
     args.size.check()?;
+    hydrolux::context::backend_from_env()?;
     let scene = args.scene.load()?;
-    let event_loop = EventLoop::new().context(
-        "cannot open a window: no display (set DISPLAY, or use `hydrolux render` headless)",
-    )?;
+    // winit's own message carries a source path; say it plainly instead.
+    let event_loop = EventLoop::new().map_err(|e| {
+        let text = e.to_string();
+        let why = match text.rsplit_once(": ") {
+            Some((_, reason)) if text.contains(".rs:") => reason.trim_end_matches('.').to_string(),
+            _ => text,
+        };
+        anyhow::anyhow!(
+            "cannot open a window: {why} (set DISPLAY or WAYLAND_DISPLAY to a running display, or render headless with `hydrolux render`)"
+        )
+    })?;
     let mut viewer = Viewer {
         table: scene.to_table(),
         camera: FlyCamera::from_scene(&scene),

@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod caustics;
 pub mod clock;
+pub mod files;
 pub mod geometry;
 pub mod godrays;
 pub mod medium;

@@ -11,8 +11,28 @@ pub enum ContextError {
          (Debian/Ubuntu: apt-get install mesa-vulkan-drivers)"
     )]
     NoAdapter,
+    #[error(
+        "no GPU adapter found for WGPU_BACKEND={0}: try another backend, or unset it to let wgpu choose"
+    )]
+    NoAdapterForBackend(String),
+    #[error(
+        "WGPU_BACKEND={0:?} is not a backend: use vulkan, metal, dx12 or gl (several separated by commas), or unset it"
+    )]
+    BadBackend(String),
     #[error("the GPU adapter refused to create a device: {0}")]
     Device(String),
+}
+
+/// Check `WGPU_BACKEND` (which wgpu would silently ignore when it names no
+/// backend); its value, when set.
+pub fn backend_from_env() -> Result<Option<String>, ContextError> {
+    let Ok(value) = std::env::var("WGPU_BACKEND") else { return Ok(None) };
+    let known = ["vulkan", "vk", "dx12", "d3d12", "metal", "mtl", "opengl", "gles", "gl"];
+    let ok = value.split(',').all(|b| known.contains(&b.trim().to_lowercase().as_str()));
+    if value.trim().is_empty() || !ok {
+        return Err(ContextError::BadBackend(value));
+    }
+    Ok(Some(value))
 }
 
 /// A device and queue with the adapter they came from.
@@ -45,6 +65,7 @@ pub fn required_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
 impl GpuContext {
     /// A device with no window. Honours WGPU_BACKEND / WGPU_ADAPTER_NAME.
     pub fn headless() -> Result<Self, ContextError> {
+        let backend = backend_from_env()?;
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
@@ -53,7 +74,10 @@ impl GpuContext {
             force_fallback_adapter: false,
             apply_limit_buckets: false,
         }))
-        .map_err(|_| ContextError::NoAdapter)?;
+        .map_err(|_| match backend {
+            Some(b) => ContextError::NoAdapterForBackend(b),
+            None => ContextError::NoAdapter,
+        })?;
         Self::from_adapter(instance, adapter)
     }
 

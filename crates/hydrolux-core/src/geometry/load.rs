@@ -4,6 +4,7 @@
 //! are dropped.
 
 use super::Mesh;
+use crate::files::limits;
 use glam::{Mat4, Vec2, Vec3};
 use std::path::Path;
 
@@ -15,10 +16,10 @@ pub struct AssetError {
     pub reason: String,
 }
 
-/// Fail early and plainly when the file is not there (the decoders' own
-/// messages for that are vague).
-fn exists(what: &'static str, path: &Path) -> Result<(), AssetError> {
-    if path.is_file() { Ok(()) } else { Err(err(what, path, "no such file")) }
+/// Read an input file boundedly (a regular file, at most `limit` bytes),
+/// or say plainly why not.
+fn read(what: &'static str, path: &Path, limit: u64) -> Result<Vec<u8>, AssetError> {
+    crate::files::read_bounded(path, limit).map_err(|r| err(what, path, r))
 }
 
 fn err(what: &'static str, path: &Path, reason: impl ToString) -> AssetError {
@@ -31,12 +32,11 @@ fn err(what: &'static str, path: &Path, reason: impl ToString) -> AssetError {
 
 /// Load a mesh file by extension (`.obj`, `.gltf`, `.glb`).
 pub fn load_mesh(path: &Path) -> Result<Mesh, AssetError> {
-    exists("mesh", path)?;
     let ext =
         path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     let mesh = match ext.as_str() {
-        "obj" => load_obj(path)?,
-        "gltf" | "glb" => load_gltf(path)?,
+        "obj" => load_obj(path, &read("mesh", path, limits::MESH)?)?,
+        "gltf" | "glb" => load_gltf(path, &read("mesh", path, limits::MESH)?)?,
         _ => return Err(err("mesh", path, "unsupported format: use .obj, .gltf or .glb")),
     };
     finish_mesh(mesh, path)
@@ -81,11 +81,39 @@ fn finish_mesh(mut mesh: Mesh, path: &Path) -> Result<Mesh, AssetError> {
     Ok(mesh)
 }
 
-fn load_obj(path: &Path) -> Result<Mesh, AssetError> {
+fn load_obj(path: &Path, bytes: &[u8]) -> Result<Mesh, AssetError> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        err("mesh", path, format!("it is not an OBJ file: not text (invalid bytes at offset {at})"))
+    })?;
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     // Materials (.mtl) are not used: the scene gives each object its material.
-    let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| err("mesh", path, e))?;
+    let (models, _materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| err("mesh", path, obj_reason(e)))?;
     obj_models_to_mesh(&models, path)
+}
+
+/// What is wrong with an OBJ file, in the words of its format.
+fn obj_reason(e: tobj::LoadError) -> String {
+    use tobj::LoadError as E;
+    let what = match e {
+        E::PositionParseError => "a vertex (`v`) line does not hold 3 or 4 numbers".into(),
+        E::NormalParseError => "a normal (`vn`) line does not hold 3 numbers".into(),
+        E::TexcoordParseError => "a texture coordinate (`vt`) line does not hold numbers".into(),
+        E::FaceParseError | E::InvalidPolygon => {
+            "a face (`f`) line is malformed (indices must be integers, at least 3 per face)".into()
+        }
+        E::FaceVertexOutOfBounds => "a face refers to a vertex that does not exist".into(),
+        E::FaceTexCoordOutOfBounds => {
+            "a face refers to a texture coordinate that does not exist".into()
+        }
+        E::FaceNormalOutOfBounds => "a face refers to a normal that does not exist".into(),
+        E::ReadError => "a line cannot be read".into(),
+        other => other.to_string(),
+    };
+    format!("it is not a valid OBJ file: {what}")
 }
 
 fn obj_models_to_mesh(models: &[tobj::Model], path: &Path) -> Result<Mesh, AssetError> {
@@ -121,8 +149,122 @@ fn obj_models_to_mesh(models: &[tobj::Model], path: &Path) -> Result<Mesh, Asset
     Ok(out)
 }
 
-fn load_gltf(path: &Path) -> Result<Mesh, AssetError> {
-    let (doc, buffers, _images) = gltf::import(path).map_err(|e| err("mesh", path, e))?;
+/// A glTF file's external buffer URI as a path beside it (percent-decoded).
+fn buffer_path(path: &Path, uri: &str) -> std::path::PathBuf {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = |b: u8| (b as char).to_digit(16);
+        match (
+            bytes[i],
+            bytes.get(i + 1).copied().and_then(hex),
+            bytes.get(i + 2).copied().and_then(hex),
+        ) {
+            (b'%', Some(h), Some(l)) => {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+            }
+            (b, _, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    let name = String::from_utf8_lossy(&out).into_owned();
+    path.parent().unwrap_or(Path::new("")).join(name)
+}
+
+/// What is wrong with a glTF or GLB file.
+fn gltf_reason(e: gltf::Error) -> String {
+    use gltf::binary::Error as Glb;
+    match e {
+        gltf::Error::Deserialize(e) => format!("it is not valid glTF JSON ({e})"),
+        gltf::Error::Binary(Glb::Magic(_)) => "it is not a GLB file (wrong magic bytes)".into(),
+        gltf::Error::Binary(Glb::Version(v)) => {
+            format!("GLB version {v} is not supported (only version 2 is)")
+        }
+        gltf::Error::Binary(Glb::Length { length, length_read }) => {
+            format!(
+                "it is truncated: its GLB header declares {length} bytes, the file has {length_read}"
+            )
+        }
+        gltf::Error::Binary(Glb::ChunkLength { length, length_read, .. }) => {
+            format!("it is truncated: a GLB chunk declares {length} bytes, {length_read} are there")
+        }
+        gltf::Error::Binary(Glb::Io(_)) => {
+            "it is truncated (a GLB header or chunk ends early)".into()
+        }
+        gltf::Error::Binary(b) => format!("it is not a valid GLB file ({b})"),
+        gltf::Error::Validation(list) => match list.first() {
+            Some((at, why)) => format!("it breaks the glTF schema at {at}: {why}"),
+            None => "it breaks the glTF schema".into(),
+        },
+        gltf::Error::BufferLength { buffer, expected, actual } => {
+            format!("buffer {buffer} holds {actual} bytes, less than the {expected} it declares")
+        }
+        gltf::Error::MissingBlob => "it refers to a GLB binary chunk it does not have".into(),
+        gltf::Error::Io(e) => crate::files::reason(&e),
+        other => other.to_string(),
+    }
+}
+
+/// Whether every accessor the primitive reads lies inside its buffer (the
+/// reader would silently skip one that does not).
+fn accessors_in_bounds(
+    prim: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), String> {
+    let accessors = prim.attributes().map(|(_, a)| a).chain(prim.indices());
+    for a in accessors {
+        let Some(view) = a.view() else { continue };
+        let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
+        let view_end = view.offset().checked_add(view.length());
+        if view_end.is_none_or(|end| end > buffer_len) {
+            return Err(format!(
+                "buffer view {} reaches past the end of buffer {}",
+                view.index(),
+                view.buffer().index()
+            ));
+        }
+        let stride = view.stride().unwrap_or(a.size());
+        let needed = match a.count() {
+            0 => Some(0),
+            n => (n - 1).checked_mul(stride).and_then(|x| x.checked_add(a.offset() + a.size())),
+        };
+        if needed.is_none_or(|n| n > view.length()) {
+            return Err(format!("accessor {} reads past the end of its buffer view", a.index()));
+        }
+    }
+    Ok(())
+}
+
+fn load_gltf(path: &Path, bytes: &[u8]) -> Result<Mesh, AssetError> {
+    let fail = |e: gltf::Error| err("mesh", path, gltf_reason(e));
+    let gltf::Gltf { document: doc, blob } = gltf::Gltf::from_slice(bytes).map_err(fail)?;
+    // External buffers: each a bounded regular file, named when it is not.
+    for buffer in doc.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source()
+            && !uri.starts_with("data:")
+        {
+            let file = buffer_path(path, uri);
+            let len = crate::files::check_regular(&file, limits::MESH).map_err(|r| {
+                err("mesh buffer", &file, format!("{r} (used by {})", path.display()))
+            })?;
+            if (len as usize) < buffer.length() {
+                return Err(err(
+                    "mesh buffer",
+                    &file,
+                    format!(
+                        "it holds {len} bytes, less than the {} {} declares",
+                        buffer.length(),
+                        path.display()
+                    ),
+                ));
+            }
+        }
+    }
+    let buffers = gltf::import_buffers(&doc, path.parent(), blob).map_err(fail)?;
     let mut out = Mesh::default();
     let mut all_have_normals = true;
     let scene = doc
@@ -138,6 +280,7 @@ fn load_gltf(path: &Path) -> Result<Mesh, AssetError> {
                 if prim.mode() != gltf::mesh::Mode::Triangles {
                     continue;
                 }
+                accessors_in_bounds(&prim, &buffers).map_err(|r| err("mesh", path, r))?;
                 let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
                 let Some(positions) = reader.read_positions() else { continue };
                 let positions: Vec<Vec3> =
@@ -188,18 +331,47 @@ pub struct Image {
     pub rgba: Vec<u8>,
 }
 
+/// Decode a PNG or JPEG read boundedly, within the size limits.
+fn decode_image(what: &'static str, path: &Path) -> Result<image::DynamicImage, AssetError> {
+    let bytes = read(what, path, limits::IMAGE)?;
+    let format = image::guess_format(&bytes)
+        .ok()
+        .filter(|f| matches!(f, image::ImageFormat::Png | image::ImageFormat::Jpeg))
+        .ok_or_else(|| err(what, path, "it is not a PNG or JPEG image"))?;
+    let mut reader = image::ImageReader::with_format(std::io::Cursor::new(&bytes), format);
+    let mut bounds = image::Limits::default();
+    bounds.max_image_width = Some(limits::IMAGE_SIDE);
+    bounds.max_image_height = Some(limits::IMAGE_SIDE);
+    bounds.max_alloc = Some(limits::IMAGE_DECODED);
+    reader.limits(bounds);
+    let name = format!("{format:?}").to_uppercase();
+    reader.decode().map_err(|e| {
+        err(
+            what,
+            path,
+            match e {
+                image::ImageError::Limits(_) => format!(
+                    "it is too large: at most {} pixels a side and {} decoded",
+                    limits::IMAGE_SIDE,
+                    crate::files::show_size(limits::IMAGE_DECODED)
+                ),
+                image::ImageError::Decoding(d) => format!("it is a corrupt {name} image ({d})"),
+                other => other.to_string(),
+            },
+        )
+    })
+}
+
 /// Load a PNG or JPEG texture.
 pub fn load_texture(path: &Path) -> Result<Image, AssetError> {
-    exists("texture", path)?;
-    let img = image::open(path).map_err(|e| err("texture", path, e))?.to_rgba8();
+    let img = decode_image("texture", path)?.to_rgba8();
     Ok(Image { width: img.width(), height: img.height(), rgba: img.into_raw() })
 }
 
 /// Load a grey heightmap (8 or 16 bit PNG, or JPEG) as values in [0, 1],
 /// rows top to bottom; returns (width, height, values).
 pub fn load_heightmap(path: &Path) -> Result<(u32, u32, Vec<f32>), AssetError> {
-    exists("heightmap", path)?;
-    let img = image::open(path).map_err(|e| err("heightmap", path, e))?.to_luma16();
+    let img = decode_image("heightmap", path)?.to_luma16();
     if img.width() < 2 || img.height() < 2 {
         return Err(err("heightmap", path, "it must be at least 2×2 pixels"));
     }
@@ -247,6 +419,62 @@ mod tests {
         let p = temp("bad.png", b"\x89PNG garbage");
         let e = load_texture(&p).unwrap_err().to_string();
         assert!(e.starts_with("cannot load texture") && e.contains("bad.png"), "{e}");
+    }
+
+    /// A one-triangle glTF whose buffer is `uri` (36 bytes declared) and
+    /// whose position accessor holds `count` vertices.
+    fn triangle_gltf(uri: &str, count: u32) -> String {
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+            "nodes":[{{"mesh":0}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":{count},"type":"VEC3","min":[0,0,-1],"max":[1,0,0]}}],
+            "bufferViews":[{{"buffer":0,"byteLength":36}}],
+            "buffers":[{{"byteLength":36,"uri":"{uri}"}}]}}"#
+        )
+    }
+
+    #[test]
+    fn what_is_wrong_with_a_file_is_said_in_its_own_terms() {
+        let reason = |p: &Path| load_mesh(p).unwrap_err().reason;
+        // Not files at all.
+        let dir = temp("x", b"").parent().unwrap().to_path_buf();
+        assert_eq!(reason(&dir.join("sub.obj")), "no such file");
+        std::fs::create_dir_all(dir.join("folder.obj")).unwrap();
+        assert_eq!(reason(&dir.join("folder.obj")), "it is a folder, not a file");
+        #[cfg(unix)]
+        {
+            let link = dir.join("zero.obj");
+            let _ = std::fs::remove_file(&link);
+            std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+            assert!(reason(&link).contains("not a regular file"));
+            let e = load_texture(&link.with_extension("png")).unwrap_err().reason;
+            assert_eq!(e, "no such file");
+        }
+        // Corrupt OBJ, glTF and GLB.
+        assert!(reason(&temp("bin.obj", &[0xff, 0xfe, 0x00])).contains("not text"));
+        let e = reason(&temp("bad_v.obj", b"v 1 x 2\nf 1 2 3\n"));
+        assert!(e.contains("vertex (`v`) line"), "{e}");
+        assert!(reason(&temp("junk.gltf", b"not json")).contains("not valid glTF JSON"));
+        let mut glb = b"glTF\x02\x00\x00\x00\xff\x00\x00\x00".to_vec();
+        glb.extend_from_slice(&[0; 8]);
+        let e = reason(&temp("short.glb", &glb));
+        assert!(e.contains("truncated"), "{e}");
+        // A missing buffer names the buffer's file, and who wanted it.
+        let p = temp("needs_bin.gltf", triangle_gltf("missing%20part.bin", 3).as_bytes());
+        let e = load_mesh(&p).unwrap_err();
+        assert!(e.path.ends_with("missing part.bin") && e.what == "mesh buffer", "{e}");
+        assert!(e.reason.contains("no such file") && e.reason.contains("needs_bin.gltf"), "{e}");
+        // A buffer shorter than it says, and an accessor past its view's end.
+        temp("short.bin", &[0; 12]);
+        let e = load_mesh(&temp("short_bin.gltf", triangle_gltf("short.bin", 3).as_bytes()));
+        assert!(e.unwrap_err().reason.contains("12 bytes, less than the 36"));
+        temp("full.bin", &[0; 36]);
+        let e = reason(&temp("past_end.gltf", triangle_gltf("full.bin", 4).as_bytes()));
+        assert!(e.contains("accessor 0") && e.contains("past the end"), "{e}");
+        // Images that are not images, or too large.
+        let e = load_heightmap(&temp("text.png", b"hello")).unwrap_err().reason;
+        assert_eq!(e, "it is not a PNG or JPEG image");
     }
 
     #[test]

@@ -199,9 +199,37 @@ fn check_value(
     }
 }
 
+/// Coefficients given together with a named medium.
+fn contradiction(origin: &str, coefficient: &str, medium: &Value) -> SceneError {
+    SceneError::WrongType {
+        origin: origin.into(),
+        key: format!("water.{coefficient}"),
+        expected: "given only with water.medium = \"custom\" (or without water.medium, which then means custom)".into(),
+        got: format!("water.medium = {medium}"),
+    }
+}
+
+/// Whether `raw` is written as a number (sign, digits, point, exponent).
+fn looks_numeric(raw: &str) -> bool {
+    let body = raw.trim_start_matches(['+', '-']);
+    body.starts_with(|c: char| c.is_ascii_digit())
+        && body
+            .chars()
+            .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-' | '_'))
+}
+
+/// At most 40 characters of `s`, for messages.
+fn shorten(s: &str) -> String {
+    if s.chars().count() <= 40 {
+        s.to_string()
+    } else {
+        format!("{}… ({} characters)", s.chars().take(40).collect::<String>(), s.chars().count())
+    }
+}
+
 /// Parse `section.key=value` (value is TOML; a bare word or path is a string).
 pub fn parse_override(text: &str) -> Result<(Vec<String>, Value), SceneError> {
-    let bad = |reason: &str| SceneError::BadOverride { text: text.into(), reason: reason.into() };
+    let bad = |reason: &str| SceneError::BadOverride { text: shorten(text), reason: reason.into() };
     let (key, raw) = text.split_once('=').ok_or_else(|| bad("expected section.key=value"))?;
     let path: Vec<String> = key.trim().split('.').map(str::to_string).collect();
     if path.iter().any(|p| p.is_empty()) {
@@ -213,15 +241,24 @@ pub fn parse_override(text: &str) -> Result<(Vec<String>, Value), SceneError> {
         // Bare words (names, file paths) are strings.
         Err(_)
             if !raw.is_empty()
+                && !looks_numeric(raw)
                 && raw
                     .chars()
                     .all(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | '.' | '/')) =>
         {
             Value::String(raw.to_string())
         }
+        // Digits that TOML cannot hold: not a string, a number out of range.
+        Err(_) if looks_numeric(raw) => {
+            return Err(bad(&format!(
+                "`{}` is a number TOML cannot hold: integers are at most 9223372036854775807, floats at most about 1.8e308",
+                shorten(raw)
+            )));
+        }
         Err(_) => {
             return Err(bad(&format!(
-                "`{raw}` is not a TOML value (quote strings, arrays look like [1, 2, 3])"
+                "`{}` is not a TOML value (quote strings, arrays look like [1, 2, 3])",
+                shorten(raw)
             )));
         }
     };
@@ -242,6 +279,23 @@ pub fn apply_override(table: &mut Table, path: &[String], value: Value) {
     t.insert(last.clone(), value);
 }
 
+/// The dotted key assigned on `line` (1-based) of a TOML text: the last
+/// `[section]` above it and the name before `=`.
+fn key_at_line(text: &str, line: usize) -> Option<String> {
+    let lines: Vec<&str> = text.lines().collect();
+    let here = lines.get(line.checked_sub(1)?)?;
+    let name = here.split_once('=')?.0.trim();
+    let section = lines[..line - 1].iter().rev().find_map(|l| {
+        let l = l.trim();
+        (l.starts_with('[') && !l.starts_with("[["))
+            .then(|| l.trim_matches(|c| c == '[' || c == ']').to_string())
+    });
+    Some(match section {
+        Some(s) => format!("{s}.{name}"),
+        None => name.to_string(),
+    })
+}
+
 fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
@@ -254,40 +308,99 @@ impl Scene {
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Scene, SceneError> {
         let mut user: Table = text.parse().map_err(|e: toml::de::Error| {
             let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
-            SceneError::Syntax {
-                origin: origin.into(),
-                line,
-                column,
-                message: e.message().trim().to_string(),
+            let mut message = e.message().trim().to_string();
+            if message.contains("too large") || message.contains("overflow") {
+                let key = key_at_line(text, line).map(|k| format!("`{k}`: ")).unwrap_or_default();
+                message = format!(
+                    "{key}{message} (TOML integers are at most 9223372036854775807, floats at most about 1.8e308)"
+                );
             }
+            SceneError::Syntax { origin: origin.into(), line, column, message }
         })?;
         let schema = Scene::default().to_table();
         check_against_schema(&mut user, &schema, "", origin, &schema)?;
-        // Coefficients given without a named medium mean a custom medium.
+        // Coefficients mean a custom medium, in the file and in --set alike:
+        // given without `medium` they make it "custom" (a --set overriding the
+        // file's named medium); given with a named medium they contradict it.
+        let coefficients = |keys: &mut dyn Iterator<Item = &str>| {
+            keys.filter(|k| *k == "absorption" || *k == "scattering").map(str::to_string).next()
+        };
         if let Some(Value::Table(w)) = user.get_mut("water")
-            && (w.contains_key("absorption") || w.contains_key("scattering"))
-            && !w.contains_key("medium")
+            && let Some(coefficient) = coefficients(&mut w.keys().map(String::as_str))
         {
-            w.insert("medium".into(), Value::String("custom".into()));
+            match w.get("medium") {
+                None => {
+                    w.insert("medium".into(), Value::String("custom".into()));
+                }
+                Some(Value::String(m)) if m == "custom" => {}
+                Some(m) => return Err(contradiction(origin, &coefficient, m)),
+            }
         }
+        let (mut set_coefficient, mut set_medium) = (None, None);
         for o in overrides {
             let (path, value) = parse_override(o)?;
+            if path.len() == 2 && path[0] == "water" {
+                match path[1].as_str() {
+                    "absorption" | "scattering" => set_coefficient = Some(path[1].clone()),
+                    "medium" => set_medium = Some(value.clone()),
+                    _ => {}
+                }
+            }
             let mut one = Table::new();
             apply_override(&mut one, &path, value);
             check_against_schema(&mut one, &schema, "", "--set", &schema)?;
             let (path_again, value) = flatten_single(&one, &path);
             apply_override(&mut user, &path_again, value);
         }
+        if let Some(coefficient) = set_coefficient {
+            match set_medium {
+                Some(Value::String(m)) if m == "custom" => {}
+                Some(m) => return Err(contradiction("--set", &coefficient, &m)),
+                None => {
+                    let path = ["water".to_string(), "medium".to_string()];
+                    apply_override(&mut user, &path, Value::String("custom".into()));
+                }
+            }
+        }
+        // `mesh = ""` would read as "no mesh": say so instead.
+        if let Some(Value::Array(objects)) = user.get("objects") {
+            for (i, o) in objects.iter().enumerate() {
+                if let Some(Value::String(m)) = o.get("mesh")
+                    && m.trim().is_empty()
+                {
+                    return Err(SceneError::OutOfRange {
+                        key: format!("objects[{i}].mesh"),
+                        value: format!("{m:?}"),
+                        allowed: "must name a file (.obj, .gltf, .glb) or builtin:bunny; leave the key out to use `primitive`".into(),
+                    });
+                }
+            }
+        }
         let scene: Scene =
             Value::Table(user.clone()).try_into().map_err(|e: toml::de::Error| {
-                // After the checks above only enum names can fail: find the key.
+                // After the checks above only enum names and integer ranges
+                // can fail: find the key the message quotes.
                 let msg = e.message().trim().to_string();
-                let key = find_string_key(&user, "", &msg).unwrap_or_else(|| "scene".into());
+                let value = Value::Table(user.clone());
+                let key = find_quoted_key(&value, "", &msg).unwrap_or_else(|| "scene".into());
+                let got = msg.split(", expected").next().unwrap_or(&msg);
+                let got = got.trim_start_matches("invalid value: ");
+                let got = match got.split_once('`') {
+                    Some((kind, rest)) => {
+                        let quoted = rest.trim_end_matches('`');
+                        if kind.contains("variant") {
+                            format!("{quoted:?}")
+                        } else {
+                            quoted.to_string()
+                        }
+                    }
+                    None => got.to_string(),
+                };
                 SceneError::WrongType {
                     origin: origin.into(),
                     key,
-                    expected: "one of the listed names".into(),
-                    got: msg,
+                    expected: expected_from(&msg),
+                    got,
                 }
             })?;
         scene.validate()?;
@@ -304,8 +417,8 @@ impl Scene {
             let list = BUILTIN_SCENES.iter().map(|b| b.name).collect::<Vec<_>>().join(", ");
             return Err(SceneError::UnknownScene { name: spec.into(), list });
         }
-        let text = std::fs::read_to_string(Path::new(spec))
-            .map_err(|e| SceneError::Io { path: spec.into(), reason: e.to_string() })?;
+        let text = crate::files::read_text_bounded(Path::new(spec), crate::files::limits::SCENE)
+            .map_err(|reason| SceneError::Io { path: spec.into(), reason })?;
         let mut scene = Scene::from_toml(&text, spec, overrides)?;
         scene.base_dir = Path::new(spec).parent().map(Path::to_path_buf).unwrap_or_default();
         Ok(scene)
@@ -356,20 +469,51 @@ impl Scene {
             });
         }
         for (i, o) in self.objects.iter().enumerate() {
-            for (j, c) in o.scale.iter().enumerate() {
-                range(&format!("objects[{i}].scale[{j}]"), *c, c.abs() > 1e-6, "must be non-zero")?;
+            let within = format!("must be finite, each coordinate within ±{WORLD_EXTENT_M} m");
+            vec3_range(&format!("objects[{i}].position"), o.position, WORLD_EXTENT_M, &within)?;
+            let scale_ok = o.scale.iter().all(|c| (1e-6..=WORLD_EXTENT_M).contains(&c.abs()));
+            if !scale_ok {
+                return Err(SceneError::OutOfRange {
+                    key: format!("objects[{i}].scale"),
+                    value: format!("{:?}", o.scale),
+                    allowed: format!(
+                        "each factor must be finite and non-zero, its size from 1e-6 to {WORLD_EXTENT_M}"
+                    ),
+                });
             }
-            for (j, c) in o.position.iter().chain(&o.rotation_deg).enumerate() {
-                range(
-                    &format!("objects[{i}].{}", if j < 3 { "position" } else { "rotation_deg" }),
-                    *c,
-                    true,
-                    "must be finite",
-                )?;
-            }
+            vec3_range(
+                &format!("objects[{i}].rotation_deg"),
+                o.rotation_deg,
+                1e6,
+                "must be finite angles (degrees)",
+            )?;
             validate_material(&format!("objects[{i}].material"), &o.material)?;
         }
         Ok(())
+    }
+}
+
+/// Positions in a scene (camera, objects) lie within this many metres of
+/// the origin on each axis: beyond, single-precision rendering loses the
+/// centimetres a water surface needs.
+pub const WORLD_EXTENT_M: f32 = 100_000.0;
+
+/// Every component of `v` finite and within ±`max`, else an error naming
+/// `key` and what is allowed.
+pub(super) fn vec3_range(
+    key: &str,
+    v: [f32; 3],
+    max: f32,
+    allowed: &str,
+) -> Result<(), SceneError> {
+    if v.iter().all(|c| c.is_finite() && c.abs() <= max) {
+        Ok(())
+    } else {
+        Err(SceneError::OutOfRange {
+            key: key.into(),
+            value: format!("{v:?}"),
+            allowed: allowed.into(),
+        })
     }
 }
 
@@ -430,20 +574,35 @@ fn flatten_single(t: &Table, path: &[String]) -> (Vec<String>, Value) {
     (path.to_vec(), v)
 }
 
-fn find_string_key(t: &Table, prefix: &str, message: &str) -> Option<String> {
-    for (k, v) in t {
-        let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-        match v {
-            Value::String(s) if message.contains(&format!("`{s}`")) => return Some(path),
-            Value::Table(inner) => {
-                if let Some(p) = find_string_key(inner, &path, message) {
-                    return Some(p);
-                }
-            }
-            _ => {}
-        }
+/// The key whose string or integer value a deserializer message quotes
+/// (`` unknown variant `torus` ``, `` integer `4294967296` ``), searching
+/// sections and arrays of tables (`objects[2].primitive`).
+fn find_quoted_key(v: &Value, path: &str, message: &str) -> Option<String> {
+    match v {
+        Value::String(s) if message.contains(&format!("`{s}`")) => Some(path.to_string()),
+        Value::Integer(n) if message.contains(&format!("integer `{n}`")) => Some(path.to_string()),
+        Value::Table(t) => t.iter().find_map(|(k, v)| {
+            let p = if path.is_empty() { k.clone() } else { format!("{path}.{k}") };
+            find_quoted_key(v, &p, message)
+        }),
+        Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, v)| find_quoted_key(v, &format!("{path}[{i}]"), message)),
+        _ => None,
     }
-    None
+}
+
+/// What a deserializer message says was expected, in the scene's words.
+fn expected_from(message: &str) -> String {
+    let expected = message.rsplit("expected ").next().unwrap_or(message).trim();
+    match expected {
+        "u32" => "a whole number from 0 to 4294967295".into(),
+        "u64" => "a whole number from 0 to 9223372036854775807".into(),
+        "i32" => "a whole number from -2147483648 to 2147483647".into(),
+        e if e.starts_with("one of") || e.starts_with('`') => e.to_string(),
+        _ => "one of the listed names".into(),
+    }
 }
 
 #[cfg(test)]
@@ -517,7 +676,7 @@ mod tests {
         let e = Scene::from_toml("[[objects]]\nscale = [1, 0, 1]\n", "x.toml", &[])
             .unwrap_err()
             .to_string();
-        assert!(e.contains("objects[0].scale[1]"), "{e}");
+        assert!(e.contains("objects[0].scale") && e.contains("non-zero"), "{e}");
         let e = Scene::from_toml("[water]\nmedium = \"swamp\"\n", "x.toml", &[])
             .unwrap_err()
             .to_string();
@@ -532,6 +691,67 @@ mod tests {
         assert_eq!(s.medium().absorption, glam::Vec3::new(0.5, 0.1, 0.05));
         let s = Scene::from_toml("[water]\nmedium = \"pure\"\n", "x.toml", &[]).unwrap();
         assert_eq!(s.medium().absorption, glam::Vec3::from(crate::medium::PURE_WATER_ABSORPTION));
+    }
+
+    #[test]
+    fn coefficients_mean_custom_in_files_and_overrides_alike() {
+        let pure = "[water]\nmedium = \"pure\"\n";
+        // A --set coefficient overrides the file's named medium.
+        let s = Scene::from_toml(pure, "x.toml", &["water.absorption=[0.5, 0.1, 0.05]".into()])
+            .unwrap();
+        assert_eq!(s.water.medium, super::super::MediumName::Custom);
+        assert_eq!(s.medium().absorption, glam::Vec3::new(0.5, 0.1, 0.05));
+        // The preset's scattering stays unless given.
+        let sets = ["water.scattering=[0.01, 0.02, 0.03]".to_string()];
+        let s = Scene::from_toml(pure, "x.toml", &sets).unwrap();
+        assert_eq!(s.medium().scattering, glam::Vec3::new(0.01, 0.02, 0.03));
+        // Named medium and coefficients together contradict each other.
+        let both = "[water]\nmedium = \"pure\"\nabsorption = [1, 1, 1]\n";
+        let e = Scene::from_toml(both, "x.toml", &[]).unwrap_err().to_string();
+        assert!(e.contains("`water.absorption`") && e.contains("\"pure\""), "{e}");
+        let sets = ["water.absorption=[1,1,1]".to_string(), "water.medium=coastal".to_string()];
+        let e = Scene::from_toml("", "x.toml", &sets).unwrap_err().to_string();
+        assert!(e.starts_with("--set") && e.contains("\"coastal\""), "{e}");
+        let sets = ["water.absorption=[1,1,1]".to_string(), "water.medium=custom".to_string()];
+        assert!(Scene::from_toml(pure, "x.toml", &sets).is_ok());
+    }
+
+    #[test]
+    fn messages_name_the_key_that_is_wrong() {
+        let err = |text: &str, sets: &[&str]| {
+            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+            Scene::from_toml(text, "x.toml", &sets).unwrap_err().to_string()
+        };
+        // Each camera vector on its own: the bad one is named.
+        let e = err("", &["camera.position=[inf, 0, 0]"]);
+        assert!(e.contains("`camera.position`") && e.contains("finite"), "{e}");
+        let e = err("", &["camera.position=[1e30, 0, 0]"]);
+        assert!(e.contains("`camera.position`") && e.contains("100000"), "{e}");
+        let e = err("", &["camera.look_at=[nan, 0, 0]"]);
+        assert!(e.contains("`camera.look_at`") && e.contains("finite"), "{e}");
+        let e = err("", &["camera.up=[nan, 1, 0]"]);
+        assert!(e.contains("`camera.up`") && e.contains("finite"), "{e}");
+        // Objects: far away, infinite or huge scale, empty mesh, unknown primitive.
+        let e = err("[[objects]]\nposition = [1e30, 0, 0]\n", &[]);
+        assert!(e.contains("`objects[0].position`"), "{e}");
+        let e = err("[[objects]]\nscale = [inf, 1, 1]\n", &[]);
+        assert!(e.contains("`objects[0].scale`") && e.contains("finite"), "{e}");
+        let e = err("[[objects]]\nscale = [1e30, 1, 1]\n", &[]);
+        assert!(e.contains("`objects[0].scale`"), "{e}");
+        let e = err("[[objects]]\nmesh = \"\"\n", &[]);
+        assert!(e.contains("`objects[0].mesh`") && e.contains("leave the key out"), "{e}");
+        let e = err("[[objects]]\n[[objects]]\nprimitive = \"torus\"\n", &[]);
+        assert!(e.contains("`objects[1].primitive`") && e.contains("\"torus\""), "{e}");
+        // Integers out of the key's range, and beyond TOML's.
+        let e = err("", &["ocean.resolution=4294967296"]);
+        assert!(e.contains("`ocean.resolution`") && e.contains("4294967295"), "{e}");
+        let e = err("[ocean]\nseed = 18446744073709551615\n", &[]);
+        assert!(e.contains("`ocean.seed`") && e.contains("9223372036854775807"), "{e}");
+        let e = err("", &["ocean.seed=18446744073709551615"]);
+        assert!(e.contains("number TOML cannot hold"), "{e}");
+        let long = format!("ocean.wind_speed={}", "9".repeat(400));
+        let e = err("", &[&long]);
+        assert!(e.contains("number TOML cannot hold") && e.len() < 300, "{e}");
     }
 
     #[test]

@@ -10,8 +10,8 @@ mod load;
 pub use builtin::{BUILTIN_SCENES, BuiltinScene};
 pub use choices::{Choice, enumerated_keys};
 pub use geometry::{FLOOR_EXTENT, SceneObject};
-pub use load::{SceneError, apply_override, parse_override};
-use load::{range, validate_material};
+pub use load::{SceneError, WORLD_EXTENT_M, apply_override, parse_override};
+use load::{range, validate_material, vec3_range};
 
 use crate::camera::Camera;
 use crate::medium::Medium;
@@ -581,9 +581,15 @@ impl CameraDesc {
             c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0,
             "must be in (0, 180)",
         )?;
+        // Each vector on its own first, so that the message names the key
+        // that is wrong; then how they relate.
+        let within = format!("must be finite, each coordinate within ±{WORLD_EXTENT_M} m");
+        vec3_range("camera.position", c.position, WORLD_EXTENT_M, &within)?;
+        vec3_range("camera.look_at", c.look_at, WORLD_EXTENT_M, &within)?;
+        vec3_range("camera.up", c.up, f32::MAX, "must be finite")?;
         let (p, t, up) =
             (glam::Vec3::from(c.position), glam::Vec3::from(c.look_at), glam::Vec3::from(c.up));
-        if (t - p).length() < 1e-4 || !(p.is_finite() && t.is_finite()) {
+        if (t - p).length() < 1e-4 {
             return Err(SceneError::OutOfRange {
                 key: "camera.look_at".into(),
                 value: format!("{:?}", c.look_at),
@@ -1101,13 +1107,7 @@ impl Scene {
             path: path.display().to_string(),
             reason,
         };
-        let bytes = std::fs::read(&path).map_err(|e| {
-            fail(if e.kind() == std::io::ErrorKind::NotFound {
-                "no such file".into()
-            } else {
-                e.to_string()
-            })
-        })?;
+        let bytes = crate::files::read_bounded(&path, crate::files::limits::NPY).map_err(fail)?;
         let (rows, cols, heights) = crate::npy::decode_f32_2d(&bytes).map_err(fail)?;
         if rows < 2 || cols < 2 {
             return Err(fail(format!("it must be at least 2×2, not {rows}×{cols}")));
