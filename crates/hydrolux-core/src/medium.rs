@@ -87,22 +87,38 @@ impl Medium {
     /// the beam's distance to the surface grows as c·x). Seed 000 eq. 3.6:
     /// σs·p·e0·(1 − e^(−σk(1+c)s)) / (σk(1+c)).
     pub fn in_scatter(&self, e0: Vec3, phase: f32, c: f32, s: f32) -> Vec3 {
-        let k = self.extinction() * (1.0 + c);
+        self.in_scatter_from(e0, 0.0, phase, c, s)
+    }
+
+    /// [`Medium::in_scatter`] for light `e_top` that has come `t` metres
+    /// through the water to the path's start (e0 = e_top·e^(−σk·t)), with
+    /// both attenuations in one exponent: e^(−σk·t) − e^(−σk(t + (1+c)s)).
+    /// For a path that stays in the water both exponents are ≤ 0, so
+    /// nothing overflows however deep the eye (a rising path's own gain
+    /// e^(σk|1+c|s) alone overflows f32 a few hundred metres down).
+    pub fn in_scatter_from(&self, e_top: Vec3, t: f32, phase: f32, c: f32, s: f32) -> Vec3 {
         let s = s.max(0.0);
-        // (1 − e^(−k s)) / k, continuous at k → 0.
+        let k = self.extinction();
         let integral = Vec3::new(
-            one_minus_exp_over(k.x, s),
-            one_minus_exp_over(k.y, s),
-            one_minus_exp_over(k.z, s),
+            attenuated_integral(k.x, t, c, s),
+            attenuated_integral(k.y, t, c, s),
+            attenuated_integral(k.z, t, c, s),
         );
-        self.scattering * phase * e0 * integral
+        self.scattering * phase * e_top * integral
     }
 }
 
-/// (1 − e^(−k·s)) / k, continuous at k → 0; k may be negative (a path that
-/// rises towards the light gains light faster than it loses it).
-fn one_minus_exp_over(k: f32, s: f32) -> f32 {
-    if (k * s).abs() < 1e-4 { s * (1.0 - 0.5 * k * s) } else { (1.0 - (-k * s).exp()) / k }
+/// ∫0^s e^(−k(t + (1+c)x)) dx = (e^(−kt) − e^(−k(t + (1+c)s))) / (k(1+c)),
+/// continuous at k(1+c) → 0. The end's exponent is clamped at 0: light
+/// never grows past its value at the surface.
+fn attenuated_integral(k: f32, t: f32, c: f32, s: f32) -> f32 {
+    let a = (k * t).max(0.0);
+    let kc = k * (1.0 + c);
+    if (kc * s).abs() < 1e-4 {
+        (-a).exp() * s * (1.0 - 0.5 * kc * s)
+    } else {
+        ((-a).exp() - (-(a + kc * s).max(0.0)).exp()) / kc
+    }
 }
 
 /// Isotropic phase function, 1/(4π) per steradian.
@@ -197,8 +213,9 @@ impl UnderwaterLight {
         let d0 = (depth - dir.y * s0).max(0.0);
         let phase = henyey_greenstein(self.sun_travel.dot(-dir), g);
         medium.transmittance(s0)
-            * medium.in_scatter(
-                self.sun_irradiance * medium.transmittance(d0 / cos_w),
+            * medium.in_scatter_from(
+                self.sun_irradiance,
+                d0 / cos_w,
                 phase,
                 -dir.y / cos_w,
                 s1 - s0,
@@ -216,16 +233,11 @@ impl UnderwaterLight {
         let cos_w = (-self.sun_travel.y).max(1e-3);
         // Angle between the light's travel and the direction back to the eye.
         let phase = henyey_greenstein(self.sun_travel.dot(-dir), g);
-        let sun = medium.in_scatter(
-            self.sun_irradiance * medium.transmittance(depth / cos_w),
-            phase,
-            down / cos_w,
-            s,
-        );
+        let sun =
+            medium.in_scatter_from(self.sun_irradiance, depth / cos_w, phase, down / cos_w, s);
         // Diffuse skylight: scalar irradiance E/μ̄, isotropic phase.
-        let sky_start = self.sky_irradiance * medium.transmittance(depth / DIFFUSE_MEAN_COSINE)
-            / DIFFUSE_MEAN_COSINE;
-        let sky = medium.in_scatter(sky_start, PHASE_ISOTROPIC, down / DIFFUSE_MEAN_COSINE, s);
+        let (mu, sky_top) = (DIFFUSE_MEAN_COSINE, self.sky_irradiance / DIFFUSE_MEAN_COSINE);
+        let sky = medium.in_scatter_from(sky_top, depth / mu, PHASE_ISOTROPIC, down / mu, s);
         sun + sky
     }
 }
@@ -289,6 +301,35 @@ mod tests {
         assert!(t.z > 0.98 && t.x < 0.32);
         let t10 = m.transmittance(10.0);
         assert!((t10.y - t.y.powi(10)).abs() < 1e-5);
+    }
+
+    #[test]
+    fn in_scatter_stays_bounded_at_any_depth() {
+        // A rising path's own gain e^(σk|1+c|s) overflows f32 a few hundred
+        // metres down; the light reaching it from above must not.
+        let m = MediumPreset::ClearOcean.medium();
+        let sun = Vec3::new(0.3, 0.8, 0.2).normalize();
+        let light = UnderwaterLight::new(sun, Vec3::splat(1000.0), Vec3::splat(300.0), 1.333);
+        for dir in [Vec3::Y, Vec3::new(0.0, 0.5, -1.0).normalize(), Vec3::NEG_Z, Vec3::NEG_Y] {
+            let mut last = Vec3::splat(f32::INFINITY);
+            for depth in [0.0, 10.0, 100.0, 1000.0, 10_000.0, 100_000.0] {
+                // Looking up, the path ends at the surface; else 1 km long.
+                let s = if dir.y > 0.0 { depth / dir.y } else { 1000.0 };
+                let l = light.view_in_scatter(&m, depth, dir, s, 0.9);
+                assert!(l.is_finite() && l.min_element() >= 0.0, "{dir} at {depth} m: {l}");
+                // Deep down, less and less light whichever way one looks.
+                if depth >= 1000.0 {
+                    assert!(l.cmple(last).all(), "{dir}: more light at {depth} m ({l}) than above");
+                    last = l;
+                }
+            }
+            assert!(last.max_element() < 1e-20, "{dir}: {last} at 100 km");
+        }
+        // The split form agrees with attenuating first where that is exact.
+        let (e, t, c, s) = (Vec3::new(50.0, 60.0, 70.0), 7.0, -0.4, 5.0);
+        let split = m.in_scatter_from(e, t, 0.1, c, s);
+        let first = m.in_scatter(e * m.transmittance(t), 0.1, c, s);
+        assert!(((split - first) / first).abs().max_element() < 1e-5, "{split} vs {first}");
     }
 
     #[test]

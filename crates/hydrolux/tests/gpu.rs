@@ -1134,3 +1134,38 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
     );
     assert!(p5 > 0.9 && p95 < 1.1, "flux ratio 5th–95th percentile {p5}–{p95}");
 }
+
+#[test]
+fn every_pixel_stays_finite_and_bounded_at_any_depth_and_height() {
+    // 10 m to 10 km below and above, looking level and up: deep down it is
+    // dark (no white Snell's window from overflowing in-scatter), high up
+    // the sea and sky keep their radiance; nothing saturates.
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let target = HeadlessTarget::new(&ctx.device, (24, 16));
+    for name in ["underwater", "pool"] {
+        for y in [-10_000.0f32, -1000.0, -100.0, -10.0, 10.0, 100.0, 1000.0, 10_000.0] {
+            for rise in [-5.0f32, 100.0] {
+                let sets = [
+                    format!("camera.position=[0, {y}, 0]"),
+                    format!("camera.look_at=[0, {}, -30]", y + rise),
+                ];
+                let s = Scene::load(name, &sets).expect("scene");
+                let mut r = renderer(&ctx, &s);
+                target.render(&mut r, s.camera(), 1.0);
+                let (_, _, px) = r.read_hdr().expect("frame");
+                let max = px.iter().flat_map(|p| [p[0], p[1], p[2]]).fold(0.0f32, f32::max);
+                assert!(
+                    px.iter().all(|p| p.iter().all(|c| c.is_finite() && *c >= 0.0)),
+                    "{name} at y = {y}: a pixel is not a finite radiance"
+                );
+                assert!(max < 1000.0, "{name} at y = {y}, looking {rise}: {max}");
+                if y <= -1000.0 {
+                    assert!(max < 1e-3, "{name} {y} m down, looking {rise}: {max} is not dark");
+                }
+                if y >= 10.0 {
+                    assert!(max > 0.1, "{name} {y} m up, looking {rise}: {max} is black");
+                }
+            }
+        }
+    }
+}

@@ -20,15 +20,22 @@ fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
     return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
 }
 
-// σs·p·e0·(1 − e^(−σk(1+c)s)) / (σk(1+c)), continuous at σk(1+c) → 0;
-// 1 + c is negative for paths rising towards the light faster than they lose it.
-fn in_scatter(e0: vec3<f32>, phase: f32, c: f32, s: f32) -> vec3<f32> {
-    let k = extinction() * (1.0 + c);
-    let ks = k * max(s, 0.0);
-    let small = abs(ks) < vec3<f32>(1e-4);
-    let safe_k = select(k, vec3<f32>(1.0), small);
-    let integral = select((1.0 - exp(-ks)) / safe_k, s * (1.0 - 0.5 * ks), small);
-    return frame.water.scattering * phase * e0 * integral;
+// σs·p·e_top·(e^(−σk·t) − e^(−σk(t + (1+c)s))) / (σk(1+c)): light e_top that
+// came t metres through the water to the path's start, scattered once into
+// the path of length s; continuous at σk(1+c) → 0. 1 + c is negative for
+// paths rising towards the light faster than they lose it; both exponents
+// stay ≤ 0 (the end's is clamped there), so nothing overflows however deep
+// the eye. Twin: Medium::in_scatter_from.
+fn in_scatter_from(e_top: vec3<f32>, t: f32, phase: f32, c: f32, s: f32) -> vec3<f32> {
+    let k = extinction();
+    let a = max(k * t, vec3<f32>(0.0));
+    let kc = k * (1.0 + c);
+    let kcs = kc * max(s, 0.0);
+    let small = abs(kcs) < vec3<f32>(1e-4);
+    let safe_kc = select(kc, vec3<f32>(1.0), small);
+    let exact = (exp(-a) - exp(-max(a + kcs, vec3<f32>(0.0)))) / safe_kc;
+    let integral = select(exact, exp(-a) * max(s, 0.0) * (1.0 - 0.5 * kcs), small);
+    return frame.water.scattering * phase * e_top * integral;
 }
 
 // Fraction of the downwelling light that comes back up from below (floor
@@ -55,14 +62,14 @@ fn sun_in_scatter(depth: f32, dir: vec3<f32>, s0: f32, s1: f32) -> vec3<f32> {
     let cos_w = max(frame.light.sun_travel_cos, 1e-3);
     let d0 = max(depth - dir.y * s0, 0.0);
     let phase = henyey_greenstein(dot(frame.light.sun_travel, -dir), frame.water.phase_g);
-    return transmittance(s0) * in_scatter(frame.light.sun_underwater * transmittance(d0 / cos_w), phase, -dir.y / cos_w, s1 - s0);
+    return transmittance(s0) * in_scatter_from(frame.light.sun_underwater, d0 / cos_w, phase, -dir.y / cos_w, s1 - s0);
 }
 
 // The diffuse skylight's part over the first s metres.
 fn sky_in_scatter(depth: f32, dir: vec3<f32>, s: f32) -> vec3<f32> {
     let d = max(depth, 0.0);
-    let sky_start = frame.light.sky_underwater * transmittance(d / DIFFUSE_MEAN_COSINE) / DIFFUSE_MEAN_COSINE;
-    return in_scatter(sky_start, PHASE_ISOTROPIC, -dir.y / DIFFUSE_MEAN_COSINE, s);
+    let sky_top = frame.light.sky_underwater / DIFFUSE_MEAN_COSINE;
+    return in_scatter_from(sky_top, d / DIFFUSE_MEAN_COSINE, PHASE_ISOTROPIC, -dir.y / DIFFUSE_MEAN_COSINE, s);
 }
 
 // Light scattered once into a path of length s along `dir` that starts

@@ -34,8 +34,10 @@ pub fn source() -> String {
     shaders::compose(&consts, include_str!("water.wgsl"))
 }
 
-/// Depth of the closed water volume's floor (m): far below any scene floor.
-pub const VOLUME_DEPTH: f32 = 10_000.0;
+/// Depth of the closed water volume's floor (m): below any camera a scene
+/// allows (`WORLD_EXTENT_M`), so that a camera deep down is still in the water.
+pub const VOLUME_DEPTH: f32 = 1.0e6;
+const _: () = assert!(VOLUME_DEPTH > 2.0 * hydrolux_core::scene::WORLD_EXTENT_M);
 
 /// Tiles per side of a ring: rings are culled per tile against the frustum.
 pub const TILES: i32 = 4;
