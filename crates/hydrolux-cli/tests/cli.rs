@@ -434,3 +434,252 @@ fn god_ray_and_object_caustic_dumps_have_their_shapes() {
     let peak = values.iter().cloned().fold(0.0f32, f32::max);
     assert!(peak > 1.0, "the water bunny focuses sunlight somewhere: peak {peak}");
 }
+
+/// Like [`hydrolux`] with extra environment variables (None removes one).
+fn hydrolux_env(args: &[&str], dir: &PathBuf, env: &[(&str, Option<&str>)]) -> (i32, String) {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_hydrolux"));
+    cmd.args(args).current_dir(dir).env("XDG_RUNTIME_DIR", std::env::temp_dir());
+    for (k, v) in env {
+        match v {
+            Some(v) => cmd.env(k, v),
+            None => cmd.env_remove(k),
+        };
+    }
+    let out = cmd.output().expect("run hydrolux");
+    let stderr = String::from_utf8_lossy(&out.stderr)
+        .lines()
+        .filter(|l| !l.contains("XDG_RUNTIME_DIR"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    (out.status.code().unwrap_or(-1), stderr)
+}
+
+fn files_in(dir: &PathBuf) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn hostile_input_is_refused_plainly() {
+    let dir = scratch("hostile");
+    let w = |name: &str, bytes: &[u8]| std::fs::write(dir.join(name), bytes).unwrap();
+    // Input that never ends, is not a file, or is too large.
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("/dev/zero", dir.join("zero.toml")).unwrap();
+        std::os::unix::fs::symlink("/dev/urandom", dir.join("random.npy")).unwrap();
+        std::os::unix::fs::symlink("loop_b.obj", dir.join("loop_a.obj")).unwrap();
+        std::os::unix::fs::symlink("loop_a.obj", dir.join("loop_b.obj")).unwrap();
+    }
+    let fifo =
+        Command::new("mkfifo").arg(dir.join("fifo.toml")).status().is_ok_and(|s| s.success());
+    std::fs::create_dir_all(dir.join("folder.obj")).unwrap();
+    let object = "[[objects]]\nprimitive = \"sphere\"\nposition = [1, 2, 3]\n";
+    w("huge.toml", object.repeat((5 << 20) / object.len() + 1).as_bytes());
+    // Meshes, arrays and images that are corrupt.
+    w("binary.obj", &[0xff, 0xfe, 0x00, 0x01]);
+    w("bad_face.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    w("garbage.gltf", b"{ this is not json");
+    w(
+        "needs_bin.gltf",
+        br#"{"asset":{"version":"2.0"},"buffers":[{"byteLength":36,"uri":"geometry.bin"}]}"#,
+    );
+    w("garbage.npy", b"\x93NUMPY\x01\x00\x08\x00garbage!");
+    w("text.png", b"not an image at all");
+    let mesh = |name: &str| format!("[water]\nmodel = \"none\"\n[[objects]]\nmesh = \"{name}\"\n");
+    for (scene, m) in [
+        ("m_folder", "folder.obj"),
+        ("m_loop", "loop_a.obj"),
+        ("m_binary", "binary.obj"),
+        ("m_face", "bad_face.obj"),
+        ("m_garbage", "garbage.gltf"),
+        ("m_bin", "needs_bin.gltf"),
+    ] {
+        w(&format!("{scene}.toml"), mesh(m).as_bytes());
+    }
+    w("texture.toml", b"[[objects]]\n[objects.material]\ntexture = \"text.png\"\n");
+    w("empty_mesh.toml", b"[[objects]]\nmesh = \"\"\n");
+    w("torus.toml", b"[[objects]]\n[[objects]]\nprimitive = \"torus\"\n");
+    w("far.toml", b"[[objects]]\nposition = [1e30, 0, 0]\n");
+    w("inf_scale.toml", b"[[objects]]\nscale = [inf, 1, 1]\n");
+    w("seed.toml", b"[ocean]\nseed = 18446744073709551615\n");
+    w("pure_and_custom.toml", b"[water]\nmedium = \"pure\"\nabsorption = [1, 1, 1]\n");
+    let heightfield = |file: &str| {
+        vec!["render", "--set", "water.model=heightfield", "--set", "water.heightfield=FILE"]
+            .into_iter()
+            .map(|a| {
+                if a == "water.heightfield=FILE" {
+                    format!("water.heightfield={file}")
+                } else {
+                    a.into()
+                }
+            })
+            .collect::<Vec<String>>()
+    };
+    let long_number = format!("ocean.wind_speed={}", "9".repeat(400));
+    let mut cases: Vec<(Vec<String>, &str)> = vec![
+        (heightfield("random.npy"), "not a regular file (a device, pipe or socket)"),
+        (heightfield("garbage.npy"), "not a NumPy header dictionary"),
+        (heightfield("folder.obj"), "it is a folder, not a file"),
+        (
+            vec!["render".into(), "--scene".into(), "huge.toml".into()],
+            "more than the 4.0 MB allowed",
+        ),
+        (vec!["render".into(), "--set".into(), long_number], "a number TOML cannot hold"),
+        (
+            vec!["render".into(), "--set".into(), "ocean.seed=18446744073709551615".into()],
+            "9223372036854775807",
+        ),
+        (
+            vec!["render".into(), "--set".into(), "ocean.resolution=4294967296".into()],
+            "`ocean.resolution`",
+        ),
+        (
+            vec!["render".into(), "--set".into(), "camera.position=[inf,0,0]".into()],
+            "`camera.position`",
+        ),
+        (
+            vec!["render".into(), "--set".into(), "camera.position=[1e30,0,0]".into()],
+            "`camera.position`",
+        ),
+        (
+            vec!["render".into(), "--set".into(), "camera.look_at=[nan,0,0]".into()],
+            "must be finite",
+        ),
+        (vec!["render".into(), "--set".into(), "camera.up=[nan,1,0]".into()], "`camera.up`"),
+        (
+            vec![
+                "render".into(),
+                "--scene".into(),
+                "pool".into(),
+                "--set".into(),
+                "water.absorption=[1,1,1]".into(),
+                "--set".into(),
+                "water.medium=pure".into(),
+            ],
+            "`water.absorption` must be given only with water.medium = \"custom\"",
+        ),
+        (
+            vec![
+                "render".into(),
+                "--set".into(),
+                "water.model=none".into(),
+                "--dump".into(),
+                "height=h.npy".into(),
+            ],
+            "no water surface",
+        ),
+        (vec!["render".into(), "--dump".into(), "godrays=g.npy".into()], "no god-ray buffer"),
+        (vec!["render".into(), "--frame-range".into(), "5-2".into()], "FIRST ≤ LAST"),
+        (
+            vec![
+                "render".into(),
+                "--frames".into(),
+                "3".into(),
+                "--frame-range".into(),
+                "1-3".into(),
+            ],
+            "numbered 0 to 2",
+        ),
+    ];
+    for (scene, want) in [
+        ("zero.toml", "not a regular file"),
+        ("m_folder.toml", "cannot load mesh folder.obj: it is a folder, not a file"),
+        ("m_loop.toml", "a loop of symbolic links"),
+        ("m_binary.toml", "not text"),
+        ("m_face.toml", "line 4: a face refers to vertex 9, of 3 defined before it"),
+        ("m_garbage.toml", "not valid glTF JSON"),
+        (
+            "m_bin.toml",
+            "cannot load mesh buffer geometry.bin: no such file (used by needs_bin.gltf)",
+        ),
+        ("texture.toml", "cannot load texture text.png: it is not a PNG or JPEG image"),
+        ("empty_mesh.toml", "`objects[0].mesh`"),
+        ("torus.toml", "`objects[1].primitive` must be one of"),
+        ("far.toml", "`objects[0].position`"),
+        ("inf_scale.toml", "`objects[0].scale`"),
+        ("seed.toml", "`ocean.seed`: u64 value was too large"),
+        ("pure_and_custom.toml", "`water.absorption`"),
+    ] {
+        cases.push((vec!["render".into(), "--scene".into(), scene.into()], want));
+    }
+    if fifo {
+        cases.push((
+            vec!["render".into(), "--scene".into(), "fifo.toml".into()],
+            "not a regular file",
+        ));
+    }
+    let before = files_in(&dir);
+    for (args, want) in &cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let t0 = std::time::Instant::now();
+        let (code, err) = hydrolux(&args, &dir);
+        let short: Vec<&str> =
+            args.iter().map(|a| if a.len() > 60 { &a[..60] } else { a }).collect();
+        assert_eq!(code, 1, "{short:?}: exit {code}, stderr {err}");
+        assert!(err.contains(want), "{short:?}: `{err}` lacks `{want}`");
+        assert_eq!(err.lines().count(), 1, "{short:?}: not one line: {err}");
+        assert!(!err.contains("panicked") && !err.contains(".rs:"), "{short:?}: {err}");
+        // Refused at once, not after reading an endless stream.
+        assert!(t0.elapsed().as_secs() < 60, "{short:?} took {:?}", t0.elapsed());
+    }
+    assert_eq!(files_in(&dir), before, "a refused command wrote a file");
+    // The environment: a backend that is no backend, and no display.
+    let (code, err) = hydrolux_env(&["info"], &dir, &[("WGPU_BACKEND", Some("bogus"))]);
+    assert!(code == 1 && err.contains("WGPU_BACKEND=\"bogus\"") && err.contains("vulkan"), "{err}");
+    let no_display = [("DISPLAY", None), ("WAYLAND_DISPLAY", None), ("WAYLAND_SOCKET", None)];
+    let (code, err) = hydrolux_env(&["view"], &dir, &no_display);
+    assert!(code == 1 && err.contains("cannot open a window") && !err.contains(".rs:"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+#[test]
+fn outputs_are_all_or_nothing_and_sequences_resume() {
+    let dir = scratch("atomic");
+    // The image renders, the god-ray dump cannot (camera above water): neither appears.
+    let args =
+        ["render", "--width", "16", "--height", "12", "--out", "o.png", "--dump", "godrays=g.npy"];
+    let (code, err) = hydrolux(&args, &dir);
+    assert_eq!(code, 1, "{err}");
+    assert!(files_in(&dir).is_empty(), "left behind: {:?}", files_in(&dir));
+    // A sequence whose second frame cannot be written: the first stays,
+    // the message says how to resume, nothing half-written is left.
+    std::fs::create_dir_all(dir.join("seq_0001.png/blocker")).unwrap();
+    let seq = [
+        "render",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--frames",
+        "3",
+        "--out",
+        "seq.png",
+        "--dump",
+        "hdr=h.npy",
+    ];
+    let (code, err) = hydrolux(&seq, &dir);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("frame 1: cannot write `seq_0001.png`")
+            && err.contains("1 frame written (seq_0000.png)")
+            && err.contains("resume with --frame-range 1-2"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(files_in(&dir), ["h_0000.npy", "seq_0000.png", "seq_0001.png"]);
+    // Resume where it stopped.
+    std::fs::remove_dir_all(dir.join("seq_0001.png")).unwrap();
+    let mut resume = seq.to_vec();
+    resume.extend(["--frame-range", "1-2"]);
+    let (code, err) = hydrolux(&resume, &dir);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        files_in(&dir),
+        ["h_0000.npy", "h_0001.npy", "h_0002.npy", "seq_0000.png", "seq_0001.png", "seq_0002.png"]
+    );
+}

@@ -6,6 +6,7 @@ pub mod camera;
 pub mod caustics;
 pub mod clock;
 pub mod files;
+pub mod fuzz;
 pub mod geometry;
 pub mod godrays;
 pub mod medium;

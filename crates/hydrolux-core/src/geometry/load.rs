@@ -32,12 +32,28 @@ fn err(what: &'static str, path: &Path, reason: impl ToString) -> AssetError {
 
 /// Load a mesh file by extension (`.obj`, `.gltf`, `.glb`).
 pub fn load_mesh(path: &Path) -> Result<Mesh, AssetError> {
-    let ext =
-        path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
-    let mesh = match ext.as_str() {
-        "obj" => load_obj(path, &read("mesh", path, limits::MESH)?)?,
-        "gltf" | "glb" => load_gltf(path, &read("mesh", path, limits::MESH)?)?,
-        _ => return Err(err("mesh", path, "unsupported format: use .obj, .gltf or .glb")),
+    check_mesh_format(path)?;
+    mesh_from_bytes(path, &read("mesh", path, limits::MESH)?)
+}
+
+fn mesh_extension(path: &Path) -> String {
+    path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default()
+}
+
+fn check_mesh_format(path: &Path) -> Result<(), AssetError> {
+    match mesh_extension(path).as_str() {
+        "obj" | "gltf" | "glb" => Ok(()),
+        _ => Err(err("mesh", path, "unsupported format: use .obj, .gltf or .glb")),
+    }
+}
+
+/// A mesh from the bytes of a file named `path` (its extension gives the
+/// format; a glTF's external buffers are looked for beside it).
+pub fn mesh_from_bytes(path: &Path, bytes: &[u8]) -> Result<Mesh, AssetError> {
+    check_mesh_format(path)?;
+    let mesh = match mesh_extension(path).as_str() {
+        "obj" => load_obj(path, bytes)?,
+        _ => load_gltf(path, bytes)?,
     };
     finish_mesh(mesh, path)
 }
@@ -86,6 +102,8 @@ fn load_obj(path: &Path, bytes: &[u8]) -> Result<Mesh, AssetError> {
         let at = e.valid_up_to();
         err("mesh", path, format!("it is not an OBJ file: not text (invalid bytes at offset {at})"))
     })?;
+    check_obj_faces(text)
+        .map_err(|r| err("mesh", path, format!("it is not a valid OBJ file: {r}")))?;
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     // Materials (.mtl) are not used: the scene gives each object its material.
     let (models, _materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
@@ -93,6 +111,43 @@ fn load_obj(path: &Path, bytes: &[u8]) -> Result<Mesh, AssetError> {
     })
     .map_err(|e| err("mesh", path, obj_reason(e)))?;
     obj_models_to_mesh(&models, path)
+}
+
+/// Every face index refers to an element defined before it (1-based, or
+/// negative counting back): tobj overflows on indices that do not.
+fn check_obj_faces(text: &str) -> Result<(), String> {
+    let mut counts = [0i64; 3]; // v, vt, vn
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f") => {
+                for corner in words {
+                    for (k, part) in corner.split('/').enumerate().take(3) {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let what = ["vertex", "texture coordinate", "normal"][k];
+                        let i: i64 = part.parse().map_err(|_| {
+                            format!("line {}: face index `{part}` is not a whole number", n + 1)
+                        })?;
+                        let ok = (1..=counts[k]).contains(&i) || (-counts[k]..=-1).contains(&i);
+                        if !ok {
+                            return Err(format!(
+                                "line {}: a face refers to {what} {i}, of {} defined before it",
+                                n + 1,
+                                counts[k]
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// What is wrong with an OBJ file, in the words of its format.
@@ -239,8 +294,48 @@ fn accessors_in_bounds(
     Ok(())
 }
 
+/// Check what gltf-json's validation indexes without checking (a
+/// primitive's POSITION accessor: it panics on a missing one).
+fn position_accessors_exist(bytes: &[u8]) -> Result<(), gltf::Error> {
+    let json = if bytes.starts_with(b"glTF") {
+        gltf::Glb::from_slice(bytes)?.json
+    } else {
+        std::borrow::Cow::Borrowed(bytes)
+    };
+    let root: gltf::json::Root =
+        gltf::json::deserialize::from_slice(&json).map_err(gltf::Error::Deserialize)?;
+    let position = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(i) = primitive.attributes.get(&position)
+                && i.value() >= root.accessors.len()
+            {
+                let at = gltf::json::Path::new()
+                    .field("meshes")
+                    .index(m)
+                    .field("primitives")
+                    .index(p)
+                    .field("attributes")
+                    .key("POSITION");
+                let missing = gltf::json::validation::Error::IndexOutOfBounds;
+                return Err(gltf::Error::Validation(vec![(at, missing)]));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn load_gltf(path: &Path, bytes: &[u8]) -> Result<Mesh, AssetError> {
     let fail = |e: gltf::Error| err("mesh", path, gltf_reason(e));
+    // A GLB header declaring fewer bytes than itself underflows in the
+    // gltf crate's reader (a panic where overflow checks are on).
+    if bytes.starts_with(b"glTF") {
+        let declared = bytes.get(8..12).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        if declared.is_none_or(|n| n < 12) {
+            return Err(err("mesh", path, "it is not a valid GLB file (its header is cut short)"));
+        }
+    }
+    position_accessors_exist(bytes).map_err(fail)?;
     let gltf::Gltf { document: doc, blob } = gltf::Gltf::from_slice(bytes).map_err(fail)?;
     // External buffers: each a bounded regular file, named when it is not.
     for buffer in doc.buffers() {
@@ -333,12 +428,20 @@ pub struct Image {
 
 /// Decode a PNG or JPEG read boundedly, within the size limits.
 fn decode_image(what: &'static str, path: &Path) -> Result<image::DynamicImage, AssetError> {
-    let bytes = read(what, path, limits::IMAGE)?;
-    let format = image::guess_format(&bytes)
+    image_from_bytes(what, path, &read(what, path, limits::IMAGE)?)
+}
+
+/// Decode the bytes of a PNG or JPEG file named `path`, within the size limits.
+pub fn image_from_bytes(
+    what: &'static str,
+    path: &Path,
+    bytes: &[u8],
+) -> Result<image::DynamicImage, AssetError> {
+    let format = image::guess_format(bytes)
         .ok()
         .filter(|f| matches!(f, image::ImageFormat::Png | image::ImageFormat::Jpeg))
         .ok_or_else(|| err(what, path, "it is not a PNG or JPEG image"))?;
-    let mut reader = image::ImageReader::with_format(std::io::Cursor::new(&bytes), format);
+    let mut reader = image::ImageReader::with_format(std::io::Cursor::new(bytes), format);
     let mut bounds = image::Limits::default();
     bounds.max_image_width = Some(limits::IMAGE_SIDE);
     bounds.max_image_height = Some(limits::IMAGE_SIDE);
