@@ -264,14 +264,45 @@ fn gltf_reason(e: gltf::Error) -> String {
     }
 }
 
-/// Whether every accessor the primitive reads lies inside its buffer (the
-/// reader would silently skip one that does not).
+/// Whether every accessor the primitive reads has the type the glTF spec
+/// allows for its use, at least one element, and lies inside its buffer
+/// (the gltf crate's reader panics or silently skips otherwise).
 fn accessors_in_bounds(
     prim: &gltf::Primitive,
     buffers: &[gltf::buffer::Data],
 ) -> Result<(), String> {
-    let accessors = prim.attributes().map(|(_, a)| a).chain(prim.indices());
-    for a in accessors {
+    use gltf::Semantic as S;
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    let mut accessors: Vec<(gltf::Accessor, &str)> = Vec::new();
+    for (semantic, a) in prim.attributes() {
+        let ok = match semantic {
+            S::Positions | S::Normals => (a.dimensions(), a.data_type()) == (D::Vec3, T::F32),
+            S::TexCoords(0) => {
+                a.dimensions() == D::Vec2 && matches!(a.data_type(), T::F32 | T::U8 | T::U16)
+            }
+            _ => continue,
+        };
+        accessors.push((a, if ok { "" } else { "attribute" }));
+    }
+    if let Some(a) = prim.indices() {
+        let ok = a.dimensions() == D::Scalar && matches!(a.data_type(), T::U8 | T::U16 | T::U32);
+        accessors.push((a, if ok { "" } else { "index" }));
+    }
+    for (a, wrong) in accessors {
+        if !wrong.is_empty() {
+            return Err(format!(
+                "accessor {} has a type ({:?} {:?}) the glTF spec does not allow for this {wrong}",
+                a.index(),
+                a.data_type(),
+                a.dimensions()
+            ));
+        }
+        if a.count() == 0 {
+            return Err(format!("accessor {} has no elements (count 0)", a.index()));
+        }
+        if a.sparse().is_some() {
+            return Err(format!("accessor {} is sparse, which Hydrolux does not read", a.index()));
+        }
         let Some(view) = a.view() else { continue };
         let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
         let view_end = view.offset().checked_add(view.length());
@@ -285,7 +316,10 @@ fn accessors_in_bounds(
         let stride = view.stride().unwrap_or(a.size());
         let needed = match a.count() {
             0 => Some(0),
-            n => (n - 1).checked_mul(stride).and_then(|x| x.checked_add(a.offset() + a.size())),
+            n => (n - 1)
+                .checked_mul(stride)
+                .and_then(|x| x.checked_add(a.offset()))
+                .and_then(|x| x.checked_add(a.size())),
         };
         if needed.is_none_or(|n| n > view.length()) {
             return Err(format!("accessor {} reads past the end of its buffer view", a.index()));
@@ -556,7 +590,7 @@ mod tests {
         }
         // Corrupt OBJ, glTF and GLB.
         assert!(reason(&temp("bin.obj", &[0xff, 0xfe, 0x00])).contains("not text"));
-        let e = reason(&temp("bad_v.obj", b"v 1 x 2\nf 1 2 3\n"));
+        let e = reason(&temp("bad_v.obj", b"v 1 x 2\nv 0 0 0\nv 1 1 1\nf 1 2 3\n"));
         assert!(e.contains("vertex (`v`) line"), "{e}");
         assert!(reason(&temp("junk.gltf", b"not json")).contains("not valid glTF JSON"));
         let mut glb = b"glTF\x02\x00\x00\x00\xff\x00\x00\x00".to_vec();
@@ -575,6 +609,20 @@ mod tests {
         temp("full.bin", &[0; 36]);
         let e = reason(&temp("past_end.gltf", triangle_gltf("full.bin", 4).as_bytes()));
         assert!(e.contains("accessor 0") && e.contains("past the end"), "{e}");
+        // Found by fuzzing: signed 16-bit indices (the gltf crate's reader
+        // panics on them), no elements, a missing POSITION accessor.
+        let seed = String::from_utf8(crate::fuzz::seeds("gltf")[0].clone()).unwrap();
+        assert!(mesh_from_bytes(Path::new("t.gltf"), seed.as_bytes()).is_ok());
+        let bad = seed.replace("5123", "5122");
+        let e = mesh_from_bytes(Path::new("t.gltf"), bad.as_bytes()).unwrap_err().reason;
+        assert!(e.contains("accessor 1 has a type"), "{e}");
+        let bad =
+            seed.replace("\"count\":3,\"type\":\"SCALAR\"", "\"count\":0,\"type\":\"SCALAR\"");
+        let e = mesh_from_bytes(Path::new("t.gltf"), bad.as_bytes()).unwrap_err().reason;
+        assert!(e.contains("count 0"), "{e}");
+        let bad = seed.replace("\"POSITION\":0", "\"POSITION\":7");
+        let e = mesh_from_bytes(Path::new("t.gltf"), bad.as_bytes()).unwrap_err().reason;
+        assert!(e.contains("POSITION"), "{e}");
         // Images that are not images, or too large.
         let e = load_heightmap(&temp("text.png", b"hello")).unwrap_err().reason;
         assert_eq!(e, "it is not a PNG or JPEG image");
