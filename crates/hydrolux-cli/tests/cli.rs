@@ -507,6 +507,7 @@ fn hostile_input_is_refused_plainly() {
     w("far.toml", b"[[objects]]\nposition = [1e30, 0, 0]\n");
     w("inf_scale.toml", b"[[objects]]\nscale = [inf, 1, 1]\n");
     w("seed.toml", b"[ocean]\nseed = 18446744073709551615\n");
+    w("many.toml", "[[objects]]\n".repeat(300_000).as_bytes());
     w("pure_and_custom.toml", b"[water]\nmedium = \"pure\"\nabsorption = [1, 1, 1]\n");
     let heightfield = |file: &str| {
         vec!["render", "--set", "water.model=heightfield", "--set", "water.heightfield=FILE"]
@@ -603,6 +604,7 @@ fn hostile_input_is_refused_plainly() {
         ("far.toml", "`objects[0].position`"),
         ("inf_scale.toml", "`objects[0].scale`"),
         ("seed.toml", "`ocean.seed`: u64 value was too large"),
+        ("many.toml", "(line 1025 starts object 1025) is out of range: at most 1024 objects"),
         ("pure_and_custom.toml", "`water.absorption`"),
     ] {
         cases.push((vec!["render".into(), "--scene".into(), scene.into()], want));

@@ -306,6 +306,21 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
 impl Scene {
     /// Parse TOML text (named `origin` in errors) and apply `overrides`.
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Scene, SceneError> {
+        // Stop at the object limit before parsing them all.
+        let headers =
+            text.lines().enumerate().filter(|(_, l)| l.trim_start().starts_with("[[objects]]"));
+        if let Some((line, _)) = headers.clone().nth(MAX_OBJECTS) {
+            return Err(SceneError::OutOfRange {
+                key: "objects".into(),
+                value: format!(
+                    "{}+ (line {} starts object {})",
+                    MAX_OBJECTS + 1,
+                    line + 1,
+                    MAX_OBJECTS + 1
+                ),
+                allowed: format!("at most {MAX_OBJECTS} objects"),
+            });
+        }
         let mut user: Table = text.parse().map_err(|e: toml::de::Error| {
             let (line, column) = e.span().map_or((1, 1), |s| line_col(text, s.start));
             let mut message = e.message().trim().to_string();
@@ -461,11 +476,11 @@ impl Scene {
                         .into(),
             });
         }
-        if self.objects.len() > 1024 {
+        if self.objects.len() > MAX_OBJECTS {
             return Err(SceneError::OutOfRange {
                 key: "objects".into(),
                 value: self.objects.len().to_string(),
-                allowed: "at most 1024 objects".into(),
+                allowed: format!("at most {MAX_OBJECTS} objects"),
             });
         }
         for (i, o) in self.objects.iter().enumerate() {
@@ -492,6 +507,9 @@ impl Scene {
         Ok(())
     }
 }
+
+/// Objects a scene may have.
+pub const MAX_OBJECTS: usize = 1024;
 
 /// Positions in a scene (camera, objects) lie within this many metres of
 /// the origin on each axis: beyond, single-precision rendering loses the
