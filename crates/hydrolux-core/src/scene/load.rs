@@ -36,9 +36,15 @@ fn type_name(v: &Value) -> &'static str {
     }
 }
 
+/// A value for a message: at most 40 characters (cut at a character, not
+/// inside one: found by fuzzing).
 fn show(v: &Value) -> String {
     let s = v.to_string();
-    if s.len() > 40 { format!("{}…", &s[..40]) } else { s }
+    if s.chars().count() > 40 {
+        format!("{}…", s.chars().take(40).collect::<String>())
+    } else {
+        s
+    }
 }
 
 fn levenshtein(a: &str, b: &str) -> usize {
@@ -732,6 +738,14 @@ mod tests {
         assert!(e.starts_with("--set") && e.contains("\"coastal\""), "{e}");
         let sets = ["water.absorption=[1,1,1]".to_string(), "water.medium=custom".to_string()];
         assert!(Scene::from_toml(pure, "x.toml", &sets).is_ok());
+    }
+
+    #[test]
+    fn long_values_in_messages_are_cut_between_characters() {
+        // 39 ASCII bytes, then multi-byte characters across byte 40.
+        let text = format!("[ocean]\nwind_speed = \"{}ééé\"\n", "x".repeat(38));
+        let e = Scene::from_toml(&text, "x.toml", &[]).unwrap_err().to_string();
+        assert!(e.contains("must be a number") && e.contains('…'), "{e}");
     }
 
     #[test]
