@@ -6,7 +6,7 @@ use crate::SceneArgs;
 use anyhow::{Result, bail};
 use clap::Args;
 use hydrolux::Renderer;
-use hydrolux::headless::HeadlessTarget;
+use hydrolux::headless::{HeadlessTarget, resident_mb};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -22,13 +22,6 @@ pub struct BenchArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
-}
-
-/// Resident memory of this process (MB), where /proc tells it (Linux).
-fn resident_mb() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
-    Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? / 1024.0)
 }
 
 fn percentile(sorted: &[f64], p: f64) -> f64 {

@@ -6,18 +6,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 fn hydrolux(args: &[&str], dir: &PathBuf) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_hydrolux"))
-        .args(args)
-        .current_dir(dir)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run hydrolux");
-    let stderr = String::from_utf8_lossy(&out.stderr)
-        .lines()
-        .filter(|l| !l.contains("XDG_RUNTIME_DIR"))
-        .collect::<Vec<_>>()
-        .join("\n");
-    (out.status.code().unwrap_or(-1), stderr)
+    hydrolux_env(args, dir, &[])
 }
 
 fn scratch(name: &str) -> PathBuf {

@@ -99,11 +99,11 @@ fn triangle_bytes() -> Vec<u8> {
     bin
 }
 
-fn triangle_gltf() -> String {
+/// Standard base64 with padding (for data URIs in the glTF seeds and tests).
+pub(crate) fn base64(data: &[u8]) -> String {
     const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let bin = triangle_bytes();
     let mut b64 = String::new();
-    for c in bin.chunks(3) {
+    for c in data.chunks(3) {
         let n = (c[0] as u32) << 16
             | (*c.get(1).unwrap_or(&0) as u32) << 8
             | *c.get(2).unwrap_or(&0) as u32;
@@ -111,6 +111,11 @@ fn triangle_gltf() -> String {
             b64.push(if i <= c.len() { A[(n >> (18 - 6 * i) & 63) as usize] as char } else { '=' });
         }
     }
+    b64
+}
+
+fn triangle_gltf() -> String {
+    let b64 = base64(&triangle_bytes());
     gltf_json(&format!(r#","uri":"data:application/octet-stream;base64,{b64}""#))
 }
 

@@ -51,15 +51,6 @@ fn fs() -> @location(0) vec4<f32> {
 }
 "#;
 
-fn resident_mb() -> f64 {
-    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    let kb = status
-        .lines()
-        .find(|l| l.starts_with("VmRSS:"))
-        .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok());
-    kb.unwrap_or(0.0) / 1024.0
-}
-
 fn main() {
     let specialised = std::env::args().any(|a| a == "specialised");
     let ctx = hydrolux::GpuContext::headless().expect("a GPU adapter");
@@ -145,13 +136,13 @@ fn main() {
             .poll(wgpu::PollType::Wait { submission_index: Some(index), timeout: None })
             .expect("frame finishes");
         if frame == 19 {
-            start = resident_mb();
+            start = hydrolux::headless::resident_mb().unwrap_or(0.0);
         }
     }
     println!(
         "{}: resident memory grew {:.1} MB over {} frames ({binds_per_frame} binds each)",
         if specialised { "specialised" } else { "uniform switch" },
-        resident_mb() - start,
+        hydrolux::headless::resident_mb().unwrap_or(0.0) - start,
         frames - 20
     );
 }

@@ -50,3 +50,11 @@ impl HeadlessTarget {
         renderer.queue().submit([encoder.finish()])
     }
 }
+
+/// Resident memory of this process (MB), where /proc tells it (Linux): for
+/// `bench` and the soak and memory tests.
+pub fn resident_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? / 1024.0)
+}

@@ -12,15 +12,8 @@
 //! that are bound per object or per pass.
 
 use hydrolux::core::scene::Scene;
-use hydrolux::headless::HeadlessTarget;
+use hydrolux::headless::{HeadlessTarget, resident_mb};
 use hydrolux::{GpuContext, Renderer};
-
-/// Resident memory of this process (MB), from /proc (Linux only).
-fn resident_mb() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
-    Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? / 1024.0)
-}
 
 #[test]
 fn memory_is_flat_over_hundreds_of_frames() {

@@ -635,7 +635,7 @@ mod tests {
         for v in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0] {
             bin.extend_from_slice(&v.to_le_bytes());
         }
-        let b64 = base64_encode(&bin);
+        let b64 = crate::fuzz::base64(&bin);
         let json = format!(
             r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
             "nodes":[{{"mesh":0,"translation":[0,2,0]}}],
@@ -649,23 +649,5 @@ mod tests {
         assert_eq!(m.triangle_count(), 1);
         assert!(m.positions.iter().all(|p| p.y == 2.0));
         assert!((m.normals[0] - Vec3::Y).length() < 1e-6, "{}", m.normals[0]);
-    }
-
-    fn base64_encode(data: &[u8]) -> String {
-        const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-        let mut s = String::new();
-        for c in data.chunks(3) {
-            let n = (c[0] as u32) << 16
-                | (*c.get(1).unwrap_or(&0) as u32) << 8
-                | *c.get(2).unwrap_or(&0) as u32;
-            for i in 0..4 {
-                if i <= c.len() {
-                    s.push(A[(n >> (18 - 6 * i) & 63) as usize] as char);
-                } else {
-                    s.push('=');
-                }
-            }
-        }
-        s
     }
 }
