@@ -43,7 +43,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     let camera = scene.camera();
     for i in 0..3 {
-        target.submit(&mut renderer, camera, i as f64 / 60.0);
+        target.submit(&mut renderer, camera, i as f64 / 60.0)?;
         renderer.collect_timings();
     }
     // Resident memory after warm-up and at the end: flat however long it runs.
@@ -53,7 +53,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let mut order: Vec<&'static str> = Vec::new();
     for i in 0..a.frames {
         let t0 = Instant::now();
-        let index = target.submit(&mut renderer, camera, (i + 3) as f64 / 60.0);
+        let index = target.submit(&mut renderer, camera, (i + 3) as f64 / 60.0)?;
         ctx.device.poll(hydrolux::wgpu::PollType::Wait {
             submission_index: Some(index),
             timeout: None,

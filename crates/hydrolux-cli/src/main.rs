@@ -99,7 +99,20 @@ fn info() -> Result<()> {
     println!("max workgroup storage:      {} KiB", l.max_compute_workgroup_storage_size >> 10);
     let max_n = hydrolux::largest_ocean_resolution(&ctx.device, 4);
     println!("largest ocean.resolution with 4 cascades: {max_n}");
-    println!("techniques (frame order): {}", hydrolux::technique_names().join(", "));
+    let caps = hydrolux::Capabilities::of(&ctx.device);
+    match caps.check_supported() {
+        Ok(()) => {
+            println!(
+                "techniques (frame order, all run): {}",
+                hydrolux::technique_names().join(", ")
+            )
+        }
+        Err(e) => println!("techniques: none run: {e}"),
+    }
+    println!("adapted to this device:");
+    for line in caps.adaptations() {
+        println!("  {line}");
+    }
     Ok(())
 }
 

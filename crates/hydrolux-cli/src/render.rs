@@ -167,7 +167,7 @@ fn frame(
     numbering: u32,
 ) -> Result<()> {
     let time = a.time + i as f64 / a.fps;
-    let pixels = target.render(renderer, scene.camera(), time);
+    let pixels = target.render(renderer, scene.camera(), time)?;
     let out = numbered(&a.out, i, numbering);
     let mut staged = Staged::new();
     match format {

@@ -389,6 +389,9 @@ impl Viewer {
             g.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
         }
         g.ctx.queue.submit([encoder.finish()]);
+        if let Some(e) = g.ctx.take_error() {
+            anyhow::bail!("GPU error while drawing the viewer's frame: {e}");
+        }
         g.ctx.queue.present(frame);
         for id in &out.textures_delta.free {
             g.egui_renderer.free_texture(id);
@@ -412,7 +415,7 @@ impl Viewer {
         let mut r =
             Renderer::new(&g.ctx.device, &g.ctx.queue, hydrolux::headless::FORMAT, &self.scene)?;
         let target = hydrolux::headless::HeadlessTarget::new(&g.ctx.device, (w, h));
-        let px = target.render(&mut r, camera, self.sim_time);
+        let px = target.render(&mut r, camera, self.sim_time)?;
         let name = (0..)
             .map(|i| format!("hydrolux-screenshot-{i:03}.png"))
             .find(|n| !std::path::Path::new(n).exists())

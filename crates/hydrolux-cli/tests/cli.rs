@@ -674,3 +674,34 @@ fn outputs_are_all_or_nothing_and_sequences_resume() {
         ["h_0000.npy", "h_0001.npy", "h_0002.npy", "seq_0000.png", "seq_0001.png", "seq_0002.png"]
     );
 }
+
+#[test]
+fn the_first_command_works_on_a_machine_with_only_opengl() {
+    // No Vulkan driver to be found (as on a Debian machine without
+    // mesa-vulkan-drivers): wgpu falls back to OpenGL, and the README's
+    // first command still writes its image.
+    let dir = scratch("gl-only");
+    let no_vulkan = [
+        ("VK_ICD_FILENAMES", Some("/nonexistent.json")),
+        ("VK_DRIVER_FILES", Some("/nonexistent.json")),
+    ];
+    let (code, err) = hydrolux_env(
+        &["render", "--out", "ocean.png", "--width", "64", "--height", "36"],
+        &dir,
+        &no_vulkan,
+    );
+    assert_eq!(code, 0, "{err}");
+    let png = std::fs::read(dir.join("ocean.png")).expect("written");
+    assert!(png.starts_with(b"\x89PNG"), "a PNG");
+    // `info` says which adapter and how Hydrolux adapted to it.
+    let out = Command::new(env!("CARGO_BIN_EXE_hydrolux"))
+        .arg("info")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .envs(no_vulkan.iter().map(|(k, v)| (k, v.unwrap())))
+        .output()
+        .expect("run hydrolux");
+    let info = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{info}");
+    assert!(info.contains(", Gl)") && info.contains("all run"), "{info}");
+    assert!(info.contains("adapted to this device") && info.contains("stencil copied"), "{info}");
+}

@@ -41,6 +41,8 @@ pub struct GpuContext {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
+    /// The first wgpu error no error scope caught (wgpu would panic).
+    uncaught: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 /// Features Hydrolux turns on when the adapter has them.
@@ -65,9 +67,21 @@ pub fn required_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
 impl GpuContext {
     /// A device with no window. Honours WGPU_BACKEND / WGPU_ADAPTER_NAME.
     pub fn headless() -> Result<Self, ContextError> {
-        let backend = backend_from_env()?;
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        Self::headless_on(None)
+    }
+
+    /// A device with no window on one of `backends` (None: WGPU_BACKEND's
+    /// choice, else wgpu's).
+    pub fn headless_on(backends: Option<wgpu::Backends>) -> Result<Self, ContextError> {
+        let backend = match backends {
+            Some(b) => Some(format!("{b:?}")),
+            None => backend_from_env()?,
+        };
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if let Some(b) = backends {
+            descriptor.backends = b;
+        }
+        let instance = wgpu::Instance::new(descriptor);
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             compatible_surface: None,
@@ -93,7 +107,21 @@ impl GpuContext {
             ..Default::default()
         }))
         .map_err(|e| ContextError::Device(e.to_string()))?;
-        Ok(GpuContext { instance, adapter, device, queue })
+        // wgpu's default handler panics; keep the first error for the caller.
+        let uncaught = std::sync::Arc::new(std::sync::Mutex::new(None));
+        let sink = uncaught.clone();
+        device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut slot) = sink.lock() {
+                slot.get_or_insert_with(|| crate::error::gpu_error_line(&e));
+            }
+        }));
+        Ok(GpuContext { instance, adapter, device, queue, uncaught })
+    }
+
+    /// The first wgpu error that no [`crate::Renderer`] call caught (the
+    /// viewer's own drawing, say), taken: check it after each frame.
+    pub fn take_error(&self) -> Option<String> {
+        self.uncaught.lock().ok()?.take()
     }
 
     pub fn has_timestamps(&self) -> bool {

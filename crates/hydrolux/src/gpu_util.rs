@@ -128,14 +128,19 @@ pub fn storage_texture_entry(
     format: wgpu::TextureFormat,
     dim: wgpu::TextureViewDimension,
 ) -> wgpu::BindGroupLayoutEntry {
+    storage_texture_access_entry(binding, format, dim, wgpu::StorageTextureAccess::WriteOnly)
+}
+
+pub fn storage_texture_access_entry(
+    binding: u32,
+    format: wgpu::TextureFormat,
+    dim: wgpu::TextureViewDimension,
+    access: wgpu::StorageTextureAccess,
+) -> wgpu::BindGroupLayoutEntry {
     layout_entry(
         binding,
         wgpu::ShaderStages::COMPUTE,
-        wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format,
-            view_dimension: dim,
-        },
+        wgpu::BindingType::StorageTexture { access, format, view_dimension: dim },
     )
 }
 

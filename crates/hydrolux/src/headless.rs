@@ -1,6 +1,7 @@
 //! Rendering without a window: an offscreen sRGB target and readback, for
 //! the CLI, benchmarks and tests.
 
+use crate::error::{RenderError, catch_gpu_errors};
 use crate::gpu_util::read_texture;
 use crate::renderer::{FrameInput, Renderer};
 use hydrolux_core::camera::Camera;
@@ -29,10 +30,21 @@ impl HeadlessTarget {
         HeadlessTarget { texture, view, size }
     }
 
-    /// Render one frame, wait for it, and return its tightly packed RGBA8 (sRGB) pixels.
-    pub fn render(&self, renderer: &mut Renderer, camera: Camera, time: f64) -> Vec<u8> {
-        self.submit(renderer, camera, time);
-        read_texture(renderer.device(), renderer.queue(), &self.texture, 4)
+    /// Render one frame, wait for it, and return its tightly packed RGBA8
+    /// (sRGB) pixels; a wgpu error on the way is a [`RenderError::Gpu`].
+    pub fn render(
+        &self,
+        renderer: &mut Renderer,
+        camera: Camera,
+        time: f64,
+    ) -> Result<Vec<u8>, RenderError> {
+        self.submit(renderer, camera, time)?;
+        let device = renderer.device().clone();
+        catch_gpu_errors(
+            &device,
+            || "reading the frame back".into(),
+            || Ok(read_texture(renderer.device(), renderer.queue(), &self.texture, 4)),
+        )
     }
 
     /// Render one frame and submit it without reading it back.
@@ -41,13 +53,20 @@ impl HeadlessTarget {
         renderer: &mut Renderer,
         camera: Camera,
         time: f64,
-    ) -> wgpu::SubmissionIndex {
-        let mut encoder = renderer.device().create_command_encoder(&Default::default());
-        renderer.render(
-            &mut encoder,
-            &FrameInput { target: &self.view, size: self.size, camera, time },
-        );
-        renderer.queue().submit([encoder.finish()])
+    ) -> Result<wgpu::SubmissionIndex, RenderError> {
+        let device = renderer.device().clone();
+        catch_gpu_errors(
+            &device,
+            || format!("rendering a {}×{} frame", self.size.0, self.size.1),
+            || {
+                let mut encoder = renderer.device().create_command_encoder(&Default::default());
+                renderer.render(
+                    &mut encoder,
+                    &FrameInput { target: &self.view, size: self.size, camera, time },
+                );
+                Ok(renderer.queue().submit([encoder.finish()]))
+            },
+        )
     }
 }
 

@@ -13,6 +13,7 @@
 //! # }
 //! ```
 
+pub mod capabilities;
 pub mod context;
 pub(crate) mod error;
 pub(crate) mod gpu_util;
@@ -29,8 +30,9 @@ pub(crate) mod technique;
 pub(crate) mod timing;
 pub(crate) mod uniforms;
 
+pub use capabilities::Capabilities;
 pub use context::{ContextError, GpuContext};
-pub use error::{OceanTooLarge, RenderError};
+pub use error::{OceanTooLarge, RenderError, catch_gpu_errors, gpu_error_line};
 pub use hydrolux_core as core;
 pub use registry::technique_names;
 pub use renderer::{FrameInput, Renderer, largest_ocean_resolution};

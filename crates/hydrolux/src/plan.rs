@@ -257,6 +257,8 @@ impl FramePlan {
                     patch_size: c.patch,
                     floor_depth: c.depth,
                     inv_flat_value: 1.0 / flat_floor_irradiance(sun_dir, s.water.ior).max(1e-4),
+                    layers: s.caustics.layers,
+                    ..Default::default()
                 },
                 None => FrameCaustics::default(),
             },

@@ -83,13 +83,12 @@ impl Renderer {
     /// near-plane point lies), rows top to bottom.
     pub fn read_medium(&self) -> Option<(u32, u32, Vec<u8>)> {
         let t = self.targets.as_ref()?;
-        let bytes = read_texture_aspect(
-            self.device(),
-            self.queue(),
-            &t.depth_stencil,
-            1,
-            wgpu::TextureAspect::StencilOnly,
-        );
+        // The stencil's colour copy where there is one (no stencil copies on GL).
+        let (texture, aspect) = match &t.medium_copy {
+            Some(c) => (&c.texture, wgpu::TextureAspect::All),
+            None => (&t.depth_stencil, wgpu::TextureAspect::StencilOnly),
+        };
+        let bytes = read_texture_aspect(self.device(), self.queue(), texture, 1, aspect);
         Some((t.size.0, t.size.1, bytes))
     }
 

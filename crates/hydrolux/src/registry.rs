@@ -24,7 +24,11 @@ macro_rules! registry {
             /// Build every technique for `scene`, in registry order, and
             /// link them.
             pub fn new(shared: &Shared, scene: &Scene) -> Result<Self, RenderError> {
-                let mut t = Techniques { $($field: <$ty as Technique>::create(shared, scene)?),* };
+                let mut t = Techniques { $($field: crate::error::catch_gpu_errors(
+                    &shared.device,
+                    || format!("creating the {} technique", stringify!($field)),
+                    || <$ty as Technique>::create(shared, scene),
+                )?),* };
                 t.connect(shared);
                 Ok(t)
             }
@@ -65,6 +69,7 @@ macro_rules! registry {
             FRAME_INFO,
             probe::INFO,
             mips::INFO,
+            crate::targets::MEDIUM_COPY_INFO,
         ];
     };
 }

@@ -4,6 +4,7 @@
 //! technique's uniforms) and records every stage by walking the techniques
 //! (see ARCHITECTURE.md).
 
+use crate::capabilities::Capabilities;
 pub use crate::error::RenderError;
 use crate::gpu_util::*;
 use crate::passes::geometry::{GeometryPass, Winding};
@@ -64,12 +65,29 @@ pub const SIMULATION_BATCH: u32 = 1024;
 
 impl Renderer {
     /// Create every technique for drawing into textures of `target_format`.
+    /// An adapter that cannot run Hydrolux, or any wgpu error on the way,
+    /// is an error naming what failed (never wgpu's panic).
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         target_format: wgpu::TextureFormat,
         scene: &Scene,
     ) -> Result<Self, RenderError> {
+        crate::error::catch_gpu_errors(
+            device,
+            || "creating the renderer".into(),
+            || Self::create(device, queue, target_format, scene),
+        )
+    }
+
+    fn create(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target_format: wgpu::TextureFormat,
+        scene: &Scene,
+    ) -> Result<Self, RenderError> {
+        let caps = Capabilities::of(device);
+        caps.check_supported()?;
         let layouts = Layouts::new(device);
         let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
         let samplers = GlobalSamplers {
@@ -104,7 +122,7 @@ impl Renderer {
                 resource: frame_buffer.as_entire_binding(),
             }],
         });
-        let depth_format = crate::targets::main_depth_format(device);
+        let depth_format = crate::targets::main_depth_format(&caps);
         let downsampler = Downsampler::new(device);
         let meshes =
             GeometryPass::new(device, queue, &layouts.globals, &layouts.frame_only, depth_format);
@@ -122,6 +140,9 @@ impl Renderer {
         let shared = Shared {
             device: device.clone(),
             queue: queue.clone(),
+            medium_copy: (!caps.depth_and_stencil_reads || !caps.depth_stencil_copies)
+                .then(|| crate::targets::MediumCopyPass::new(device, depth_format)),
+            caps,
             target_format,
             depth_format,
             layouts,
@@ -180,6 +201,7 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 6, resource: tv(&t.caustics.map.view) },
                 wgpu::BindGroupEntry { binding: 7, resource: sampler(&samplers.caustics) },
                 wgpu::BindGroupEntry { binding: 8, resource: tv(&t.water_objects.light.map_view) },
+                wgpu::BindGroupEntry { binding: 9, resource: tv(&t.geometry.shadow.view) },
             ],
         })
     }
@@ -202,6 +224,15 @@ impl Renderer {
 
     /// Switch to another scene (or an edited one): rebuilds only what changed.
     pub fn set_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
+        let device = self.shared.device.clone();
+        crate::error::catch_gpu_errors(
+            &device,
+            || "applying the scene".into(),
+            || self.apply_scene(scene),
+        )
+    }
+
+    fn apply_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
         let shared = &mut self.shared;
         if scene.floor != self.scene.floor
             || scene.objects != self.scene.objects
@@ -340,6 +371,12 @@ impl Renderer {
                     let mut pass = main_pass(encoder, targets, label, clear, timer.as_deref_mut());
                     for t in self.techniques.each() {
                         t.draw(stage, &mut pass, &frame);
+                    }
+                    drop(pass);
+                    if let (Stage::Main, Some(copy), Some(pass)) =
+                        (stage, &targets.medium_copy, &shared.medium_copy)
+                    {
+                        pass.record(encoder, copy, &targets.depth_stencil_view);
                     }
                 }
                 _ => {

@@ -17,6 +17,7 @@ const MODULES: &[(&str, &str)] = &[
     ("tonemap_curve", include_str!("shaders/tonemap_curve.wgsl")),
     ("fullscreen", include_str!("shaders/fullscreen.wgsl")),
     ("downsample", include_str!("shaders/downsample.wgsl")),
+    ("medium_copy", include_str!("shaders/medium_copy.wgsl")),
     ("medium", include_str!("shaders/medium.wgsl")),
     ("projective", include_str!("shaders/projective.wgsl")),
     ("shadow_space", include_str!("shaders/shadow_space.wgsl")),

@@ -10,8 +10,8 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Depth + stencil of the main view: the stencil holds each pixel's medium
 /// (0 air, 1 water). Float depth where the device has it (reversed-Z keeps
 /// its precision to the horizon), 24-bit otherwise.
-pub fn main_depth_format(device: &wgpu::Device) -> wgpu::TextureFormat {
-    if device.features().contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
+pub fn main_depth_format(caps: &crate::capabilities::Capabilities) -> wgpu::TextureFormat {
+    if caps.depth32_stencil8 {
         wgpu::TextureFormat::Depth32FloatStencil8
     } else {
         wgpu::TextureFormat::Depth24PlusStencil8
@@ -91,6 +91,130 @@ pub struct Targets {
     pub godrays: crate::passes::godrays::GodRayTargets,
     /// Refractive objects' back faces and the image behind them.
     pub water_object: Option<crate::passes::water_object::ObjectTargets>,
+    /// The stencil's colour copy, where depth and stencil cannot be read
+    /// in one draw (`Capabilities::depth_and_stencil_reads`).
+    pub medium_copy: Option<MediumCopy>,
+}
+
+/// Copies the main view's stencil (each pixel's medium) into an R8Uint
+/// texture after the main pass, on backends where shaders cannot read it
+/// reliably: wgpu's GL sets one depth-or-stencil mode per texture object
+/// (a draw reading both gets one wrong) and leaves a combined depth-stencil
+/// texture's filter linear (stencil reads are then incomplete, all zeros).
+/// The copy uses the stencil *test* instead: cleared to air, a fullscreen
+/// triangle writes water where the stencil equals STENCIL_WATER. The
+/// stencil holds only those two values (the volume count of a closed
+/// surface). Readers bind the copy instead of the stencil view; their
+/// shaders are the same.
+pub struct MediumCopyPass {
+    pipeline: wgpu::RenderPipeline,
+}
+
+pub struct MediumCopy {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+}
+
+pub const MEDIUM_COPY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+
+pub(crate) fn medium_copy_source() -> String {
+    crate::shaders::compose("", "#import medium_copy")
+}
+
+pub(crate) const MEDIUM_COPY_INFO: crate::technique::TechniqueInfo =
+    crate::technique::TechniqueInfo {
+        name: "medium copy",
+        shaders: || vec![("medium copy".to_string(), medium_copy_source())],
+        uniforms: Vec::new,
+    };
+
+impl MediumCopyPass {
+    pub fn new(device: &wgpu::Device, depth_format: wgpu::TextureFormat) -> Self {
+        let module = crate::gpu_util::shader(device, "medium copy", &medium_copy_source());
+        let equal_water =
+            wgpu::StencilFaceState { compare: wgpu::CompareFunction::Equal, ..Default::default() };
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("medium copy"),
+            layout: Some(&crate::gpu_util::pipeline_layout(device, "medium copy", &[])),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: depth_format,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: wgpu::StencilState {
+                    front: equal_water,
+                    back: equal_water,
+                    read_mask: 0xff,
+                    write_mask: 0,
+                },
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(MEDIUM_COPY_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        MediumCopyPass { pipeline }
+    }
+
+    fn targets(&self, device: &wgpu::Device, size: (u32, u32)) -> MediumCopy {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
+        let texture = texture(device, "medium copy", size, MEDIUM_COPY_FORMAT, usage);
+        let view = texture.create_view(&Default::default());
+        MediumCopy { texture, view }
+    }
+
+    /// After the main pass (the stencil is final), before any reader.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        copy: &MediumCopy,
+        depth_stencil: &wgpu::TextureView,
+    ) {
+        let keep = wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("medium copy"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &copy.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: f64::from(STENCIL_AIR),
+                        ..wgpu::Color::BLACK
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth_stencil,
+                depth_ops: Some(keep),
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_stencil_reference(STENCIL_WATER);
+        pass.draw(0..3, 0..1);
+    }
 }
 
 use crate::gpu_util::texture_2d as texture;
@@ -156,8 +280,7 @@ impl Targets {
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC;
         let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
-        let depth_stencil =
-            texture(device, "depth stencil", size, main_depth_format(device), usage);
+        let depth_stencil = texture(device, "depth stencil", size, shared.depth_format, usage);
         let hdr_view = hdr.create_view(&Default::default());
         let depth_stencil_view = depth_stencil.create_view(&Default::default());
         let aspect = |aspect| {
@@ -165,6 +288,9 @@ impl Targets {
         };
         let (depth_view, stencil_view) =
             (aspect(wgpu::TextureAspect::DepthOnly), aspect(wgpu::TextureAspect::StencilOnly));
+        let medium_copy = shared.medium_copy.as_ref().map(|pass| pass.targets(device, size));
+        // What readers of the medium bind: the stencil, or its copy.
+        let medium_view = medium_copy.as_ref().map_or(&stencil_view, |c| &c.view);
         let reflection = ColorDepth::new(
             device,
             "reflection",
@@ -208,11 +334,11 @@ impl Targets {
             size,
             settings.godray_resolution,
             &depth_view,
-            &stencil_view,
+            medium_view,
         );
         let tonemap_input = tonemap.input_group(
             device,
-            [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, &stencil_view],
+            [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, medium_view],
         );
         Targets {
             size,
@@ -229,6 +355,7 @@ impl Targets {
             tonemap_input,
             godrays,
             water_object,
+            medium_copy,
         }
     }
 }

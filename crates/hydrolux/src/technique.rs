@@ -95,6 +95,9 @@ impl Layouts {
                 texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(7, all),
                 texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
+                // The shadow map again, for reading its values (the debug
+                // view): GLSL cannot `textureLoad` a comparison texture.
+                texture_entry(9, fs, wgpu::TextureViewDimension::D2, false),
             ],
         });
         let frame_only = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -121,6 +124,10 @@ impl Layouts {
 pub(crate) struct Shared {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
+    /// What the device can do: techniques choose from it, not the device.
+    pub caps: crate::capabilities::Capabilities,
+    /// The stencil's colour copy, where the device needs one.
+    pub medium_copy: Option<crate::targets::MediumCopyPass>,
     /// The caller's target format (the tone map writes it).
     pub target_format: wgpu::TextureFormat,
     /// The main view's depth-stencil format (the device's best).

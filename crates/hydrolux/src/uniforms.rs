@@ -207,6 +207,11 @@ uniform! { FrameCaustics;
         pub floor_depth: f32,
         /// 1 / the map's value under flat water.
         pub inv_flat_value: f32,
+        /// Layers in use (the texture may hold more: `Capabilities::array_layers`).
+        pub layers: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 

@@ -32,7 +32,7 @@ fn memory_is_flat_over_hundreds_of_frames() {
         let camera = scene.camera();
         let mut after_warm_up = 0.0;
         for i in 0..frames {
-            let index = target.submit(&mut r, camera, i as f64 / 30.0);
+            let index = target.submit(&mut r, camera, i as f64 / 30.0).expect("frame");
             ctx.device
                 .poll(hydrolux::wgpu::PollType::Wait {
                     submission_index: Some(index),

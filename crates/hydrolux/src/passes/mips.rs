@@ -22,11 +22,14 @@ impl Downsampler {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("downsample"),
             entries: &[
-                texture_entry(
+                // Read as storage, not sampled: a sampled 2D-array view of
+                // a cube texture does not exist on wgpu's GL backend (the
+                // sky's mips would read zeros there); a storage image does.
+                storage_texture_access_entry(
                     0,
-                    wgpu::ShaderStages::COMPUTE,
+                    FORMAT,
                     wgpu::TextureViewDimension::D2Array,
-                    false,
+                    wgpu::StorageTextureAccess::ReadOnly,
                 ),
                 storage_texture_entry(1, FORMAT, wgpu::TextureViewDimension::D2Array),
             ],

@@ -11,7 +11,7 @@
 @group(0) @binding(7) var caustic_sampler: sampler;
 
 fn caustic_layer(world: vec3<f32>, layer: i32) -> f32 {
-    let layers = f32(textureNumLayers(caustic_map));
+    let layers = f32(frame.caustics.layers);
     let layer_depth = frame.caustics.floor_depth * f32(layer + 1) / layers;
     let travel = frame.light.sun_travel;
     let on_layer = world + travel * ((layer_depth + world.y) / max(frame.light.sun_travel_cos, 1e-3));
@@ -23,7 +23,7 @@ fn caustic_factor(world: vec3<f32>) -> f32 {
     if (frame.caustics.patch_size.x <= 0.0) {
         return 1.0;
     }
-    let layers = i32(textureNumLayers(caustic_map));
+    let layers = i32(frame.caustics.layers);
     // Continuous layer coordinate: layer k at k + 1, the surface at 0.
     let f = clamp(max(-world.y, 0.0) / frame.caustics.floor_depth * f32(layers), 0.0, f32(layers));
     let upper = i32(floor(f)) - 1;

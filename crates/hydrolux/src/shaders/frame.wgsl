@@ -108,6 +108,11 @@ struct FrameCaustics {
     floor_depth: f32,
     // 1 / the map's value under flat water.
     inv_flat_value: f32,
+    // Layers in use (the texture may hold more, see capabilities.rs).
+    layers: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // Light scattered in the water and the fog (passes/godrays).

@@ -88,6 +88,35 @@ pub fn delta_e(w: usize, h: usize, a: &[u8], b: &[u8]) -> Vec<f32> {
         .collect()
 }
 
+/// Mean and 99th percentile of ΔE between two images.
+pub fn mean_and_p99(w: u32, h: u32, a: &[u8], b: &[u8]) -> (f32, f32) {
+    let de = delta_e(w as usize, h as usize, a, b);
+    let mean = de.iter().sum::<f32>() / de.len() as f32;
+    let mut sorted = de;
+    sorted.sort_by(f32::total_cmp);
+    (mean, sorted[(sorted.len() as f32 * 0.99) as usize])
+}
+
+pub fn within_tolerance(mean: f32, p99: f32) -> bool {
+    mean <= MEAN_DELTA_E && p99 <= P99_DELTA_E
+}
+
+/// Write `actual` and its difference map from `expected` for a person to see.
+pub fn write_failure(name: &str, w: u32, h: u32, actual: &[u8], expected: &[u8]) {
+    let dir = failure_dir();
+    std::fs::create_dir_all(&dir).expect("failure dir");
+    write_png(&dir.join(format!("{name}.actual.png")), w, h, actual);
+    let diff: Vec<u8> = delta_e(w as usize, h as usize, actual, expected)
+        .iter()
+        .flat_map(|d| {
+            let v = (d * 20.0).min(255.0) as u8;
+            [v, v, v, 255]
+        })
+        .collect();
+    write_png(&dir.join(format!("{name}.diff.png")), w, h, &diff);
+}
+
+#[allow(dead_code)] // tests/backends.rs compares two renders instead
 pub fn check(name: &str, w: u32, h: u32, actual: &[u8]) {
     let path = golden_path(name);
     if std::env::var_os("HYDROLUX_BLESS").is_some() {
@@ -99,26 +128,12 @@ pub fn check(name: &str, w: u32, h: u32, actual: &[u8]) {
         panic!("missing golden {} (run with HYDROLUX_BLESS=1 to create it)", path.display());
     };
     assert_eq!((gw, gh), (w, h), "{name}: golden size differs");
-    let de = delta_e(w as usize, h as usize, actual, &golden);
-    let mean = de.iter().sum::<f32>() / de.len() as f32;
-    let mut sorted = de.clone();
-    sorted.sort_by(f32::total_cmp);
-    let p99 = sorted[(sorted.len() as f32 * 0.99) as usize];
-    if mean > MEAN_DELTA_E || p99 > P99_DELTA_E {
-        let dir = failure_dir();
-        std::fs::create_dir_all(&dir).expect("failure dir");
-        write_png(&dir.join(format!("{name}.actual.png")), w, h, actual);
-        let diff: Vec<u8> = de
-            .iter()
-            .flat_map(|d| {
-                let v = (d * 20.0).min(255.0) as u8;
-                [v, v, v, 255]
-            })
-            .collect();
-        write_png(&dir.join(format!("{name}.diff.png")), w, h, &diff);
+    let (mean, p99) = mean_and_p99(w, h, actual, &golden);
+    if !within_tolerance(mean, p99) {
+        write_failure(name, w, h, actual, &golden);
         panic!(
             "{name}: mean ΔE {mean:.2} (max {MEAN_DELTA_E}), 99th percentile {p99:.2} (max {P99_DELTA_E}); see {}",
-            dir.display()
+            failure_dir().display()
         );
     }
 }

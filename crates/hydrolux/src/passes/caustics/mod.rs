@@ -48,6 +48,8 @@ pub struct CausticMap {
 }
 
 pub struct CausticsPass {
+    /// Array textures' layers on this device (`Capabilities::array_layers`).
+    caps: crate::capabilities::Capabilities,
     layout: wgpu::BindGroupLayout,
     beam_layout: wgpu::BindGroupLayout,
     pipelines: Pipelines,
@@ -129,6 +131,7 @@ impl CausticsPass {
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
         model: WaterModel,
+        caps: &crate::capabilities::Capabilities,
     ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -144,7 +147,7 @@ impl CausticsPass {
             entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT)],
         });
         let pipelines = Pipelines::new(device, [frame_only, surface, &layout, &beam_layout], model);
-        CausticsPass { layout, beam_layout, pipelines }
+        CausticsPass { caps: caps.clone(), layout, beam_layout, pipelines }
     }
 
     /// Pipelines for another surface model; layouts (and so the maps' bind
@@ -174,7 +177,8 @@ impl CausticsPass {
             size: wgpu::Extent3d {
                 width: resolution,
                 height: resolution,
-                depth_or_array_layers: layers,
+                // Receivers read the layer count from the frame globals.
+                depth_or_array_layers: self.caps.array_layers(layers),
             },
             mip_level_count: 1,
             sample_count: 1,
@@ -355,7 +359,13 @@ impl Caustics {
     pub fn new(shared: &crate::technique::Shared, scene: &hydrolux_core::scene::Scene) -> Self {
         // Group 0 is the frame alone: the globals hold the maps it writes.
         let l = &shared.layouts;
-        let pass = CausticsPass::new(&shared.device, &l.frame_only, &l.surface, scene.water.model);
+        let pass = CausticsPass::new(
+            &shared.device,
+            &l.frame_only,
+            &l.surface,
+            scene.water.model,
+            &shared.caps,
+        );
         let c = &scene.caustics;
         let map = pass.create_map(&shared.device, c.photons, c.map_resolution, c.layers);
         Caustics { pass, map, current: false }

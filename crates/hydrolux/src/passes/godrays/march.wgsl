@@ -10,7 +10,8 @@
 #import godrays_common, fullscreen, shadow_space, shadow_lookup, caustics_lookup
 
 @group(1) @binding(0) var<uniform> params: GodRayParams;
-@group(2) @binding(0) var scene_depth: texture_2d<f32>;
+// The scene's depth at the buffer's size, as the bits of an f32.
+@group(2) @binding(0) var scene_depth: texture_2d<u32>;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -32,7 +33,7 @@ fn march_ray(pos: vec2<f32>) -> MarchRay {
     var r: MarchRay;
     r.eye = frame.view.position;
     r.view = normalize(world_at(ndc, 0.5) - r.eye);
-    let end = min(params.limits.x, scene_distance(ndc, textureLoad(scene_depth, texel, 0).r));
+    let end = min(params.limits.x, scene_distance(ndc, bitcast<f32>(textureLoad(scene_depth, texel, 0).r)));
     r.ds = end / f32(params.counts.y);
     // Banding turned into fine noise, which the upsampling smooths.
     r.jitter = interleaved_gradient_noise(pos);

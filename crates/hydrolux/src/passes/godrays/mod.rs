@@ -26,8 +26,10 @@ use hydrolux_core::scene::{GodRayMethod, WaterModel};
 
 /// The buffer of scattered light (linear radiance, pre-exposed).
 pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// The scene's depth at the buffer's size.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// The scene's depth at the buffer's size, as the bits of an f32: a 32-bit
+/// integer target is renderable on every backend, `R32Float` is not on
+/// wgpu's GL.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 pub fn tubes_source() -> String {
     shaders::compose("", include_str!("tubes.wgsl"))
@@ -205,17 +207,20 @@ impl GodRaysPass {
         });
         let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("god-ray depth"),
-            entries: &[texture_entry(0, fs, wgpu::TextureViewDimension::D2, false)],
+            entries: &[uint_texture_entry(0, fs)],
         });
         let reduce_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("god-ray reduce"),
-            entries: &[depth_texture_entry(0, fs), uniform_entry(4, fs)],
+            entries: &[
+                texture_entry(0, fs, wgpu::TextureViewDimension::D2, false),
+                uniform_entry(4, fs),
+            ],
         });
         let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("god-ray composite"),
             entries: &[
-                depth_texture_entry(0, fs),
-                texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
+                texture_entry(0, fs, wgpu::TextureViewDimension::D2, false),
+                uint_texture_entry(1, fs),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
                 uint_texture_entry(3, fs),
                 uniform_entry(4, fs),

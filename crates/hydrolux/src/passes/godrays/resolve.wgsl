@@ -7,9 +7,10 @@
 // to the image where the pixel's medium is the one the buffer is for.
 #import godrays_common, fullscreen
 
-@group(1) @binding(0) var full_depth: texture_depth_2d;
+@group(1) @binding(0) var full_depth: texture_2d<f32>;
 @group(1) @binding(4) var<uniform> params: GodRayParams;
-@group(1) @binding(1) var buffer_depth: texture_2d<f32>;
+// The buffer's depth, as the bits of an f32.
+@group(1) @binding(1) var buffer_depth: texture_2d<u32>;
 @group(1) @binding(2) var shafts: texture_2d<f32>;
 @group(1) @binding(3) var medium_tex: texture_2d<u32>;
 
@@ -19,7 +20,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 }
 
 @fragment
-fn fs_reduce(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_reduce(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<u32> {
     let full = vec2<f32>(textureDimensions(full_depth));
     let small = vec2<f32>(params.counts.zw);
     let lo = vec2<i32>(floor(floor(pos.xy) * full / small));
@@ -27,10 +28,10 @@ fn fs_reduce(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var nearest = 0.0;
     for (var y = lo.y; y <= min(hi.y, lo.y + 7); y++) {
         for (var x = lo.x; x <= min(hi.x, lo.x + 7); x++) {
-            nearest = max(nearest, textureLoad(full_depth, vec2<i32>(x, y), 0));
+            nearest = max(nearest, textureLoad(full_depth, vec2<i32>(x, y), 0).r);
         }
     }
-    return vec4<f32>(nearest, 0.0, 0.0, 0.0);
+    return vec4<u32>(bitcast<u32>(nearest), 0u, 0u, 0u);
 }
 
 fn pixel_distance(ndc: vec2<f32>, z: f32) -> f32 {
@@ -45,7 +46,7 @@ fn fs_composite(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let full = vec2<f32>(textureDimensions(full_depth));
     let small = vec2<f32>(textureDimensions(buffer_depth));
-    let dist = pixel_distance(texel_ndc(floor(pos.xy), full), textureLoad(full_depth, px, 0));
+    let dist = pixel_distance(texel_ndc(floor(pos.xy), full), textureLoad(full_depth, px, 0).r);
     let q = pos.xy * small / full - 0.5;
     let base = floor(q);
     let f = q - base;
@@ -58,7 +59,7 @@ fn fs_composite(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         let t = clamp(base + o, vec2<f32>(0.0), small - 1.0);
         let ti = vec2<i32>(t);
         let value = textureLoad(shafts, ti, 0).rgb;
-        let gap = abs(pixel_distance(texel_ndc(t, small), textureLoad(buffer_depth, ti, 0).r) - dist) / max(dist, 1e-3);
+        let gap = abs(pixel_distance(texel_ndc(t, small), bitcast<f32>(textureLoad(buffer_depth, ti, 0).r)) - dist) / max(dist, 1e-3);
         let bilinear = mix(1.0 - f.x, f.x, o.x) * mix(1.0 - f.y, f.y, o.y);
         if (gap < 0.05) {
             sum += value * bilinear;

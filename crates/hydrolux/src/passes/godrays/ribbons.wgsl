@@ -10,7 +10,8 @@
 
 @group(1) @binding(0) var<uniform> params: GodRayParams;
 @group(1) @binding(1) var<storage, read> tubes: array<Tube>;
-@group(2) @binding(0) var scene_depth: texture_2d<f32>;
+// The scene's depth at the buffer's size, as the bits of an f32.
+@group(2) @binding(0) var scene_depth: texture_2d<u32>;
 
 struct RibbonOut {
     @builtin(position) clip: vec4<f32>,
@@ -70,7 +71,7 @@ fn fs_ribbon(in: RibbonOut) -> @location(0) vec4<f32> {
     }
     let texel = vec2<i32>(in.clip.xy);
     let size = vec2<f32>(params.counts.zw);
-    let z = textureLoad(scene_depth, texel, 0).r;
+    let z = bitcast<f32>(textureLoad(scene_depth, texel, 0).r);
     if (s > scene_distance(texel_ndc(vec2<f32>(texel), size), z)) {
         discard;
     }

@@ -70,6 +70,7 @@ impl OceanPass {
         device: &wgpu::Device,
         spectrum: &OceanSpectrum,
         downsampler: &Downsampler,
+        caps: &crate::capabilities::Capabilities,
     ) -> Result<Self, OceanTooLarge> {
         let n = spectrum.settings.resolution as u32;
         let cascades = spectrum.cascades.len() as u32;
@@ -150,10 +151,13 @@ impl OceanPass {
             &[&assemble_layout],
         );
 
+        // The shaders take the cascade count from their uniforms; the
+        // textures may hold a padding layer (`Capabilities::array_layers`).
+        let layers = caps.array_layers(cascades);
         let textures = SurfaceTextures {
-            displacement: storage_array_texture(device, "ocean displacement", n, cascades),
-            derivative: storage_array_texture(device, "ocean derivatives", n, cascades),
-            moments: storage_array_texture(device, "ocean slope moments", n, cascades),
+            displacement: storage_array_texture(device, "ocean displacement", n, layers),
+            derivative: storage_array_texture(device, "ocean derivatives", n, layers),
+            moments: storage_array_texture(device, "ocean slope moments", n, layers),
         };
         let mip0 = |t: &wgpu::Texture| {
             t.create_view(&wgpu::TextureViewDescriptor {

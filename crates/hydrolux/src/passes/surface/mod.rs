@@ -80,7 +80,7 @@ impl Surface {
         let samplers = [sampler("surface", 1), sampler("surface anisotropic", anisotropy)];
         let ocean_settings = scene.ocean_settings();
         let spectrum = OceanSpectrum::new(&ocean_settings);
-        let ocean = OceanPass::new(device, &spectrum, downsampler)?;
+        let ocean = OceanPass::new(device, &spectrum, downsampler, &shared.caps)?;
         let view = |t: &wgpu::Texture| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),

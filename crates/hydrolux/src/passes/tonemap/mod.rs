@@ -30,7 +30,7 @@ impl TonemapPass {
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
-                depth_texture_entry(3, fs),
+                texture_entry(3, fs, wgpu::TextureViewDimension::D2, false),
                 uint_texture_entry(4, fs),
             ],
         });

@@ -6,10 +6,12 @@
 // format the transfer curve is applied here (OUTPUT_SRGB_CURVE prepended).
 #import constants, frame, fullscreen, tonemap_curve, caustics_lookup, shadow_lookup
 
+// The sun's shadow map as plain depth (globals binding 9), for its view.
+@group(0) @binding(9) var shadow_depth: texture_2d<f32>;
 @group(1) @binding(0) var hdr: texture_2d<f32>;
 @group(1) @binding(1) var reflection_tex: texture_2d<f32>;
 @group(1) @binding(2) var refraction_tex: texture_2d<f32>;
-@group(1) @binding(3) var depth_tex: texture_depth_2d;
+@group(1) @binding(3) var depth_tex: texture_2d<f32>;
 @group(1) @binding(4) var medium_tex: texture_2d<u32>;
 
 @vertex
@@ -51,7 +53,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         case VIEW_DEPTH: {
             // Reversed-Z with an infinite far plane: d = near / distance.
             // White at 0.5 m fading logarithmically to black at 2 km; sky black.
-            let d = textureLoad(depth_tex, vec2<i32>(pos.xy), 0);
+            let d = textureLoad(depth_tex, vec2<i32>(pos.xy), 0).r;
             var g = 0.0;
             if (d > 0.0) {
                 g = clamp(1.0 - log2((0.05 / d) / 0.5) / 12.0, 0.0, 1.0);
@@ -62,8 +64,8 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             mapped = vec3<f32>(0.0, 0.0, 0.15);
             let uv = letterbox(pos.xy);
             if (all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0))) {
-                let dims = vec2<f32>(textureDimensions(shadow_map));
-                mapped = vec3<f32>(1.0 - textureLoad(shadow_map, vec2<i32>(uv * dims), 0));
+                let dims = vec2<f32>(textureDimensions(shadow_depth));
+                mapped = vec3<f32>(1.0 - textureLoad(shadow_depth, vec2<i32>(uv * dims), 0).r);
             }
         }
         case VIEW_CAUSTICS: {
@@ -73,7 +75,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             if (all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0))) {
                 // The floor layer (the deepest).
                 let dims = vec2<f32>(textureDimensions(caustic_map));
-                let floor_layer = i32(textureNumLayers(caustic_map)) - 1;
+                let floor_layer = i32(frame.caustics.layers) - 1;
                 let c = textureLoad(caustic_map, vec2<i32>(uv * dims), floor_layer, 0).r * frame.caustics.inv_flat_value;
                 mapped = vec3<f32>(0.5 * c);
             }

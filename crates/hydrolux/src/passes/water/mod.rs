@@ -205,11 +205,11 @@ impl WaterPass {
             entries: &[
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, true),
-                depth_texture_entry(2, fs),
+                texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
                 sampler_entry(3, fs),
                 texture_entry(4, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(5, fs, wgpu::TextureViewDimension::D2, true),
-                depth_texture_entry(6, fs),
+                texture_entry(6, fs, wgpu::TextureViewDimension::D2, false),
             ],
         })
     }

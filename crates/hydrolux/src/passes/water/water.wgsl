@@ -25,11 +25,11 @@
 // Snell's window).
 @group(2) @binding(0) var reflection_tex: texture_2d<f32>;
 @group(2) @binding(1) var refraction_tex: texture_2d<f32>;
-@group(2) @binding(2) var refraction_depth: texture_depth_2d;
+@group(2) @binding(2) var refraction_depth: texture_2d<f32>;
 @group(2) @binding(3) var clamp_sampler: sampler;
 @group(2) @binding(4) var reflection_under_tex: texture_2d<f32>;
 @group(2) @binding(5) var refraction_over_tex: texture_2d<f32>;
-@group(2) @binding(6) var refraction_over_depth: texture_depth_2d;
+@group(2) @binding(6) var refraction_over_depth: texture_2d<f32>;
 
 struct VsOut {
     @invariant @builtin(position) clip: vec4<f32>,
@@ -129,10 +129,10 @@ fn slope_pdf(zeta: vec2<f32>, variance: vec2<f32>) -> f32 {
 
 // What a refraction texture shows at `uv`: its world position (w = 1), or
 // w = 0 where nothing was drawn.
-fn refraction_world(depth_tex: texture_depth_2d, uv: vec2<f32>) -> vec4<f32> {
+fn refraction_world(depth_tex: texture_2d<f32>, uv: vec2<f32>) -> vec4<f32> {
     let dims = vec2<f32>(textureDimensions(depth_tex));
     let texel = vec2<i32>(clamp(uv * dims, vec2<f32>(0.0), dims - 1.0));
-    let d = textureLoad(depth_tex, texel, 0);
+    let d = textureLoad(depth_tex, texel, 0).r;
     if (d <= 0.0) {
         return vec4<f32>(0.0);
     }
@@ -148,7 +148,7 @@ fn refraction_world(depth_tex: texture_depth_2d, uv: vec2<f32>) -> vec4<f32> {
 // lookup); otherwise the scene above it. Never let what lies on the eye's
 // side of the surface leak in: the texture must show something beyond p on
 // the ray's side, or we fall back to p's own texel.
-fn refraction_lookup(depth_tex: texture_depth_2d, p: vec3<f32>, t_dir: vec3<f32>, below: bool) -> vec3<f32> {
+fn refraction_lookup(depth_tex: texture_2d<f32>, p: vec3<f32>, t_dir: vec3<f32>, below: bool) -> vec3<f32> {
     let own_uv = clip_to_uv(frame.projective.refraction_view_proj * vec4<f32>(p, 1.0));
     var uv: vec2<f32>;
     if (below && frame.modes.refraction_lookup == 1u) {

@@ -19,6 +19,7 @@ fn vs_light(v: VsIn) -> LightOut {
 }
 
 @fragment
-fn fs_light(in: LightOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(normalize(in.normal), in.clip.z);
+fn fs_light(in: LightOut) -> @location(0) vec4<u32> {
+    // Stored as the floats' bits (an Rgba32Uint target renders everywhere).
+    return bitcast<vec4<u32>>(vec4<f32>(normalize(in.normal), in.clip.z));
 }

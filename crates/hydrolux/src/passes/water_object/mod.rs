@@ -25,8 +25,10 @@ use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
 
-/// Front/back faces from the light: outward normal and depth.
-const FACES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Front/back faces from the light: outward normal and depth, as the bits
+/// of four f32 (`bitcast`): full precision, and a 32-bit integer target is
+/// renderable on every backend, unlike `Rgba32Float` (not on wgpu's GL).
+const FACES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// The object caustic map: rgb irradiance, a the scene's depth.
 pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// The camera's back-face record: outward normal and distance.
@@ -174,14 +176,13 @@ impl WaterObjectPass {
             wgpu::Face::Front,
             depth_state(d32, wgpu::CompareFunction::Greater),
         );
-        let unfilterable = |b| texture_entry(b, cs, wgpu::TextureViewDimension::D2, false);
         let paths_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("water object paths"),
             entries: &[
                 uniform_entry(0, cs),
-                unfilterable(1),
-                unfilterable(2),
-                depth_texture_entry(3, cs),
+                uint_texture_entry(1, cs),
+                uint_texture_entry(2, cs),
+                texture_entry(3, cs, wgpu::TextureViewDimension::D2, false),
                 storage_entry(4, cs, false),
                 storage_entry(5, cs, false),
                 storage_texture_entry(6, MAP_FORMAT, wgpu::TextureViewDimension::D2),
@@ -195,7 +196,7 @@ impl WaterObjectPass {
             label: Some("water object inputs"),
             entries: &[
                 texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
-                depth_texture_entry(1, fs),
+                texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
             ],
         });
@@ -392,7 +393,8 @@ impl WaterObjectPass {
                             r: 0.0,
                             g: 0.0,
                             b: 0.0,
-                            a: clear_w,
+                            // The bits of the float, as the target holds them.
+                            a: f64::from((clear_w as f32).to_bits()),
                         }),
                         store: wgpu::StoreOp::Store,
                     },

@@ -23,9 +23,10 @@ struct ObjectLightParams {
 }
 
 @group(1) @binding(0) var<uniform> params: ObjectLightParams;
-@group(1) @binding(1) var front_tex: texture_2d<f32>;
-@group(1) @binding(2) var back_tex: texture_2d<f32>;
-@group(1) @binding(3) var scene_tex: texture_depth_2d;
+// Faces from the light: (normal, depth) as the bits of four f32.
+@group(1) @binding(1) var front_tex: texture_2d<u32>;
+@group(1) @binding(2) var back_tex: texture_2d<u32>;
+@group(1) @binding(3) var scene_tex: texture_2d<f32>;
 @group(1) @binding(4) var<storage, read_write> tubes: array<Tube>;
 @group(1) @binding(5) var<storage, read_write> accum: array<atomic<u32>>;
 @group(1) @binding(6) var map_out: texture_storage_2d<rgba16float, write>;
@@ -46,6 +47,10 @@ fn texel_of(uv: vec2<f32>) -> vec2<i32> {
     return clamp(vec2<i32>(floor(uv * f32(k))), vec2<i32>(0), vec2<i32>(k - 1));
 }
 
+fn load_back(texel: vec2<i32>) -> vec4<f32> {
+    return bitcast<vec4<f32>>(textureLoad(back_tex, texel, 0));
+}
+
 fn in_view(uv: vec2<f32>) -> bool {
     return all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
 }
@@ -54,9 +59,9 @@ fn in_view(uv: vec2<f32>) -> bool {
 // scene (which = 1) under `uv`.
 fn depth_at(uv: vec2<f32>, which: u32) -> f32 {
     if (which == 0u) {
-        return textureLoad(back_tex, texel_of(uv), 0).w;
+        return load_back(texel_of(uv)).w;
     }
-    return textureLoad(scene_tex, texel_of(uv), 0);
+    return textureLoad(scene_tex, texel_of(uv), 0).r;
 }
 
 // March from p along dir until the ray passes behind the depth map `which`,
@@ -135,7 +140,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
     tube.start = vec4<f32>(0.0);
     tube.dir = vec4<f32>(0.0);
     tube.tint = vec4<f32>(0.0);
-    let front = textureLoad(front_tex, vec2<i32>(id.xy), 0);
+    let front = bitcast<vec4<f32>>(textureLoad(front_tex, vec2<i32>(id.xy), 0));
     let l = frame.light.sun_dir;
     let ior = params.info.y;
     let n0 = normalize(front.xyz);
@@ -147,7 +152,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
         let s1 = march(p0, t1, 0u);
         if (s1 > 0.0) {
             let p1 = p0 + t1 * s1;
-            let back = textureLoad(back_tex, texel_of(to_light(p1).xy), 0);
+            let back = load_back(texel_of(to_light(p1).xy));
             let n1 = normalize(back.xyz);
             let cos1 = dot(t1, n1);
             let t2 = refract(t1, -n1, ior);
@@ -191,5 +196,5 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    textureStore(map_out, vec2<i32>(id.xy), vec4<f32>(sum, textureLoad(scene_tex, vec2<i32>(id.xy), 0)));
+    textureStore(map_out, vec2<i32>(id.xy), vec4<f32>(sum, textureLoad(scene_tex, vec2<i32>(id.xy), 0).r));
 }

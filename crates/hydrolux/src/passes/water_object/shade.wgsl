@@ -9,7 +9,7 @@
 #import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common
 
 @group(3) @binding(0) var behind_tex: texture_2d<f32>;
-@group(3) @binding(1) var scene_depth: texture_depth_2d;
+@group(3) @binding(1) var scene_depth: texture_2d<f32>;
 @group(3) @binding(2) var back_tex: texture_2d<f32>;
 
 struct ShadeOut {
@@ -59,7 +59,7 @@ fn sky_towards(dir: vec3<f32>) -> vec3<f32> {
 fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let px = vec2<i32>(in.clip.xy);
     // Behind the opaque scene (reversed Z: smaller is farther).
-    if (in.clip.z < textureLoad(scene_depth, px, 0)) {
+    if (in.clip.z < textureLoad(scene_depth, px, 0).r) {
         discard;
     }
     let eye = frame.view.position;
@@ -89,12 +89,12 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let r1 = select(fresnel_exact(max(dot(t1, n1), 0.0), ior, 1.0), 0.0, tir);
     // What lies behind along t2: guess its distance from the scene's depth
     // under the exit point, then look it up where that point projects.
-    let z = textureLoad(scene_depth, exit_texel, 0);
+    let z = textureLoad(scene_depth, exit_texel, 0).r;
     let ndc = vec2<f32>(2.0 * at_exit.x - 1.0, 1.0 - 2.0 * at_exit.y);
     let h = frame.view.inv_view_proj * vec4<f32>(ndc, max(z, 1e-7), 1.0);
     let gap = max(distance(h.xyz / h.w, eye) - distance(p1, eye), 0.05);
     let q = screen_uv(p1 + t2 * gap);
-    let zq = textureLoad(scene_depth, texel_at(q.xy, size), 0);
+    let zq = textureLoad(scene_depth, texel_at(q.xy, size), 0).r;
     let seen = textureSampleLevel(behind_tex, sky_sampler, clamp(q.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
     let behind = select(sky_towards(t2), seen, (at_exit.z > 0.5) & (z > 0.0) & (q.z > 0.5) & (zq > 0.0));
     let inside = exp(-frame.water.absorption * thickness);
