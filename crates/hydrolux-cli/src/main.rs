@@ -4,6 +4,7 @@ mod bench;
 mod dumps;
 mod output;
 mod render;
+mod video;
 mod view;
 
 use anyhow::{Context, Result};

@@ -1,8 +1,10 @@
-//! `hydrolux render`: headless images and numbered image sequences.
+//! `hydrolux render`: headless images, numbered image sequences and videos
+//! (through ffmpeg, `video.rs`).
 
 use crate::SceneArgs;
 use crate::dumps::{self, Dump};
 use crate::output::{self, FloatImage, Format, Staged};
+use crate::video::{Container, Quality, VideoWriter};
 use anyhow::{Result, bail};
 use clap::Args;
 use hydrolux::Renderer;
@@ -13,7 +15,7 @@ use std::path::{Path, PathBuf};
 pub struct RenderArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Output image: .png (8-bit sRGB, tone-mapped) or .exr (linear float, pre-exposed radiance).
+    /// Output: .png (8-bit sRGB, tone-mapped), .exr (linear float, pre-exposed radiance), or a video of all the frames, .mp4 (H.264) or .webm (VP9), encoded by ffmpeg.
     #[arg(long, default_value = "hydrolux.png")]
     pub out: PathBuf,
     #[command(flatten)]
@@ -24,14 +26,20 @@ pub struct RenderArgs {
     /// Number of frames; more than one writes OUT_0000.png, OUT_0001.png, …
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub frames: u32,
-    /// Render only frames FIRST to LAST (inclusive, counted from 0) of the
+    /// Render only frames FIRST to LAST (inclusive, counted from 0; FIRST..LAST is the same) of the
     /// sequence, numbered and timed as in the whole sequence: to resume one
     /// that stopped, or to split it between machines.
     #[arg(long, value_name = "FIRST-LAST")]
     pub frame_range: Option<String>,
-    /// Frames per second of simulated time in a sequence.
+    /// Frames per second of simulated time in a sequence (and of the video).
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     pub fps: f64,
+    /// Video quality: constant rate factor, 0 (lossless) to 51 (smallest file); default 20.
+    #[arg(long, allow_negative_numbers = true)]
+    pub crf: Option<u32>,
+    /// Video bitrate instead of --crf, bits per second with an optional k or M (e.g. 8M).
+    #[arg(long)]
+    pub bitrate: Option<String>,
     /// Write an internal buffer: KIND=FILE.npy|FILE.exr with KIND one of height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics. Repeatable.
     #[arg(long = "dump", value_name = "KIND=FILE")]
     pub dump: Vec<String>,
@@ -58,7 +66,16 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if !a.time.is_finite() {
         bail!("--time {}: must be a finite number of seconds", a.time);
     }
-    let format = output::format_of(&a.out, &[Format::Png, Format::Exr], "--out")?;
+    let container = Container::of(&a.out);
+    let format = match container {
+        Some(_) => Format::Png,
+        None => output::format_of(&a.out, &[Format::Png, Format::Exr], "--out")
+            .map_err(|e| anyhow::anyhow!("{e}, or .mp4 or .webm for a video"))?,
+    };
+    let quality = Quality::from_args(a.crf, a.bitrate.as_deref())?;
+    if container.is_none() && (a.crf.is_some() || a.bitrate.is_some()) {
+        bail!("--crf and --bitrate are for videos: --out must end in .mp4 or .webm");
+    }
     let dumps: Vec<Dump> = a.dump.iter().map(|d| dumps::parse(d)).collect::<Result<_>>()?;
     output::check_writable(&a.out)?;
     for d in &dumps {
@@ -97,6 +114,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
+    // A video holds every frame of the range in one file, written whole or not at all.
+    let mut video = match container {
+        Some(c) => {
+            Some(VideoWriter::start(&a.out, c, (a.size.width, a.size.height), a.fps, &quality)?)
+        }
+        None => None,
+    };
     let count = range.end - range.start;
     let progress = (count > 1).then(|| {
         let bar = indicatif::ProgressBar::new(count as u64);
@@ -110,13 +134,17 @@ pub fn run(a: RenderArgs) -> Result<()> {
     });
     for i in range.clone() {
         // Each frame's outputs (image and dumps) appear together or not at all.
-        let written = frame(&a, &dumps, format, &scene, &mut renderer, &target, i, numbering);
+        let written =
+            frame(&a, &dumps, format, &scene, &mut renderer, &target, i, numbering, &mut video);
         if let Err(e) = written {
             if let Some(bar) = &progress {
                 bar.abandon();
             }
             if numbering == 1 {
                 return Err(e);
+            }
+            if video.is_some() {
+                bail!("frame {i}: {e:#}; no video written (it is written whole or not at all)");
             }
             let done = i - range.start;
             let resume = format!("resume with --frame-range {i}-{}", range.end - 1);
@@ -140,6 +168,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     if let Some(bar) = progress {
         bar.finish();
+    }
+    if let Some(v) = video {
+        let n = v.finish()?;
+        eprintln!(
+            "wrote {} ({n} frame{}, {}×{}, {} fps)",
+            a.out.display(),
+            if n == 1 { "" } else { "s" },
+            a.size.width,
+            a.size.height,
+            a.fps
+        );
+        return Ok(());
     }
     if numbering == 1 {
         eprintln!("wrote {}", a.out.display());
@@ -165,14 +205,16 @@ fn frame(
     target: &HeadlessTarget,
     i: u32,
     numbering: u32,
+    video: &mut Option<VideoWriter>,
 ) -> Result<()> {
     let time = a.time + i as f64 / a.fps;
     let pixels = target.render(renderer, scene.camera(), time)?;
     let out = numbered(&a.out, i, numbering);
     let mut staged = Staged::new();
-    match format {
-        Format::Png => staged.png(&out, a.size.width, a.size.height, &pixels)?,
-        _ => {
+    match (format, video.as_mut()) {
+        (_, Some(v)) => v.frame(&pixels)?,
+        (Format::Png, None) => staged.png(&out, a.size.width, a.size.height, &pixels)?,
+        (_, None) => {
             let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame rendered") };
             let data: Vec<f32> = px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
             let image =
@@ -193,10 +235,10 @@ fn frame(
 fn parse_range(text: &str, frames: u32, frames_given: bool) -> Result<std::ops::Range<u32>> {
     let bad = || {
         anyhow::anyhow!(
-            "--frame-range `{text}`: expected FIRST-LAST, two frame numbers from 0 with FIRST ≤ LAST (e.g. 42-99)"
+            "--frame-range `{text}`: expected FIRST-LAST (or FIRST..LAST), two frame numbers from 0 with FIRST ≤ LAST, both rendered (e.g. 42-99)"
         )
     };
-    let (first, last) = text.split_once('-').ok_or_else(bad)?;
+    let (first, last) = text.split_once("..").or_else(|| text.split_once('-')).ok_or_else(bad)?;
     let first: u32 = first.trim().parse().map_err(|_| bad())?;
     let last: u32 = last.trim().parse().map_err(|_| bad())?;
     if first > last || last == u32::MAX {

@@ -705,3 +705,116 @@ fn the_first_command_works_on_a_machine_with_only_opengl() {
     assert!(info.contains(", Gl)") && info.contains("all run"), "{info}");
     assert!(info.contains("adapted to this device") && info.contains("stencil copied"), "{info}");
 }
+
+fn ffprobe(path: &std::path::Path, entries: &str) -> String {
+    let out = Command::new("ffprobe")
+        .args(["-v", "error", "-select_streams", "v:0", "-count_frames", "-show_entries"])
+        .arg(format!("stream={entries}"))
+        .args(["-of", "default=nw=1"])
+        .arg(path)
+        .output()
+        .expect("ffprobe (CI installs ffmpeg)");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+#[test]
+fn videos_are_playable_and_written_whole_or_not_at_all() {
+    let dir = scratch("video");
+    let args = ["render", "--scene", "calm", "--width", "64", "--height", "36", "--frames", "5"];
+    let with = |extra: &[&str]| -> Vec<String> {
+        args.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    let run = |a: &[String], env: &[(&str, Option<&str>)]| {
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        hydrolux_env(&a, &dir, env)
+    };
+    // H.264 in MP4 and VP9 in WebM, every frame, the size asked for.
+    let (code, err) = run(&with(&["--out", "clip.mp4"]), &[]);
+    assert_eq!(code, 0, "{err}");
+    let probe = ffprobe(&dir.join("clip.mp4"), "codec_name,width,height,pix_fmt,nb_read_frames");
+    for want in ["codec_name=h264", "width=64", "height=36", "pix_fmt=yuv420p", "nb_read_frames=5"]
+    {
+        assert!(probe.contains(want), "{want} in {probe}");
+    }
+    let (code, err) = run(&with(&["--out", "clip.webm", "--bitrate", "500k"]), &[]);
+    assert_eq!(code, 0, "{err}");
+    let probe = ffprobe(&dir.join("clip.webm"), "codec_name,nb_read_frames");
+    assert!(probe.contains("codec_name=vp9") && probe.contains("nb_read_frames=5"), "{probe}");
+    assert_eq!(files_in(&dir), ["clip.mp4", "clip.webm"]);
+
+    // No ffmpeg: one line saying how to get it, nothing written.
+    let empty = scratch("video-missing");
+    for env in [
+        vec![("HYDROLUX_FFMPEG", None), ("PATH", Some("/nonexistent"))],
+        vec![("HYDROLUX_FFMPEG", Some("/nonexistent/ffmpeg"))],
+    ] {
+        let a: Vec<String> = with(&["--out", "none.mp4"]);
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        let (code, err) = hydrolux_env(&a, &empty, &env);
+        assert!(
+            code == 1 && err.contains("ffmpeg") && err.contains("apt-get install ffmpeg"),
+            "{err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(files_in(&empty).is_empty());
+    }
+    // ffmpeg failing mid-stream (it wrote part of its file, then quit).
+    let script = dir.join("failing-ffmpeg.sh");
+    std::fs::write(
+        &script,
+        "#!/bin/sh\nfor last; do :; done\necho partial > \"$last\"\nhead -c 20000 > /dev/null\n\
+         echo 'Conversion failed!' >&2\nexit 1\n",
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let failing = [("HYDROLUX_FFMPEG", Some(script.to_str().unwrap()))];
+    let (code, err) = run(&with(&["--out", "broken.mp4"]), &failing);
+    assert!(
+        code == 1
+            && err.contains("cannot write `broken.mp4`")
+            && err.contains("Conversion failed!")
+            && !err.contains("panicked"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(files_in(&dir), ["clip.mp4", "clip.webm", "failing-ffmpeg.sh"], "no partial file");
+
+    // Sizes and options a video cannot take.
+    for (extra, want) in [
+        (vec!["--out", "x.png", "--crf", "20"], "--crf and --bitrate are for videos"),
+        (vec!["--out", "x.mp4", "--crf", "60"], "0 (lossless) to 51"),
+        (vec!["--out", "x.mp4", "--bitrate", "fast"], "--bitrate `fast`"),
+        (vec!["--out", "x.mp4", "--crf", "20", "--bitrate", "8M"], "not both"),
+        (vec!["--out", "x.gif"], "or .mp4 or .webm for a video"),
+    ] {
+        let (code, err) = run(&with(&extra), &[]);
+        assert!(code == 1 && err.contains(want), "{extra:?}: {err}");
+    }
+    let odd = ["render", "--width", "63", "--height", "36", "--out", "odd.mp4"];
+    let (code, err) = hydrolux(&odd, &dir);
+    assert!(code == 1 && err.contains("63×36") && err.contains("even width and height"), "{err}");
+    assert_eq!(files_in(&dir), ["clip.mp4", "clip.webm", "failing-ffmpeg.sh"]);
+}
+
+#[test]
+fn slices_of_a_sequence_render_the_same_frames_as_the_whole() {
+    // Split between machines (a job array): frames are the same bytes
+    // whichever slice renders them, the simulation state being reached
+    // deterministically from t = 0.
+    let dir = scratch("slices");
+    let base = ["render", "--scene", "pool", "--width", "48", "--height", "32", "--frames", "4"];
+    let whole: Vec<&str> = base.iter().copied().chain(["--out", "whole.png"]).collect();
+    assert_eq!(hydrolux(&whole, &dir).0, 0);
+    for range in ["0-1", "2..3"] {
+        let slice: Vec<&str> =
+            base.iter().copied().chain(["--out", "part.png", "--frame-range", range]).collect();
+        let (code, err) = hydrolux(&slice, &dir);
+        assert_eq!(code, 0, "{err}");
+    }
+    for i in 0..4 {
+        let a = std::fs::read(dir.join(format!("whole_{i:04}.png"))).unwrap();
+        let b = std::fs::read(dir.join(format!("part_{i:04}.png"))).unwrap();
+        assert!(a == b, "frame {i} differs between the whole sequence and its slice");
+    }
+}
