@@ -127,7 +127,7 @@ impl VideoWriter {
         fps: f64,
         quality: &Quality,
     ) -> Result<Self> {
-        if size.0 % 2 != 0 || size.1 % 2 != 0 {
+        if !size.0.is_multiple_of(2) || !size.1.is_multiple_of(2) {
             bail!(
                 "{}×{}: video (yuv420p, what every player takes) needs an even width and height",
                 size.0,
