@@ -9,13 +9,13 @@
 use crate::SceneArgs;
 use anyhow::{Context, Result};
 use clap::Args;
-use glam::Vec3;
 use hydrolux::core::camera::Camera;
-use hydrolux::core::scene::{Choice, DebugView, GodRayMethod, Scene, enumerated_keys};
+use hydrolux::core::scene::{Choice, DebugView, GodRayMethod, Scene};
 use hydrolux::{FrameInput, GpuContext, Renderer, wgpu};
+use hydrolux_ui::camera::Motion;
+use hydrolux_ui::{FlyCamera, SceneEditor};
 use std::sync::Arc;
 use std::time::Instant;
-use toml::{Table, Value};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
@@ -33,43 +33,6 @@ pub struct ViewArgs {
     pub frames: Option<u64>,
 }
 
-struct FlyCamera {
-    position: Vec3,
-    yaw: f32,
-    pitch: f32,
-    fov_y_deg: f32,
-}
-
-impl FlyCamera {
-    fn from_scene(s: &Scene) -> Self {
-        let c = s.camera();
-        let f = c.forward();
-        FlyCamera {
-            position: c.position,
-            yaw: f.z.atan2(f.x),
-            pitch: f.y.asin(),
-            fov_y_deg: c.fov_y_deg,
-        }
-    }
-
-    fn forward(&self) -> Vec3 {
-        Vec3::new(
-            self.pitch.cos() * self.yaw.cos(),
-            self.pitch.sin(),
-            self.pitch.cos() * self.yaw.sin(),
-        )
-    }
-
-    fn camera(&self) -> Camera {
-        Camera {
-            position: self.position,
-            look_at: self.position + self.forward(),
-            up: Vec3::Y,
-            fov_y_deg: self.fov_y_deg,
-        }
-    }
-}
-
 struct Gfx {
     window: Arc<Window>,
     surface: wgpu::Surface<'static>,
@@ -84,8 +47,7 @@ struct Gfx {
 struct Viewer {
     args: ViewArgs,
     scene: Scene,
-    table: Table,
-    error: Option<String>,
+    editor: SceneEditor,
     gfx: Option<Gfx>,
     camera: FlyCamera,
     keys: std::collections::HashSet<KeyCode>,
@@ -172,39 +134,25 @@ impl Viewer {
     }
 
     fn apply_table(&mut self) {
-        match Scene::from_toml(&self.table.to_string(), "viewer", &[]) {
-            Ok(mut s) => {
-                // Relative mesh and texture paths still start at the scene file.
-                s.base_dir = self.scene.base_dir.clone();
+        match self.editor.scene() {
+            Ok(s) => {
                 if let Some(g) = &mut self.gfx
                     && let Err(e) = g.renderer.set_scene(&s)
                 {
-                    self.error = Some(e.to_string());
+                    self.editor.error = Some(e.to_string());
                     return;
                 }
                 self.scene = s;
-                self.error = None;
+                self.editor.error = None;
             }
-            Err(e) => self.error = Some(e.to_string()),
+            Err(e) => self.editor.error = Some(e),
         }
     }
 
     /// Step `section.key` to the next of `names` (V: the debug view, G: the
     /// god-ray method), and apply it.
     fn cycle_option(&mut self, section: &str, key: &str, names: &[String]) {
-        let current = self
-            .table
-            .get(section)
-            .and_then(|r| r.get(key))
-            .and_then(Value::as_str)
-            .unwrap_or(&names[0])
-            .to_string();
-        let i = names.iter().position(|n| *n == current).unwrap_or(0);
-        let next = names[(i + 1) % names.len()].clone();
-        let table = self.table.entry(section).or_insert_with(|| Value::Table(Default::default()));
-        if let Value::Table(r) = table {
-            r.insert(key.into(), Value::String(next.clone()));
-        }
+        let next = self.editor.cycle(section, key, names);
         self.status = format!("{section}.{key}: {next}");
         self.apply_table();
     }
@@ -225,7 +173,7 @@ impl Viewer {
         });
         ui.horizontal(|ui| {
             if ui.button("reset camera").clicked() {
-                self.camera = FlyCamera::from_scene(&self.scene);
+                self.camera = FlyCamera::from_scene(&self.scene.camera());
             }
             if ui.button("screenshot (P)").clicked() {
                 self.screenshot_requested = true;
@@ -234,62 +182,26 @@ impl Viewer {
         if !self.status.is_empty() {
             ui.label(&self.status);
         }
-        if let Some(e) = &self.error {
+        if let Some(e) = &self.editor.error {
             ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
         }
         ui.separator();
-        let mut changed = false;
-        egui::ScrollArea::vertical().show(ui, |ui| {
-            for (section, value) in self.table.iter_mut() {
-                let open = matches!(section.as_str(), "ocean" | "sun" | "water");
-                changed |= edit_entry(ui, section, section, section, value, open);
-            }
-        });
-        if changed {
+        if self.editor.sections_ui(ui) {
             self.apply_table();
         }
     }
 
     fn update_camera(&mut self, dt: f32) {
-        let speed = if self.keys.contains(&KeyCode::ShiftLeft) { 40.0 } else { 8.0 } * dt;
-        let f = self.camera.forward();
-        let flat = Vec3::new(f.x, 0.0, f.z).normalize_or_zero();
-        let right = flat.cross(Vec3::Y);
-        let k = |c| self.keys.contains(&c);
-        let mut m = Vec3::ZERO;
-        if k(KeyCode::KeyW) {
-            m += f;
-        }
-        if k(KeyCode::KeyS) {
-            m -= f;
-        }
-        if k(KeyCode::KeyD) {
-            m += right;
-        }
-        if k(KeyCode::KeyA) {
-            m -= right;
-        }
-        if k(KeyCode::KeyE) {
-            m += Vec3::Y;
-        }
-        if k(KeyCode::KeyQ) {
-            m -= Vec3::Y;
-        }
-        self.camera.position += m * speed;
-        let turn = 1.2 * dt;
-        if k(KeyCode::ArrowLeft) {
-            self.camera.yaw -= turn;
-        }
-        if k(KeyCode::ArrowRight) {
-            self.camera.yaw += turn;
-        }
-        if k(KeyCode::ArrowUp) {
-            self.camera.pitch += turn;
-        }
-        if k(KeyCode::ArrowDown) {
-            self.camera.pitch -= turn;
-        }
-        self.camera.pitch = self.camera.pitch.clamp(-1.5, 1.5);
+        let k = |c| if self.keys.contains(&c) { 1.0 } else { 0.0 };
+        let motion = Motion {
+            forward: k(KeyCode::KeyW) - k(KeyCode::KeyS),
+            right: k(KeyCode::KeyD) - k(KeyCode::KeyA),
+            up: k(KeyCode::KeyE) - k(KeyCode::KeyQ),
+            turn_right: k(KeyCode::ArrowRight) - k(KeyCode::ArrowLeft),
+            turn_up: k(KeyCode::ArrowUp) - k(KeyCode::ArrowDown),
+            fast: self.keys.contains(&KeyCode::ShiftLeft),
+        };
+        self.camera.fly(motion, dt);
     }
 
     fn redraw(&mut self) -> Result<()> {
@@ -350,7 +262,7 @@ impl Viewer {
         if g.renderer.scene() != &self.scene
             && let Err(e) = g.renderer.set_scene(&self.scene)
         {
-            self.error = Some(e.to_string());
+            self.editor.error = Some(e.to_string());
             self.scene = g.renderer.scene().clone();
         }
         let jobs = g.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
@@ -425,92 +337,6 @@ impl Viewer {
     }
 }
 
-/// A table becomes a collapsible section, an array of tables (`[[objects]]`)
-/// one section per entry, anything else one widget. `id` is unique per
-/// widget; `kind` is the key path without array indices (for the enum list).
-fn edit_entry(
-    ui: &mut egui::Ui,
-    id: &str,
-    kind: &str,
-    label: &str,
-    value: &mut Value,
-    open: bool,
-) -> bool {
-    let mut changed = false;
-    match value {
-        Value::Table(t) => {
-            egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
-                for (key, v) in t.iter_mut() {
-                    changed |= edit_entry(
-                        ui,
-                        &format!("{id}.{key}"),
-                        &format!("{kind}.{key}"),
-                        key,
-                        v,
-                        false,
-                    );
-                }
-            });
-        }
-        Value::Array(items) if items.first().is_some_and(Value::is_table) => {
-            egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
-                for (i, item) in items.iter_mut().enumerate() {
-                    let name = item
-                        .get("name")
-                        .and_then(Value::as_str)
-                        .filter(|n| !n.is_empty())
-                        .map(str::to_string);
-                    let title =
-                        name.map_or(format!("{label}[{i}]"), |n| format!("{label}[{i}] {n}"));
-                    changed |= edit_entry(ui, &format!("{id}[{i}]"), kind, &title, item, false);
-                }
-            });
-        }
-        _ => changed |= edit_value(ui, id, kind, label, value),
-    }
-    changed
-}
-
-/// One widget per TOML value; returns whether it changed.
-fn edit_value(ui: &mut egui::Ui, id: &str, path: &str, key: &str, value: &mut Value) -> bool {
-    ui.horizontal(|ui| {
-        ui.label(key);
-        match value {
-            Value::Float(f) => {
-                let speed = (f.abs() * 0.01).max(0.01);
-                ui.add(egui::DragValue::new(f).speed(speed)).changed()
-            }
-            Value::Integer(i) => ui.add(egui::DragValue::new(i).speed(1.0)).changed(),
-            Value::Boolean(b) => ui.checkbox(b, "").changed(),
-            Value::Array(a) => {
-                let mut c = false;
-                for v in a.iter_mut() {
-                    if let Value::Float(f) = v {
-                        c |= ui.add(egui::DragValue::new(f).speed(0.05)).changed();
-                    }
-                }
-                c
-            }
-            Value::String(s) => {
-                let keys = enumerated_keys();
-                if let Some((_, options)) = keys.iter().find(|(p, _)| *p == path) {
-                    let mut c = false;
-                    egui::ComboBox::from_id_salt(id).selected_text(s.as_str()).show_ui(ui, |ui| {
-                        for o in options {
-                            c |= ui.selectable_value(s, o.clone(), o).changed();
-                        }
-                    });
-                    c
-                } else {
-                    ui.text_edit_singleline(s).lost_focus()
-                }
-            }
-            _ => false,
-        }
-    })
-    .inner
-}
-
 impl ApplicationHandler for Viewer {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.gfx.is_none()
@@ -566,9 +392,7 @@ impl ApplicationHandler for Viewer {
             }
             WindowEvent::CursorMoved { position, .. } if self.looking => {
                 if let Some((x, y)) = self.last_cursor {
-                    self.camera.yaw += (position.x - x) as f32 * 0.003;
-                    self.camera.pitch =
-                        (self.camera.pitch - (position.y - y) as f32 * 0.003).clamp(-1.5, 1.5);
+                    self.camera.drag((position.x - x) as f32, (position.y - y) as f32);
                 }
                 self.last_cursor = Some((position.x, position.y));
             }
@@ -608,11 +432,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
         )
     })?;
     let mut viewer = Viewer {
-        table: scene.to_table(),
-        camera: FlyCamera::from_scene(&scene),
+        editor: SceneEditor::new(&scene),
+        camera: FlyCamera::from_scene(&scene.camera()),
         scene,
         args,
-        error: None,
         gfx: None,
         keys: Default::default(),
         looking: false,

@@ -21,6 +21,44 @@ pub struct SceneObject {
 /// Half-side of the flat floor and of the terrain's skirt (m).
 pub const FLOOR_EXTENT: f32 = 20_000.0;
 
+/// The flat floor at `depth` below the water level, out to FLOOR_EXTENT:
+/// a grid whose lines double their spacing away from the origin (0.25 m
+/// cells at the centre), so that no triangle near the scene is kilometres
+/// long. Two 40 km triangles rasterise with visible depth and texture
+/// coordinate errors on GPUs with less precise interpolation (SwiftShader,
+/// many mobile GPUs): the floor came out nearer than it is.
+fn flat_floor(depth: f32) -> Mesh {
+    let mut lines: Vec<f32> = vec![0.0, FLOOR_EXTENT, -FLOOR_EXTENT];
+    let mut step = 0.25;
+    while step < FLOOR_EXTENT {
+        lines.extend([step, -step]);
+        step *= 2.0;
+    }
+    lines.sort_by(f32::total_cmp);
+    let n = lines.len();
+    let mut positions = Vec::with_capacity(n * n);
+    for &z in &lines {
+        for &x in &lines {
+            positions.push(Vec3::new(x, -depth, z));
+        }
+    }
+    let mut indices = Vec::with_capacity((n - 1) * (n - 1) * 6);
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let a = (j * n + i) as u32;
+            let (b, c, d) = (a + 1, a + n as u32, a + n as u32 + 1);
+            // Counter-clockwise seen from above, as the two-triangle floor was.
+            indices.extend([a, c, d, a, d, b]);
+        }
+    }
+    Mesh {
+        uvs: positions.iter().map(|p| Vec2::new(p.x, p.z)).collect(),
+        normals: vec![Vec3::Y; positions.len()],
+        positions,
+        indices,
+    }
+}
+
 impl Scene {
     /// Load and build every mesh of the scene (reads mesh and image files).
     pub fn build_geometry(&self) -> Result<Vec<SceneObject>, AssetError> {
@@ -28,19 +66,7 @@ impl Scene {
         let f = &self.floor;
         match f.terrain {
             TerrainKind::None if f.depth > 0.0 => {
-                let e = FLOOR_EXTENT;
-                let positions = vec![
-                    Vec3::new(-e, -f.depth, -e),
-                    Vec3::new(-e, -f.depth, e),
-                    Vec3::new(e, -f.depth, e),
-                    Vec3::new(e, -f.depth, -e),
-                ];
-                let mesh = Mesh {
-                    uvs: positions.iter().map(|p| Vec2::new(p.x, p.z)).collect(),
-                    positions,
-                    normals: vec![Vec3::Y; 4],
-                    indices: vec![0, 1, 2, 0, 2, 3],
-                };
+                let mesh = flat_floor(f.depth);
                 out.push(SceneObject {
                     name: "floor".into(),
                     mesh,

@@ -1,0 +1,199 @@
+//! The scene editor: the scene as its TOML table, one egui widget per value
+//! (a collapsible section per table, one per `[[objects]]` entry, a combo
+//! box for every enumerated key), re-parsed into a [`Scene`] on each edit so
+//! that bad values are refused with the scene loader's own message.
+
+use egui::Ui;
+use hydrolux_core::scene::{Scene, enumerated_keys};
+use toml::{Table, Value};
+
+pub struct SceneEditor {
+    pub table: Table,
+    /// Relative mesh and texture paths start at the scene file's folder.
+    base_dir: std::path::PathBuf,
+    /// Why the last edit was refused, if it was.
+    pub error: Option<String>,
+}
+
+impl SceneEditor {
+    pub fn new(scene: &Scene) -> Self {
+        SceneEditor { table: scene.to_table(), base_dir: scene.base_dir.clone(), error: None }
+    }
+
+    /// The scene the table describes now.
+    pub fn scene(&self) -> Result<Scene, String> {
+        let mut s =
+            Scene::from_toml(&self.table.to_string(), "editor", &[]).map_err(|e| e.to_string())?;
+        s.base_dir = self.base_dir.clone();
+        Ok(s)
+    }
+
+    /// Every section, collapsible; true if a value changed.
+    pub fn sections_ui(&mut self, ui: &mut Ui) -> bool {
+        let mut changed = false;
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            for (section, value) in self.table.iter_mut() {
+                let open = matches!(section.as_str(), "ocean" | "sun" | "water");
+                changed |= edit_entry(ui, section, section, section, value, open);
+            }
+        });
+        changed
+    }
+
+    /// The string value of `section.key`, if set.
+    pub fn get(&self, section: &str, key: &str) -> Option<&str> {
+        self.table.get(section)?.get(key)?.as_str()
+    }
+
+    /// Set `section.key` to the string `value`.
+    pub fn set(&mut self, section: &str, key: &str, value: &str) {
+        let table = self.table.entry(section).or_insert_with(|| Value::Table(Default::default()));
+        if let Value::Table(r) = table {
+            r.insert(key.into(), Value::String(value.into()));
+        }
+    }
+
+    /// Step `section.key` to the next of `names` (V: the debug view, G: the
+    /// god-ray method); the new value.
+    pub fn cycle(&mut self, section: &str, key: &str, names: &[String]) -> String {
+        let current = self.get(section, key).unwrap_or(&names[0]).to_string();
+        let i = names.iter().position(|n| *n == current).unwrap_or(0);
+        let next = names[(i + 1) % names.len()].clone();
+        self.set(section, key, &next);
+        next
+    }
+
+    /// A combo box for `section.key` over `names`; true if it changed.
+    pub fn choice_ui(
+        &mut self,
+        ui: &mut Ui,
+        label: &str,
+        section: &str,
+        key: &str,
+        names: &[String],
+    ) -> bool {
+        let mut value = self.get(section, key).unwrap_or(&names[0]).to_string();
+        let mut changed = false;
+        ui.horizontal(|ui| {
+            ui.label(label);
+            egui::ComboBox::from_id_salt(format!("choice.{section}.{key}"))
+                .selected_text(value.as_str())
+                .show_ui(ui, |ui| {
+                    for n in names {
+                        changed |= ui.selectable_value(&mut value, n.clone(), n).changed();
+                    }
+                });
+        });
+        if changed {
+            self.set(section, key, &value);
+        }
+        changed
+    }
+}
+
+/// A table becomes a collapsible section, an array of tables (`[[objects]]`)
+/// one section per entry, anything else one widget. `id` is unique per
+/// widget; `kind` is the key path without array indices (for the enum list).
+fn edit_entry(
+    ui: &mut Ui,
+    id: &str,
+    kind: &str,
+    label: &str,
+    value: &mut Value,
+    open: bool,
+) -> bool {
+    let mut changed = false;
+    match value {
+        Value::Table(t) => {
+            egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
+                for (key, v) in t.iter_mut() {
+                    changed |= edit_entry(
+                        ui,
+                        &format!("{id}.{key}"),
+                        &format!("{kind}.{key}"),
+                        key,
+                        v,
+                        false,
+                    );
+                }
+            });
+        }
+        Value::Array(items) if items.first().is_some_and(Value::is_table) => {
+            egui::CollapsingHeader::new(label).id_salt(id).default_open(open).show(ui, |ui| {
+                for (i, item) in items.iter_mut().enumerate() {
+                    let name = item
+                        .get("name")
+                        .and_then(Value::as_str)
+                        .filter(|n| !n.is_empty())
+                        .map(str::to_string);
+                    let title =
+                        name.map_or(format!("{label}[{i}]"), |n| format!("{label}[{i}] {n}"));
+                    changed |= edit_entry(ui, &format!("{id}[{i}]"), kind, &title, item, false);
+                }
+            });
+        }
+        _ => changed |= edit_value(ui, id, kind, label, value),
+    }
+    changed
+}
+
+/// One widget per TOML value; returns whether it changed.
+fn edit_value(ui: &mut Ui, id: &str, path: &str, key: &str, value: &mut Value) -> bool {
+    ui.horizontal(|ui| {
+        ui.label(key);
+        match value {
+            Value::Float(f) => {
+                let speed = (f.abs() * 0.01).max(0.01);
+                ui.add(egui::DragValue::new(f).speed(speed)).changed()
+            }
+            Value::Integer(i) => ui.add(egui::DragValue::new(i).speed(1.0)).changed(),
+            Value::Boolean(b) => ui.checkbox(b, "").changed(),
+            Value::Array(a) => {
+                let mut c = false;
+                for v in a.iter_mut() {
+                    if let Value::Float(f) = v {
+                        c |= ui.add(egui::DragValue::new(f).speed(0.05)).changed();
+                    }
+                }
+                c
+            }
+            Value::String(s) => {
+                let keys = enumerated_keys();
+                if let Some((_, options)) = keys.iter().find(|(p, _)| *p == path) {
+                    let mut c = false;
+                    egui::ComboBox::from_id_salt(id).selected_text(s.as_str()).show_ui(ui, |ui| {
+                        for o in options {
+                            c |= ui.selectable_value(s, o.clone(), o).changed();
+                        }
+                    });
+                    c
+                } else {
+                    ui.text_edit_singleline(s).lost_focus()
+                }
+            }
+            _ => false,
+        }
+    })
+    .inner
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hydrolux_core::scene::{Choice, DebugView};
+
+    #[test]
+    fn edits_round_trip_through_the_scene_loader() {
+        let scene = Scene::load("pool", &[]).unwrap();
+        let mut e = SceneEditor::new(&scene);
+        let same = e.scene().unwrap();
+        assert!(
+            same.water == scene.water && same.objects == scene.objects && same.sun == scene.sun
+        );
+        let views = DebugView::names();
+        assert_eq!(e.cycle("render", "view", &views), views[1]);
+        assert_eq!(e.scene().unwrap().render.view.name(), views[1]);
+        e.set("render", "view", "sideways");
+        assert!(e.scene().unwrap_err().contains("render.view"));
+    }
+}

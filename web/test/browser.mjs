@@ -1,0 +1,81 @@
+// Load the Hydrolux page in Debian's chromium (headless, WebGPU on the CPU
+// through SwiftShader) once per scene, wait for frames, and record the
+// image, the frame time, the adapter and every console error. Used by
+// crates/hydrolux-web/tests/browser.rs. Two images per scene: the page's
+// screenshot (what a person sees, through egui and the canvas) and the
+// water image the page reads back from its own texture (`capture=N`).
+// Headless chromium presents a WebGPU canvas only with Vulkan compositing
+// on SwiftShader (the flags below); without them its GPU process crashes at
+// the canvas and the device is lost.
+//
+//   node browser.mjs URL OUTDIR WIDTH HEIGHT SCENE...
+// writes OUTDIR/SCENE.png (the page) and OUTDIR/SCENE.capture.png (its
+// image) per scene, OUTDIR/report.json, and OUTDIR/no-webgpu.json: what
+// the page says in a browser without WebGPU.
+import { chromium } from "playwright-core";
+import { writeFileSync } from "node:fs";
+import { setTimeout as sleep } from "node:timers/promises";
+
+const [url, outdir, width, height, ...scenes] = process.argv.slice(2);
+const w = Number(width), h = Number(height);
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+  args: [
+    "--headless=new", "--no-sandbox", "--enable-unsafe-webgpu", "--use-webgpu-adapter=swiftshader",
+    "--enable-features=Vulkan", "--use-vulkan=swiftshader", "--use-angle=swiftshader",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--no-first-run", "--disable-quic",
+  ],
+});
+const report = [];
+for (const scene of scenes) {
+  const page = await browser.newPage({ viewport: { width: w, height: h }, deviceScaleFactor: 1 });
+  const errors = [];
+  page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
+  page.on("pageerror", (e) => errors.push(String(e)));
+  const started = Date.now();
+  await page.goto(`${url}?scene=${scene}&time=0&paused=1&ui=0&width=${w}&height=${h}&capture=5`);
+  let state = null;
+  try {
+    // The image of frame 5 read back, or an error reported by the page.
+    await page.waitForFunction(
+      () => window.hydrolux && (window.hydrolux.error || window.hydrolux.png),
+      null, { timeout: 240000, polling: 250 });
+  } catch (e) {
+    errors.push(`timed out waiting for frames: ${e.message.split("\n")[0]}`);
+  }
+  // A few more frames for a steady frame time.
+  await sleep(2000);
+  state = await page.evaluate(() => {
+    const s = Object.assign({}, window.hydrolux || {});
+    delete s.png;
+    return s;
+  });
+  const png = await page.evaluate(() => window.hydrolux && window.hydrolux.png ? Array.from(window.hydrolux.png) : null);
+  if (png) writeFileSync(`${outdir}/${scene}.capture.png`, Buffer.from(png));
+  await page.screenshot({ path: `${outdir}/${scene}.png`, clip: { x: 0, y: 0, width: w, height: h } });
+  const status = await page.evaluate(() => document.getElementById("status").textContent);
+  report.push({ scene, state, errors, status, seconds: (Date.now() - started) / 1000 });
+  console.log(`${scene}: ${JSON.stringify(state)} errors=${errors.length} ${((Date.now() - started) / 1000).toFixed(1)} s`);
+  await page.close();
+}
+await browser.close();
+writeFileSync(`${outdir}/report.json`, JSON.stringify(report, null, 1));
+
+// A browser without WebGPU: the page must say why it cannot run.
+const plain = await chromium.launch({
+  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+  args: ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-webgpu",
+         "--disable-background-networking", "--disable-component-update", "--no-first-run"],
+});
+const page = await plain.newPage({ viewport: { width: w, height: h } });
+await page.goto(`${url}?scene=${scenes[0]}&ui=0`);
+let said = "";
+try {
+  await page.waitForFunction(() => window.hydrolux && window.hydrolux.error, null, { timeout: 120000 });
+} catch (e) { said = "(no error reported) "; }
+said += await page.evaluate(() => document.getElementById("status").textContent);
+const gpu = await page.evaluate(() => !!navigator.gpu);
+writeFileSync(`${outdir}/no-webgpu.json`, JSON.stringify({ status: said, navigator_gpu: gpu }));
+console.log(`without WebGPU (navigator.gpu ${gpu}): ${said}`);
+await plain.close();
