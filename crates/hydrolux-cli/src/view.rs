@@ -10,7 +10,7 @@ use crate::SceneArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use hydrolux::core::camera::Camera;
-use hydrolux::core::scene::{Choice, DebugView, GodRayMethod, Scene};
+use hydrolux::core::scene::{CausticMethod, Choice, DebugView, GodRayMethod, Scene};
 use hydrolux::{FrameInput, GpuContext, Renderer, wgpu};
 use hydrolux_ui::camera::Motion;
 use hydrolux_ui::{FlyCamera, SceneEditor};
@@ -182,11 +182,17 @@ impl Viewer {
         if !self.status.is_empty() {
             ui.label(&self.status);
         }
+        let mut changed = self.editor.choice_ui(ui, "view", "render", "view", &DebugView::names());
+        changed |=
+            self.editor.choice_ui(ui, "god rays", "godrays", "method", &GodRayMethod::names());
+        changed |=
+            self.editor.choice_ui(ui, "caustics", "caustics", "method", &CausticMethod::names());
         if let Some(e) = &self.editor.error {
             ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
         }
         ui.separator();
-        if self.editor.sections_ui(ui) {
+        changed |= self.editor.sections_ui(ui);
+        if changed {
             self.apply_table();
         }
     }

@@ -9,6 +9,8 @@ use toml::{Table, Value};
 
 pub struct SceneEditor {
     pub table: Table,
+    /// The table as loaded: what the person has not changed.
+    loaded: Table,
     /// Relative mesh and texture paths start at the scene file's folder.
     base_dir: std::path::PathBuf,
     /// Why the last edit was refused, if it was.
@@ -17,13 +19,37 @@ pub struct SceneEditor {
 
 impl SceneEditor {
     pub fn new(scene: &Scene) -> Self {
-        SceneEditor { table: scene.to_table(), base_dir: scene.base_dir.clone(), error: None }
+        let table = scene.to_table();
+        SceneEditor { loaded: table.clone(), table, base_dir: scene.base_dir.clone(), error: None }
     }
 
-    /// The scene the table describes now.
+    /// The scene the table describes now. What the loader would refuse
+    /// only because the table shows it is left out: a named medium's
+    /// coefficients (`water.absorption`, `water.scattering`, shown for
+    /// reference) unless the person changed them (choosing another medium
+    /// must bring that medium's own), and an object's empty `mesh` (it
+    /// stands for "the primitive").
     pub fn scene(&self) -> Result<Scene, String> {
+        let mut table = self.table.clone();
+        if let Some(Value::Array(objects)) = table.get_mut("objects") {
+            for o in objects.iter_mut().filter_map(Value::as_table_mut) {
+                if o.get("mesh").and_then(Value::as_str) == Some("") {
+                    o.remove("mesh");
+                }
+            }
+        }
+        if let Some(Value::Table(water)) = table.get_mut("water")
+            && water.get("medium").and_then(Value::as_str).is_some_and(|m| m != "custom")
+        {
+            for key in ["absorption", "scattering"] {
+                let loaded = self.loaded.get("water").and_then(|w| w.get(key));
+                if water.get(key) == loaded {
+                    water.remove(key);
+                }
+            }
+        }
         let mut s =
-            Scene::from_toml(&self.table.to_string(), "editor", &[]).map_err(|e| e.to_string())?;
+            Scene::from_toml(&table.to_string(), "editor", &[]).map_err(|e| e.to_string())?;
         s.base_dir = self.base_dir.clone();
         Ok(s)
     }
@@ -183,6 +209,22 @@ mod tests {
     use hydrolux_core::scene::{Choice, DebugView};
 
     #[test]
+    fn every_builtin_scene_comes_back_unchanged_from_the_editor() {
+        for b in hydrolux_core::scene::BUILTIN_SCENES {
+            let scene = Scene::load(b.name, &[]).unwrap();
+            let back =
+                SceneEditor::new(&scene).scene().unwrap_or_else(|e| panic!("{}: {e}", b.name));
+            let same =
+                |s: &Scene| (s.water.clone(), s.objects.clone(), s.floor.clone(), s.sun.clone());
+            assert!(
+                same(&back) == same(&scene),
+                "{} changed on its way through the editor",
+                b.name
+            );
+        }
+    }
+
+    #[test]
     fn edits_round_trip_through_the_scene_loader() {
         let scene = Scene::load("pool", &[]).unwrap();
         let mut e = SceneEditor::new(&scene);
@@ -195,5 +237,15 @@ mod tests {
         assert_eq!(e.scene().unwrap().render.view.name(), views[1]);
         e.set("render", "view", "sideways");
         assert!(e.scene().unwrap_err().contains("render.view"));
+        e.set("render", "view", "final");
+        // Another named medium brings its own coefficients.
+        e.set("water", "medium", "coastal");
+        let coastal = Scene::load("pool", &["water.medium=\"coastal\"".into()]).unwrap();
+        assert_eq!(e.scene().unwrap().water.absorption, coastal.water.absorption);
+        // Changed coefficients with a named medium are the loader's error, said as such.
+        if let Some(Value::Table(w)) = e.table.get_mut("water") {
+            w.insert("absorption".into(), Value::Array(vec![Value::Float(0.5); 3]));
+        }
+        assert!(e.scene().unwrap_err().contains("water.absorption"));
     }
 }

@@ -141,7 +141,8 @@ impl WebApp {
             }
         };
         let info = gpu.adapter.get_info();
-        let adapter = format!("{} ({:?})", info.name, info.backend);
+        let name = if info.name.is_empty() { "the browser's adapter" } else { info.name.as_str() };
+        let adapter = format!("{name} ({:?})", info.backend);
         let renderer = Renderer::new(&gpu.device, &gpu.queue, TARGET_FORMAT, &scene)
             .map_err(|e| e.to_string());
         if let Err(e) = &renderer {
