@@ -1,6 +1,6 @@
 // Load the Hydrolux page in Debian's chromium (headless, WebGPU on the CPU
-// through SwiftShader) once per scene, wait for frames, and record the
-// image, the frame time, the adapter and every console error. Used by
+// through SwiftShader), show each scene in turn, wait for frames, and
+// record the image, the frame time, the adapter and every console error. Used by
 // crates/hydrolux-web/tests/browser.rs. Two images per scene: the page's
 // screenshot (what a person sees, through egui and the canvas) and the
 // water image the page reads back from its own texture (`capture=N`).
@@ -28,36 +28,40 @@ const browser = await chromium.launch({
   ],
 });
 const report = [];
-for (const scene of scenes) {
-  const page = await browser.newPage({ viewport: { width: w, height: h }, deviceScaleFactor: 1 });
-  const errors = [];
-  page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
-  page.on("pageerror", (e) => errors.push(String(e)));
+// One page for every scene, switched as the scene picker does: the page
+// loads and compiles once.
+const page = await browser.newPage({ viewport: { width: w, height: h }, deviceScaleFactor: 1 });
+let errors = [];
+page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
+page.on("pageerror", (e) => errors.push(String(e)));
+await page.goto(`${url}?scene=${scenes[0]}&time=0&paused=1&ui=0&width=${w}&height=${h}&capture=5`);
+for (const [i, scene] of scenes.entries()) {
   const started = Date.now();
-  await page.goto(`${url}?scene=${scene}&time=0&paused=1&ui=0&width=${w}&height=${h}&capture=5`);
-  let state = null;
+  if (i > 0) {
+    errors = [];
+    await page.evaluate((s) => window.hydrolux_show(s), scene);
+  }
   try {
-    // The image of frame 5 read back, or an error reported by the page.
+    // The scene's fifth frame read back, or an error reported by the page.
     await page.waitForFunction(
-      () => window.hydrolux && (window.hydrolux.error || window.hydrolux.png),
-      null, { timeout: 240000, polling: 250 });
+      (s) => window.hydrolux && (window.hydrolux.error || (window.hydrolux.scene === s && window.hydrolux.png)),
+      scene, { timeout: 240000, polling: 250 });
   } catch (e) {
     errors.push(`timed out waiting for frames: ${e.message.split("\n")[0]}`);
   }
   // A few more frames for a steady frame time.
-  await sleep(2000);
-  state = await page.evaluate(() => {
+  await sleep(500);
+  const state = await page.evaluate(() => {
     const s = Object.assign({}, window.hydrolux || {});
     delete s.png;
     return s;
   });
   const png = await page.evaluate(() => window.hydrolux && window.hydrolux.png ? Array.from(window.hydrolux.png) : null);
   if (png) writeFileSync(`${outdir}/${scene}.capture.png`, Buffer.from(png));
-  await page.screenshot({ path: `${outdir}/${scene}.png`, clip: { x: 0, y: 0, width: w, height: h } });
-  const status = await page.evaluate(() => document.getElementById("status").textContent);
-  report.push({ scene, state, errors, status, seconds: (Date.now() - started) / 1000 });
+  await page.screenshot({ path: `${outdir}/${scene}.png`, clip: { x: 0, y: 0, width: w, height: h }, timeout: 120000 });
+  report.push({ scene, state, errors, seconds: (Date.now() - started) / 1000 });
   console.log(`${scene}: ${JSON.stringify(state)} errors=${errors.length} ${((Date.now() - started) / 1000).toFixed(1)} s`);
-  await page.close();
+  if (state.error) break;
 }
 await browser.close();
 writeFileSync(`${outdir}/report.json`, JSON.stringify(report, null, 1));
@@ -68,14 +72,14 @@ const plain = await chromium.launch({
   args: ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-webgpu",
          "--disable-background-networking", "--disable-component-update", "--no-first-run"],
 });
-const page = await plain.newPage({ viewport: { width: w, height: h } });
-await page.goto(`${url}?scene=${scenes[0]}&ui=0`);
+const plainPage = await plain.newPage({ viewport: { width: w, height: h } });
+await plainPage.goto(`${url}?scene=${scenes[0]}&ui=0`);
 let said = "";
 try {
-  await page.waitForFunction(() => window.hydrolux && window.hydrolux.error, null, { timeout: 120000 });
+  await plainPage.waitForFunction(() => window.hydrolux && window.hydrolux.error, null, { timeout: 120000 });
 } catch (e) { said = "(no error reported) "; }
-said += await page.evaluate(() => document.getElementById("status").textContent);
-const gpu = await page.evaluate(() => !!navigator.gpu);
+said += await plainPage.evaluate(() => document.getElementById("status").textContent);
+const gpu = await plainPage.evaluate(() => !!navigator.gpu);
 writeFileSync(`${outdir}/no-webgpu.json`, JSON.stringify({ status: said, navigator_gpu: gpu }));
 console.log(`without WebGPU (navigator.gpu ${gpu}): ${said}`);
 await plain.close();

@@ -52,6 +52,20 @@ impl Options {
     }
 }
 
+thread_local! {
+    /// A scene asked for from JavaScript (`hydrolux_show`), taken by the next frame.
+    static REQUESTED: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Show a built-in scene from its start (time, camera), as the scene picker
+/// does; `window.hydrolux` then reports it, and with `capture=N` its image
+/// N frames later. For scripts: the browser test shows every scene in one
+/// page instead of loading the page once per scene.
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn hydrolux_show(scene: String) {
+    REQUESTED.with(|r| *r.borrow_mut() = Some(scene));
+}
+
 /// Show a message in the page (`#status`) and in `window.hydrolux.error`.
 pub fn report_error(message: &str) {
     web_sys::console::error_1(&JsValue::from_str(message));
@@ -115,6 +129,8 @@ pub struct WebApp {
     status: String,
     uncaught: Arc<Mutex<Option<String>>>,
     readback: Option<Readback>,
+    /// The frame count when the current scene was first shown.
+    shown_at: u64,
 }
 
 impl WebApp {
@@ -167,6 +183,7 @@ impl WebApp {
             status: format!("adapter: {adapter}"),
             uncaught,
             readback: None,
+            shown_at: 0,
         })
     }
 
@@ -188,13 +205,14 @@ impl WebApp {
     }
 
     fn switch_scene(&mut self, name: &str) {
-        match Scene::load(name, &[]) {
+        match Scene::load(name, &self.options.sets) {
             Ok(s) => {
                 self.editor = SceneEditor::new(&s);
                 self.camera = FlyCamera::from_scene(&s.camera());
                 self.scene_name = name.into();
                 self.scene = s;
-                self.sim_time = 0.0;
+                self.sim_time = self.options.time;
+                self.shown_at = self.frames;
                 if let Ok(r) = &mut self.renderer
                     && let Err(e) = r.set_scene(&self.scene)
                 {
@@ -487,12 +505,22 @@ impl eframe::App for WebApp {
             self.sim_time += dt * self.time_scale;
         }
         self.finish_screenshot();
+        if let Some(name) = REQUESTED.with(|r| r.borrow_mut().take()) {
+            self.switch_scene(&name);
+            self.frame_ms = 0.0;
+            publish(&[("png", JsValue::UNDEFINED)]);
+            if let Some(e) = &self.editor.error {
+                report_error(&format!("scene `{name}`: {e}"));
+            }
+        }
         if self.options.panel {
             egui::Panel::left("scene").default_size(300.0).show(ui, |ui| self.panel(ui));
         }
         egui::CentralPanel::no_frame().show(ui, |ui| self.image(ui));
         self.frames += 1;
-        if self.options.capture_after == Some(self.frames) && self.readback.is_none() {
+        if self.options.capture_after == Some(self.frames - self.shown_at)
+            && self.readback.is_none()
+        {
             self.start_screenshot(true);
         }
         if let Some(e) = self.uncaught.lock().ok().and_then(|mut e| e.take()) {
@@ -501,6 +529,7 @@ impl eframe::App for WebApp {
         }
         publish(&[
             ("frames", JsValue::from_f64(self.frames as f64)),
+            ("scene_frames", JsValue::from_f64((self.frames - self.shown_at) as f64)),
             ("frame_ms", JsValue::from_f64(self.frame_ms)),
             ("scene", JsValue::from_str(&self.scene_name)),
             ("time", JsValue::from_f64(self.sim_time)),
