@@ -10,10 +10,10 @@ use crate::SceneArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use hydrolux::core::camera::Camera;
-use hydrolux::core::scene::{CausticMethod, Choice, DebugView, GodRayMethod, Scene};
+use hydrolux::core::scene::{Choice, DebugView, GodRayMethod, Scene};
 use hydrolux::{FrameInput, GpuContext, Renderer, wgpu};
 use hydrolux_ui::camera::Motion;
-use hydrolux_ui::{FlyCamera, SceneEditor};
+use hydrolux_ui::{FlyCamera, Playback, SceneEditor, header_ui};
 use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
@@ -53,11 +53,8 @@ struct Viewer {
     keys: std::collections::HashSet<KeyCode>,
     looking: bool,
     last_cursor: Option<(f64, f64)>,
-    sim_time: f64,
-    time_scale: f64,
-    paused: bool,
+    clock: Playback,
     last_frame: Instant,
-    frame_ms: f32,
     frames: u64,
     screenshot_requested: bool,
     status: String,
@@ -158,38 +155,15 @@ impl Viewer {
     }
 
     fn panel(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Hydrolux");
-        ui.label(format!(
-            "{:.1} ms/frame   t = {:.1} s{}",
-            self.frame_ms,
-            self.sim_time,
-            if self.paused { "  (paused)" } else { "" }
-        ));
-        ui.horizontal(|ui| {
-            if ui.button(if self.paused { "play" } else { "pause" }).clicked() {
-                self.paused = !self.paused;
-            }
-            ui.add(egui::Slider::new(&mut self.time_scale, 0.0..=4.0).text("time ×"));
-        });
-        ui.horizontal(|ui| {
-            if ui.button("reset camera").clicked() {
-                self.camera = FlyCamera::from_scene(&self.scene.camera());
-            }
-            if ui.button("screenshot (P)").clicked() {
-                self.screenshot_requested = true;
-            }
-        });
+        let actions = header_ui(ui, &mut self.clock, "screenshot (P)");
+        if actions.reset_camera {
+            self.camera = FlyCamera::from_scene(&self.scene.camera());
+        }
+        self.screenshot_requested |= actions.screenshot;
         if !self.status.is_empty() {
             ui.label(&self.status);
         }
-        let mut changed = self.editor.choice_ui(ui, "view", "render", "view", &DebugView::names());
-        changed |=
-            self.editor.choice_ui(ui, "god rays", "godrays", "method", &GodRayMethod::names());
-        changed |=
-            self.editor.choice_ui(ui, "caustics", "caustics", "method", &CausticMethod::names());
-        if let Some(e) = &self.editor.error {
-            ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
-        }
+        let mut changed = self.editor.choices_ui(ui);
         ui.separator();
         changed |= self.editor.sections_ui(ui);
         if changed {
@@ -214,16 +188,16 @@ impl Viewer {
         let now = Instant::now();
         let real_dt = (now - self.last_frame).as_secs_f32();
         self.last_frame = now;
-        self.frame_ms = if self.frame_ms == 0.0 {
-            real_dt * 1000.0
+        self.clock.frame_ms = if self.clock.frame_ms == 0.0 {
+            f64::from(real_dt) * 1000.0
         } else {
-            0.9 * self.frame_ms + 0.1 * real_dt * 1000.0
+            0.9 * self.clock.frame_ms + 0.1 * f64::from(real_dt) * 1000.0
         };
         // Slow frames (software rendering, a stall) must not make the camera jump.
         let dt = real_dt.min(0.1);
         self.update_camera(dt);
-        if !self.paused {
-            self.sim_time += dt as f64 * self.time_scale;
+        if !self.clock.paused {
+            self.clock.sim_time += dt as f64 * self.clock.time_scale;
         }
         let Some(mut g) = self.gfx.take() else { return Ok(()) };
         let result = self.draw(&mut g);
@@ -289,7 +263,7 @@ impl Viewer {
                 target: &view,
                 size: (g.config.width, g.config.height),
                 camera,
-                time: self.sim_time,
+                time: self.clock.sim_time,
             },
         );
         g.egui_renderer.update_buffers(&g.ctx.device, &g.ctx.queue, &mut encoder, &jobs, &screen);
@@ -333,7 +307,7 @@ impl Viewer {
         let mut r =
             Renderer::new(&g.ctx.device, &g.ctx.queue, hydrolux::headless::FORMAT, &self.scene)?;
         let target = hydrolux::headless::HeadlessTarget::new(&g.ctx.device, (w, h));
-        let px = target.render(&mut r, camera, self.sim_time)?;
+        let px = target.render(&mut r, camera, self.clock.sim_time)?;
         let name = (0..)
             .map(|i| format!("hydrolux-screenshot-{i:03}.png"))
             .find(|n| !std::path::Path::new(n).exists())
@@ -371,12 +345,13 @@ impl ApplicationHandler for Viewer {
                         self.keys.insert(code);
                         match code {
                             KeyCode::Escape => event_loop.exit(),
-                            KeyCode::Space => self.paused = !self.paused,
+                            KeyCode::Space => self.clock.paused = !self.clock.paused,
                             KeyCode::BracketLeft => {
-                                self.time_scale = (self.time_scale * 0.5).max(1.0 / 64.0)
+                                self.clock.time_scale =
+                                    (self.clock.time_scale * 0.5).max(1.0 / 64.0)
                             }
                             KeyCode::BracketRight => {
-                                self.time_scale = (self.time_scale * 2.0).min(64.0)
+                                self.clock.time_scale = (self.clock.time_scale * 2.0).min(64.0)
                             }
                             KeyCode::KeyP => self.screenshot_requested = true,
                             KeyCode::KeyV => {
@@ -446,11 +421,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
         keys: Default::default(),
         looking: false,
         last_cursor: None,
-        sim_time: 0.0,
-        time_scale: 1.0,
-        paused: false,
+        clock: Playback { sim_time: 0.0, time_scale: 1.0, paused: false, frame_ms: 0.0 },
         last_frame: Instant::now(),
-        frame_ms: 0.0,
         frames: 0,
         screenshot_requested: false,
         status: String::new(),

@@ -89,6 +89,19 @@ impl SceneEditor {
         next
     }
 
+    /// The choices a person flips most (debug view, god-ray and caustics
+    /// methods) and the last edit's error; true if a choice changed.
+    pub fn choices_ui(&mut self, ui: &mut Ui) -> bool {
+        use hydrolux_core::scene::{CausticMethod, Choice, DebugView, GodRayMethod};
+        let mut changed = self.choice_ui(ui, "view", "render", "view", &DebugView::names());
+        changed |= self.choice_ui(ui, "god rays", "godrays", "method", &GodRayMethod::names());
+        changed |= self.choice_ui(ui, "caustics", "caustics", "method", &CausticMethod::names());
+        if let Some(e) = &self.error {
+            ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
+        }
+        changed
+    }
+
     /// A combo box for `section.key` over `names`; true if it changed.
     pub fn choice_ui(
         &mut self,

@@ -9,3 +9,43 @@ pub mod editor;
 
 pub use camera::FlyCamera;
 pub use editor::SceneEditor;
+
+/// The clock a viewer shows and steers.
+pub struct Playback {
+    pub sim_time: f64,
+    pub time_scale: f64,
+    pub paused: bool,
+    /// Smoothed frame time (ms).
+    pub frame_ms: f64,
+}
+
+/// What the header's buttons asked for this frame.
+#[derive(Default)]
+pub struct HeaderActions {
+    pub reset_camera: bool,
+    pub screenshot: bool,
+}
+
+/// The panel's header, the same in the viewer and the page: title, frame
+/// time and clock, play/pause and time scale, camera reset and screenshot.
+pub fn header_ui(ui: &mut egui::Ui, p: &mut Playback, screenshot_label: &str) -> HeaderActions {
+    ui.heading("Hydrolux");
+    ui.label(format!(
+        "{:.1} ms/frame   t = {:.1} s{}",
+        p.frame_ms,
+        p.sim_time,
+        if p.paused { "  (paused)" } else { "" }
+    ));
+    let mut actions = HeaderActions::default();
+    ui.horizontal(|ui| {
+        if ui.button(if p.paused { "play" } else { "pause" }).clicked() {
+            p.paused = !p.paused;
+        }
+        ui.add(egui::Slider::new(&mut p.time_scale, 0.0..=4.0).text("time ×"));
+    });
+    ui.horizontal(|ui| {
+        actions.reset_camera = ui.button("reset camera").clicked();
+        actions.screenshot = ui.button(screenshot_label).clicked();
+    });
+    actions
+}

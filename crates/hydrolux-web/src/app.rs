@@ -2,13 +2,11 @@
 //! scene editor beside it, the camera under the mouse, touch and keys.
 
 use eframe::egui_wgpu;
-use hydrolux::core::scene::{
-    BUILTIN_SCENES, CausticMethod, Choice, DebugView, GodRayMethod, Scene,
-};
+use hydrolux::core::scene::{BUILTIN_SCENES, Scene};
 use hydrolux::wgpu;
 use hydrolux::{FrameInput, Renderer};
 use hydrolux_ui::camera::Motion;
-use hydrolux_ui::{FlyCamera, SceneEditor};
+use hydrolux_ui::{FlyCamera, Playback, SceneEditor, header_ui};
 use std::sync::{Arc, Mutex};
 use wasm_bindgen::JsValue;
 
@@ -120,11 +118,8 @@ pub struct WebApp {
     camera: FlyCamera,
     target: Option<Target>,
     options: Options,
-    sim_time: f64,
-    time_scale: f64,
-    paused: bool,
+    clock: Playback,
     last_ms: Option<f64>,
-    frame_ms: f64,
     frames: u64,
     status: String,
     uncaught: Arc<Mutex<Option<String>>>,
@@ -168,17 +163,19 @@ impl WebApp {
         Ok(WebApp {
             editor: SceneEditor::new(&scene),
             camera: FlyCamera::from_scene(&scene.camera()),
-            sim_time: options.time,
-            paused: options.paused,
+            clock: Playback {
+                sim_time: options.time,
+                time_scale: 1.0,
+                paused: options.paused,
+                frame_ms: 0.0,
+            },
             gpu,
             renderer,
             scene,
             scene_name,
             target: None,
             options,
-            time_scale: 1.0,
             last_ms: None,
-            frame_ms: 0.0,
             frames: 0,
             status: format!("adapter: {adapter}"),
             uncaught,
@@ -211,7 +208,7 @@ impl WebApp {
                 self.camera = FlyCamera::from_scene(&s.camera());
                 self.scene_name = name.into();
                 self.scene = s;
-                self.sim_time = self.options.time;
+                self.clock.sim_time = self.options.time;
                 self.shown_at = self.frames;
                 if let Ok(r) = &mut self.renderer
                     && let Err(e) = r.set_scene(&self.scene)
@@ -271,13 +268,7 @@ impl WebApp {
     }
 
     fn panel(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Hydrolux");
-        ui.label(format!(
-            "{:.1} ms/frame   t = {:.1} s{}",
-            self.frame_ms,
-            self.sim_time,
-            if self.paused { "  (paused)" } else { "" }
-        ));
+        let actions = header_ui(ui, &mut self.clock, "screenshot");
         ui.label(&self.status);
         let mut pick = None;
         ui.horizontal(|ui| {
@@ -296,28 +287,13 @@ impl WebApp {
         if let Some(name) = pick {
             self.switch_scene(name);
         }
-        ui.horizontal(|ui| {
-            if ui.button(if self.paused { "play" } else { "pause" }).clicked() {
-                self.paused = !self.paused;
-            }
-            ui.add(egui::Slider::new(&mut self.time_scale, 0.0..=4.0).text("time ×"));
-        });
-        ui.horizontal(|ui| {
-            if ui.button("reset camera").clicked() {
-                self.camera = FlyCamera::from_scene(&self.scene.camera());
-            }
-            if ui.button("screenshot").clicked() && self.readback.is_none() {
-                self.start_screenshot(false);
-            }
-        });
-        let mut changed = self.editor.choice_ui(ui, "view", "render", "view", &DebugView::names());
-        changed |=
-            self.editor.choice_ui(ui, "god rays", "godrays", "method", &GodRayMethod::names());
-        changed |=
-            self.editor.choice_ui(ui, "caustics", "caustics", "method", &CausticMethod::names());
-        if let Some(e) = &self.editor.error {
-            ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
+        if actions.reset_camera {
+            self.camera = FlyCamera::from_scene(&self.scene.camera());
         }
+        if actions.screenshot && self.readback.is_none() {
+            self.start_screenshot(false);
+        }
+        let mut changed = self.editor.choices_ui(ui);
         ui.label("drag: look · wheel / pinch: move · W A S D Q E: fly (Shift: fast)");
         ui.separator();
         changed |= self.editor.sections_ui(ui);
@@ -365,7 +341,7 @@ impl WebApp {
             ((avail.y * ppp) as u32).clamp(16, 4096),
         ));
         let camera = self.camera.camera();
-        let time = self.sim_time;
+        let time = self.clock.sim_time;
         let (view_ok, id) = {
             let target = self.target(size);
             (target.view.clone(), target.id)
@@ -494,20 +470,23 @@ impl eframe::App for WebApp {
         let dt = self.last_ms.map_or(0.0, |last| (now - last) / 1000.0);
         self.last_ms = Some(now);
         if dt > 0.0 {
-            self.frame_ms =
-                if self.frame_ms == 0.0 { dt * 1000.0 } else { 0.9 * self.frame_ms + 100.0 * dt };
+            self.clock.frame_ms = if self.clock.frame_ms == 0.0 {
+                dt * 1000.0
+            } else {
+                0.9 * self.clock.frame_ms + 100.0 * dt
+            };
         }
         // Slow frames (a software adapter) must not make the camera jump.
         let dt = dt.min(0.1);
         let ctx = ui.ctx().clone();
         self.fly(&ctx, dt as f32);
-        if !self.paused {
-            self.sim_time += dt * self.time_scale;
+        if !self.clock.paused {
+            self.clock.sim_time += dt * self.clock.time_scale;
         }
         self.finish_screenshot();
         if let Some(name) = REQUESTED.with(|r| r.borrow_mut().take()) {
             self.switch_scene(&name);
-            self.frame_ms = 0.0;
+            self.clock.frame_ms = 0.0;
             publish(&[("png", JsValue::UNDEFINED)]);
             if let Some(e) = &self.editor.error {
                 report_error(&format!("scene `{name}`: {e}"));
@@ -530,9 +509,9 @@ impl eframe::App for WebApp {
         publish(&[
             ("frames", JsValue::from_f64(self.frames as f64)),
             ("scene_frames", JsValue::from_f64((self.frames - self.shown_at) as f64)),
-            ("frame_ms", JsValue::from_f64(self.frame_ms)),
+            ("frame_ms", JsValue::from_f64(self.clock.frame_ms)),
             ("scene", JsValue::from_str(&self.scene_name)),
-            ("time", JsValue::from_f64(self.sim_time)),
+            ("time", JsValue::from_f64(self.clock.sim_time)),
         ]);
         ctx.request_repaint();
     }
