@@ -104,7 +104,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         None => (0..a.frames, a.frames),
     };
     let ctx = crate::headless_context()?;
-    let max = ctx.device.limits().max_texture_dimension_2d;
+    let max = hydrolux::Capabilities::of(&ctx.device).max_texture_2d;
     if a.size.width > max || a.size.height > max {
         bail!(
             "{}×{} is larger than this GPU allows ({max} pixels per side)",

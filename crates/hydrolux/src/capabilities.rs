@@ -44,6 +44,9 @@ pub struct Capabilities {
     pub pad_array_layers: bool,
     /// Largest 2D texture side.
     pub max_texture_2d: u32,
+    /// Threads one workgroup may have along x (a power of two): the FFT's
+    /// rows use up to 256, GLES 3.1 guarantees only 128.
+    pub max_workgroup_threads: u32,
     /// Largest storage buffer binding (bytes): bounds the FFT ocean size.
     pub max_storage_buffer: u64,
 }
@@ -67,6 +70,13 @@ impl Capabilities {
             depth_and_stencil_reads: !gl,
             pad_array_layers: gl,
             max_texture_2d: limits.max_texture_dimension_2d,
+            max_workgroup_threads: {
+                let t = limits
+                    .max_compute_invocations_per_workgroup
+                    .min(limits.max_compute_workgroup_size_x)
+                    .max(1);
+                1 << t.ilog2()
+            },
             max_storage_buffer: limits.max_storage_buffer_binding_size.min(limits.max_buffer_size),
         }
     }
@@ -119,6 +129,10 @@ impl Capabilities {
             "float targets (god-ray depth, water-object faces): f32 bits in 32-bit integer \
              targets, renderable everywhere"
                 .into(),
+            format!(
+                "FFT rows: at most {} threads a workgroup",
+                self.max_workgroup_threads.min(crate::passes::ocean::MAX_FFT_THREADS)
+            ),
         ];
         if !self.depth_and_stencil_reads {
             out.push(
@@ -151,6 +165,7 @@ mod tests {
             depth_and_stencil_reads: !pad,
             pad_array_layers: pad,
             max_texture_2d: 8192,
+            max_workgroup_threads: 256,
             max_storage_buffer: 1 << 27,
         }
     }

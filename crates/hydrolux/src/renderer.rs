@@ -435,8 +435,7 @@ impl Renderer {
 /// The largest `ocean.resolution` (a power of two, 64 to 1024) whose FFT
 /// buffers fit this device's storage-buffer limit with `cascades` cascades.
 pub fn largest_ocean_resolution(device: &wgpu::Device, cascades: u32) -> u32 {
-    let limits = device.limits();
-    let max = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    let max = Capabilities::of(device).max_storage_buffer;
     [1024u32, 512, 256, 128, 64]
         .into_iter()
         .find(|&n| crate::passes::ocean::fields_bytes(n, cascades) <= max)

@@ -22,16 +22,21 @@ pub fn assemble_source() -> String {
     shaders::compose("", include_str!("assemble.wgsl"))
 }
 
-/// Workgroup size of the FFT: one thread per butterfly, at most 256.
-fn fft_threads(n: u32) -> u32 {
-    (n / 2).min(256)
+/// Threads of an FFT row's workgroup on a device without a lower limit.
+pub const MAX_FFT_THREADS: u32 = 256;
+
+/// Workgroup size of the FFT: one thread per butterfly, at most 256 and at
+/// most what the device allows (`max_threads`, a power of two); the shader
+/// strides over the rest.
+fn fft_threads(n: u32, max_threads: u32) -> u32 {
+    (n / 2).min(MAX_FFT_THREADS).min(max_threads).max(1)
 }
 
-pub fn fft_source(n: u32) -> String {
+pub fn fft_source(n: u32, max_threads: u32) -> String {
     let consts = format!(
         "const FFT_N: u32 = {n}u;\nconst FFT_LOG2_N: u32 = {}u;\nconst FFT_THREADS: u32 = {}u;\n",
         n.ilog2(),
-        fft_threads(n)
+        fft_threads(n, max_threads)
     );
     shaders::compose(&consts, include_str!("fft.wgsl"))
 }
@@ -74,10 +79,9 @@ impl OceanPass {
     ) -> Result<Self, OceanTooLarge> {
         let n = spectrum.settings.resolution as u32;
         let cascades = spectrum.cascades.len() as u32;
-        let limits = device.limits();
         let need =
             fields_bytes(n, cascades).max(std::mem::size_of_val(spectrum.modes.as_slice()) as u64);
-        let max = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+        let max = caps.max_storage_buffer;
         if need > max {
             return Err(OceanTooLarge {
                 n,
@@ -130,7 +134,7 @@ impl OceanPass {
             ],
         });
         let spectrum_module = shader(device, "ocean spectrum", &spectrum_source());
-        let fft_module = shader(device, "ocean fft", &fft_source(n));
+        let fft_module = shader(device, "ocean fft", &fft_source(n, caps.max_workgroup_threads));
         let assemble_module = shader(device, "ocean assemble", &assemble_source());
         let evolve =
             compute_pipeline(device, "ocean evolve", &spectrum_module, "evolve", &[&evolve_layout]);
@@ -300,7 +304,12 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
             ("ocean/spectrum".to_string(), spectrum_source()),
             ("ocean/assemble".to_string(), assemble_source()),
         ];
-        v.extend([64u32, 256, 1024].map(|n| (format!("ocean/fft N={n}"), fft_source(n))));
+        v.extend([64u32, 256, 1024].map(|n| (format!("ocean/fft N={n}"), fft_source(n, 256))));
+        // A GLES 3.1 device's guaranteed 128 threads, and a tiny workgroup.
+        v.extend(
+            [(1024u32, 128u32), (256, 16)]
+                .map(|(n, t)| (format!("ocean/fft N={n}, {t} threads"), fft_source(n, t))),
+        );
         v
     },
     uniforms: || {
@@ -312,3 +321,16 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
         ]
     },
 };
+
+#[cfg(test)]
+mod tests {
+    use super::fft_threads;
+
+    #[test]
+    fn fft_workgroups_fit_the_device() {
+        assert_eq!(fft_threads(64, 1024), 32, "one thread per butterfly");
+        assert_eq!(fft_threads(1024, 1024), 256, "at most 256");
+        assert_eq!(fft_threads(1024, 128), 128, "a GLES 3.1 device's guarantee");
+        assert_eq!(fft_threads(256, 16), 16);
+    }
+}
