@@ -4,6 +4,7 @@
 pub mod dispersion;
 pub mod heightfield;
 pub mod ocean;
+pub mod ripples;
 pub mod sines;
 pub mod spectrum;
 

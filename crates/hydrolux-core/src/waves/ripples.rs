@@ -1,0 +1,688 @@
+//! Interactive water: a dynamic heightfield that drops, rain and objects
+//! disturb (seed 003 §2.4, heightfields; Tessendorf, *eWave: Using an
+//! Exponential Solver on the iWave Problem*, 2014). The CPU twin of
+//! `hydrolux::passes::ripples`.
+//!
+//! Linear waves on water of depth d: height h and surface velocity potential
+//! φ obey ∂h/∂t = K φ and ∂φ/∂t = −B h with K = k·tanh(k·d) and
+//! B = g + (σ/ρ)·k², so every wave number k oscillates at
+//! ω² = (g·k + (σ/ρ)·k³)·tanh(k·d), gravity waves and capillary ripples alike.
+//! In Fourier space each k is an independent oscillator, so a step is its
+//! exact rotation (an exponential integrator: exact dispersion at every
+//! resolved wavelength, stable for any step), damped by viscosity at
+//! 2νk² (Lamb, *Hydrodynamics* §348). A step is one forward FFT of h + iφ,
+//! the rotation, one inverse FFT.
+//!
+//! Boundaries. `Walls`: the domain is mirrored into a grid twice its size,
+//! so the state is even about every wall (∂h/∂n = 0, no flux): walls
+//! reflect perfectly and volume is conserved exactly. `Open`: the grid is
+//! periodic and a sponge ring damps what leaves the domain, which may
+//! follow the camera (the grid is addressed by world cell modulo its size;
+//! moving the window re-labels cells, nothing is copied).
+//!
+//! Depth. The operator K depends on the depth. Two depth levels are
+//! stepped from one forward transform (packed in one inverse transform) and
+//! each cell takes the linear blend of the two by its own depth: waves slow
+//! and shorten where the water shoals.
+
+use rustfft::FftPlanner;
+use rustfft::num_complex::Complex64;
+use std::f64::consts::PI;
+
+use super::dispersion::GRAVITY;
+
+/// Surface tension of clean water over its density, σ/ρ (m³/s²): 0.0728 N/m at 20 °C.
+pub const WATER_TENSION: f64 = 0.0728 / 1000.0;
+/// Kinematic viscosity of water at 20 °C (m²/s).
+pub const WATER_VISCOSITY: f64 = 1.0e-6;
+
+/// ω(k) of linear capillary-gravity waves over depth `depth` (m), with
+/// `tension` = σ/ρ (m³/s²).
+pub fn capillary_gravity_omega(k: f64, depth: f64, tension: f64) -> f64 {
+    ((GRAVITY * k + tension * k * k * k) * (k * depth).tanh()).sqrt()
+}
+
+/// The group speed dω/dk of [`capillary_gravity_omega`] (central difference).
+pub fn capillary_gravity_group_speed(k: f64, depth: f64, tension: f64) -> f64 {
+    let e = k * 1e-5;
+    (capillary_gravity_omega(k + e, depth, tension) - capillary_gravity_omega(k - e, depth, tension))
+        / (2.0 * e)
+}
+
+/// How the domain's edges behave.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RippleBoundary {
+    /// Closed, reflecting walls on the domain's four sides (a pool, a tank).
+    Walls,
+    /// Open water: what leaves the domain is absorbed.
+    Open,
+    /// A tile that repeats: what leaves one side enters the other (for
+    /// measurements free of any boundary).
+    Periodic,
+}
+
+/// The simulated domain: `cells` × `cells` square cells of `cell_size` m.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RippleGrid {
+    pub boundary: RippleBoundary,
+    pub cells: usize,
+    pub cell_size: f64,
+}
+
+impl RippleGrid {
+    /// Side of the FFT grid: the mirrored domain for walls, the domain itself when open.
+    pub fn fft_size(&self) -> usize {
+        match self.boundary {
+            RippleBoundary::Walls => 2 * self.cells,
+            RippleBoundary::Open | RippleBoundary::Periodic => self.cells,
+        }
+    }
+
+    pub fn extent(&self) -> f64 {
+        self.cells as f64 * self.cell_size
+    }
+
+    /// Width of the absorbing ring of an open domain (cells).
+    pub fn sponge_cells(&self) -> usize {
+        match self.boundary {
+            RippleBoundary::Walls | RippleBoundary::Periodic => 0,
+            RippleBoundary::Open => (self.cells / 8).max(4),
+        }
+    }
+
+    /// The wave vector of FFT index (p, q) (rad/m).
+    pub fn wave_vector(&self, p: usize, q: usize) -> (f64, f64) {
+        let f = self.fft_size();
+        let signed = |i: usize| if i <= f / 2 { i as f64 } else { i as f64 - f as f64 };
+        let dk = 2.0 * PI / (f as f64 * self.cell_size);
+        (signed(p) * dk, signed(q) * dk)
+    }
+}
+
+/// The physics of one simulation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RippleSettings {
+    pub grid: RippleGrid,
+    /// σ/ρ (m³/s²).
+    pub tension: f64,
+    /// Kinematic viscosity ν (m²/s): waves decay at 2νk².
+    pub viscosity: f64,
+    /// Extra damping of every wave (1/s), on top of viscosity (0 = physical).
+    pub damping: f64,
+    /// The two depth levels (m) cells blend between (equal for even depth).
+    pub depths: [f64; 2],
+    /// Step (s).
+    pub dt: f64,
+}
+
+/// One step's rotation of wave number `k` over depth `depth`: the factors
+/// of h' = e·(c·h + s_h·φ), φ' = e·(−s_φ·h + c·φ). Twin of `rotation` in
+/// `passes/ripples/spectral.wgsl`.
+pub fn rotation(s: &RippleSettings, k: f64, depth: f64) -> [f64; 4] {
+    if k == 0.0 {
+        // The mean level never changes (volume); φ's mean is a gauge.
+        return [1.0, 1.0, 0.0, 0.0];
+    }
+    let kk = k * (k * depth).tanh();
+    let bb = GRAVITY + s.tension * k * k;
+    let w = (kk * bb).sqrt();
+    let wt = w * s.dt;
+    let sinc = if wt < 1e-6 { 1.0 } else { wt.sin() / wt };
+    let decay = (-(2.0 * s.viscosity * k * k + s.damping) * s.dt).exp();
+    [decay, wt.cos(), kk * s.dt * sinc, bb * s.dt * sinc]
+}
+
+/// A disturbance of the surface: a crater of depth `strength` (m) and
+/// radius `radius` (m) with its rim, volume-neutral (a 2-D Ricker wavelet,
+/// Δh = −s·(1 − r²/R²)·e^(−r²/R²), whose integral over the plane is zero).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drop {
+    pub x: f64,
+    pub z: f64,
+    pub radius: f64,
+    pub strength: f64,
+}
+
+impl Drop {
+    /// Δh at horizontal distance² `r2` from the centre. Twin of `drop_height` in WGSL.
+    pub fn height(&self, r2: f64) -> f64 {
+        let u = r2 / (self.radius * self.radius);
+        if u > 16.0 { 0.0 } else { -self.strength * (1.0 - u) * (-u).exp() }
+    }
+}
+
+/// Δh of `drop` at world point `w` of the domain. Walls see the drop's
+/// mirror images too (the method of images): a wall reflects the part of the
+/// crater beyond it, so a drop stays volume-neutral next to a wall. Twin of
+/// `drop_height` in WGSL.
+pub fn drop_height(grid: &RippleGrid, window: &RippleWindow, drop: &Drop, w: [f64; 2]) -> f64 {
+    let mut dh = 0.0;
+    let images = if grid.boundary == RippleBoundary::Walls { 3 } else { 1 };
+    for ix in 0..images {
+        for iz in 0..images {
+            let image = |axis: usize, i: usize, c: f64| {
+                let lo = window.low_edge(grid, axis);
+                match i {
+                    0 => c,
+                    1 => 2.0 * lo - c,
+                    _ => 2.0 * (lo + grid.extent()) - c,
+                }
+            };
+            let (x, z) = (image(0, ix, drop.x), image(1, iz, drop.z));
+            dh += drop.height((w[0] - x).powi(2) + (w[1] - z).powi(2));
+        }
+    }
+    dh
+}
+
+/// Where the domain lies in the world: its centre (m). A walled domain
+/// stays put; an open one may follow the camera, snapped to whole cells.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RippleWindow {
+    /// World cell index of the domain's first cell (x, z).
+    pub origin: [i64; 2],
+}
+
+impl RippleWindow {
+    /// The window of `grid` centred as near `center` as whole cells allow.
+    pub fn centred(grid: &RippleGrid, center: [f64; 2]) -> Self {
+        let half = grid.cells as f64 / 2.0;
+        let o = |c: f64| (c / grid.cell_size - half).round() as i64;
+        RippleWindow { origin: [o(center[0]), o(center[1])] }
+    }
+
+    /// World x (or z) of the domain's low edge.
+    pub fn low_edge(&self, grid: &RippleGrid, axis: usize) -> f64 {
+        self.origin[axis] as f64 * grid.cell_size
+    }
+}
+
+/// What a grid cell is: the domain cell whose state it holds and the world
+/// position of that cell's centre. Twin of `cell_of` in WGSL.
+pub fn domain_cell(grid: &RippleGrid, window: &RippleWindow, g: [usize; 2]) -> ([usize; 2], [f64; 2]) {
+    let n = grid.cells;
+    let mut d = [0usize; 2];
+    let mut w = [0.0; 2];
+    for a in 0..2 {
+        d[a] = match grid.boundary {
+            // Mirror images: cell 2n−1−i holds cell i.
+            RippleBoundary::Walls => {
+                if g[a] < n {
+                    g[a]
+                } else {
+                    2 * n - 1 - g[a]
+                }
+            }
+            // Toroidal: grid cell g holds the world cell ≡ g (mod n) in the window.
+            RippleBoundary::Open | RippleBoundary::Periodic => {
+                (g[a] as i64 - window.origin[a]).rem_euclid(n as i64) as usize
+            }
+        };
+        w[a] = (window.origin[a] as f64 + d[a] as f64 + 0.5) * grid.cell_size;
+    }
+    (d, w)
+}
+
+/// The grid cell holding world cell `c` (open) or domain cell `c` (walls, its first image).
+pub fn grid_cell(grid: &RippleGrid, window: &RippleWindow, d: [usize; 2]) -> [usize; 2] {
+    match grid.boundary {
+        RippleBoundary::Walls => d,
+        RippleBoundary::Open | RippleBoundary::Periodic => {
+            let n = grid.cells as i64;
+            [0, 1].map(|a| (window.origin[a] + d[a] as i64).rem_euclid(n) as usize)
+        }
+    }
+}
+
+/// Per-step damping factor of the sponge at domain cell `d` (1 inside;
+/// falling to 0 at the outermost cell). Twin of `sponge` in WGSL.
+pub fn sponge(grid: &RippleGrid, d: [usize; 2], dt: f64) -> f64 {
+    let w = grid.sponge_cells();
+    if w == 0 {
+        return 1.0;
+    }
+    let n = grid.cells;
+    let edge = d.iter().map(|&i| i.min(n - 1 - i)).min().unwrap();
+    if edge >= w {
+        return 1.0;
+    }
+    if edge == 0 {
+        return 0.0;
+    }
+    // Quadratic ramp of the damping rate; its peak is a few periods of the
+    // longest wave the sponge is wide enough to hold.
+    let width = w as f64 * grid.cell_size;
+    let sigma_max = 6.0 * (GRAVITY * 2.0 * PI / width).sqrt();
+    let x = (w - edge) as f64 / w as f64;
+    (-sigma_max * x * x * dt).exp()
+}
+
+/// Blend weight of depth level 1 at depth `d` (level 0 at 0, level 1 at
+/// 1): linear in √d, so that waves long enough to feel the floor (speed
+/// √(g·d)) take their own speed. Twin of `depth_weight` in WGSL.
+pub fn depth_weight(depths: [f64; 2], d: f64) -> f64 {
+    let [a, b] = depths.map(f64::sqrt);
+    if b > a { ((d.max(0.0).sqrt() - a) / (b - a)).clamp(0.0, 1.0) } else { 0.0 }
+}
+
+/// The CPU simulation. State on the FFT grid, row = z, col = x.
+pub struct RippleSim {
+    pub settings: RippleSettings,
+    pub window: RippleWindow,
+    /// Height (m) and potential (m²/s) per FFT grid cell.
+    pub h: Vec<f64>,
+    pub phi: Vec<f64>,
+    /// Depth (m) per domain cell, row = z.
+    pub depth: Vec<f64>,
+    planner: FftPlanner<f64>,
+    pub steps: u64,
+}
+
+impl RippleSim {
+    pub fn new(settings: RippleSettings, window: RippleWindow) -> Self {
+        let f = settings.grid.fft_size();
+        let n = settings.grid.cells;
+        RippleSim {
+            settings,
+            window,
+            h: vec![0.0; f * f],
+            phi: vec![0.0; f * f],
+            depth: vec![settings.depths[0]; n * n],
+            planner: FftPlanner::new(),
+            steps: 0,
+        }
+    }
+
+    fn f(&self) -> usize {
+        self.settings.grid.fft_size()
+    }
+
+    /// The height of domain cell (i, j) (i along x).
+    pub fn height(&self, i: usize, j: usize) -> f64 {
+        let g = grid_cell(&self.settings.grid, &self.window, [i, j]);
+        self.h[g[1] * self.f() + g[0]]
+    }
+
+    /// Heights over the domain, row = z, col = x.
+    pub fn heights(&self) -> Vec<f64> {
+        let n = self.settings.grid.cells;
+        (0..n * n).map(|c| self.height(c % n, c / n)).collect()
+    }
+
+    /// Volume above the mean level over the domain (m³).
+    pub fn volume(&self) -> f64 {
+        let a = self.settings.grid.cell_size.powi(2);
+        self.heights().iter().sum::<f64>() * a
+    }
+
+    /// Set the state of every grid cell from its domain cell's world position.
+    pub fn set(&mut self, state: impl Fn(f64, f64) -> (f64, f64)) {
+        let f = self.f();
+        for q in 0..f {
+            for p in 0..f {
+                let (_, w) = domain_cell(&self.settings.grid, &self.window, [p, q]);
+                let (h, phi) = state(w[0], w[1]);
+                self.h[q * f + p] = h;
+                self.phi[q * f + p] = phi;
+            }
+        }
+    }
+
+    /// One step: the disturbances first (drops, the sponge), then the
+    /// exact rotation of every wave.
+    pub fn step(&mut self, drops: &[Drop]) {
+        let (grid, dt) = (self.settings.grid, self.settings.dt);
+        let f = self.f();
+        for q in 0..f {
+            for p in 0..f {
+                let (d, w) = domain_cell(&grid, &self.window, [p, q]);
+                let i = q * f + p;
+                for drop in drops {
+                    self.h[i] += drop_height(&grid, &self.window, drop, w);
+                }
+                let s = sponge(&grid, d, dt);
+                self.h[i] *= s;
+                self.phi[i] *= s;
+            }
+        }
+        let mut z: Vec<Complex64> =
+            self.h.iter().zip(&self.phi).map(|(&h, &p)| Complex64::new(h, p)).collect();
+        fft2(&mut self.planner, &mut z, f, false);
+        let norm = 1.0 / (f * f) as f64;
+        let mut levels = [vec![Complex64::default(); f * f], vec![Complex64::default(); f * f]];
+        for q in 0..f {
+            for p in 0..f {
+                let i = q * f + p;
+                let m = ((f - q) % f) * f + (f - p) % f;
+                let (zk, zm) = (z[i], z[m].conj());
+                let hk = (zk + zm) * 0.5;
+                let pk = (zk - zm) * Complex64::new(0.0, -0.5);
+                let (kx, kz) = grid.wave_vector(p, q);
+                let k = (kx * kx + kz * kz).sqrt();
+                for (l, out) in levels.iter_mut().enumerate() {
+                    let [e, c, sh, sp] = rotation(&self.settings, k, self.settings.depths[l]);
+                    let h1 = (hk * c + pk * sh) * e;
+                    let p1 = (pk * c - hk * sp) * e;
+                    out[i] = (h1 + p1 * Complex64::new(0.0, 1.0)) * norm;
+                }
+            }
+        }
+        for l in levels.iter_mut() {
+            fft2(&mut self.planner, l, f, true);
+        }
+        for q in 0..f {
+            for p in 0..f {
+                let (d, _) = domain_cell(&grid, &self.window, [p, q]);
+                let n = grid.cells;
+                let wgt = depth_weight(self.settings.depths, self.depth[d[1] * n + d[0]]);
+                let i = q * f + p;
+                let v = levels[0][i] * (1.0 - wgt) + levels[1][i] * wgt;
+                self.h[i] = v.re;
+                self.phi[i] = v.im;
+            }
+        }
+        self.steps += 1;
+    }
+
+    /// Wave energy per unit density over the grid (J·m³/kg... i.e. ½Σ(B|ĥ|² + K|φ̂|²)),
+    /// at depth level 0.
+    pub fn energy(&mut self) -> f64 {
+        let f = self.f();
+        let grid = self.settings.grid;
+        let mut hz: Vec<Complex64> = self.h.iter().map(|&h| Complex64::new(h, 0.0)).collect();
+        let mut pz: Vec<Complex64> = self.phi.iter().map(|&p| Complex64::new(p, 0.0)).collect();
+        fft2(&mut self.planner, &mut hz, f, false);
+        fft2(&mut self.planner, &mut pz, f, false);
+        let mut e = 0.0;
+        for q in 0..f {
+            for p in 0..f {
+                let (kx, kz) = grid.wave_vector(p, q);
+                let k = (kx * kx + kz * kz).sqrt();
+                if k == 0.0 {
+                    continue;
+                }
+                let kk = k * (k * self.settings.depths[0]).tanh();
+                let bb = GRAVITY + self.settings.tension * k * k;
+                let i = q * f + p;
+                e += 0.5 * (bb * hz[i].norm_sqr() + kk * pz[i].norm_sqr());
+            }
+        }
+        e * grid.cell_size.powi(2) / (f * f) as f64
+    }
+}
+
+/// 2-D FFT in place (rows then columns); `inverse` is unnormalised e^(+i).
+pub fn fft2(planner: &mut FftPlanner<f64>, data: &mut [Complex64], n: usize, inverse: bool) {
+    let fft = if inverse { planner.plan_fft_inverse(n) } else { planner.plan_fft_forward(n) };
+    for row in data.chunks_mut(n) {
+        fft.process(row);
+    }
+    let mut col = vec![Complex64::default(); n];
+    for x in 0..n {
+        for z in 0..n {
+            col[z] = data[z * n + x];
+        }
+        fft.process(&mut col);
+        for z in 0..n {
+            data[z * n + x] = col[z];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn settings(boundary: RippleBoundary, cells: usize, cell: f64, depth: f64) -> RippleSettings {
+        RippleSettings {
+            grid: RippleGrid { boundary, cells, cell_size: cell },
+            tension: WATER_TENSION,
+            viscosity: 0.0,
+            damping: 0.0,
+            depths: [depth, depth],
+            dt: 1.0 / 60.0,
+        }
+    }
+
+    /// A wave travelling along +x: h = A·cos(kx), φ chosen so that
+    /// h(x, t) = A·cos(kx − ωt).
+    fn travelling(s: &RippleSettings, k: f64, a: f64, x: f64, depth: f64) -> (f64, f64) {
+        let w = capillary_gravity_omega(k, depth, s.tension);
+        let kk = k * (k * depth).tanh();
+        (a * (k * x).cos(), a * w / kk * (k * x).sin())
+    }
+
+    /// Phase (rad) of the grid's component exp(ikx) along x.
+    fn phase(sim: &RippleSim, k: f64) -> f64 {
+        let n = sim.settings.grid.cells;
+        let c = sim.settings.grid.cell_size;
+        let (mut re, mut im) = (0.0, 0.0);
+        for i in 0..n {
+            let x = (i as f64 + 0.5) * c;
+            let h = sim.height(i, n / 2);
+            re += h * (k * x).cos();
+            im += h * (k * x).sin();
+        }
+        im.atan2(re)
+    }
+
+    #[test]
+    fn each_wavelength_travels_at_its_dispersion_speed() {
+        // (wavelength, depth, cell): deep gravity, shallow gravity, capillary,
+        // and the capillary–gravity minimum (λ ≈ 1.7 cm).
+        for (lambda, depth, cell) in [
+            (1.0, 10.0, 1.0 / 32.0),
+            (1.0, 0.05, 1.0 / 32.0),
+            (0.004, 1.0, 0.004 / 16.0),
+            (0.017, 1.0, 0.017 / 16.0),
+        ] {
+            let mut s = settings(RippleBoundary::Periodic, 64, cell, depth);
+            s.dt = 0.1 * lambda / capillary_gravity_omega(2.0 * PI / lambda, depth, s.tension).max(1e-9);
+            let k = 2.0 * PI / lambda;
+            let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+            // A whole number of wavelengths fills the periodic tile.
+            sim.set(|x, _| travelling(&s, k, 1e-3, x, depth));
+            let before = phase(&sim, k);
+            let mut unwrapped = 0.0;
+            let mut last = before;
+            let steps = 5;
+            for _ in 0..steps {
+                sim.step(&[]);
+                let p = phase(&sim, k);
+                let mut d = p - last;
+                while d > PI {
+                    d -= 2.0 * PI;
+                }
+                while d < -PI {
+                    d += 2.0 * PI;
+                }
+                unwrapped += d;
+                last = p;
+            }
+            let t = steps as f64 * s.dt;
+            let speed = unwrapped / (k * t);
+            let expected = capillary_gravity_omega(k, depth, s.tension) / k;
+            assert!(
+                (speed - expected).abs() / expected < 1e-6,
+                "λ {lambda} m, depth {depth} m: phase speed {speed} m/s, dispersion gives {expected}"
+            );
+        }
+        // Sanity of the relation itself: deep gravity c = √(g/k), shallow √(g·d),
+        // the capillary–gravity minimum 23 cm/s near λ = 1.7 cm.
+        let k = 2.0 * PI;
+        assert!((capillary_gravity_omega(k, 1e4, 0.0) / k - (GRAVITY / k).sqrt()).abs() < 1e-9);
+        let ks = 2.0 * PI / 100.0;
+        let cs = capillary_gravity_omega(ks, 0.1, 0.0) / ks;
+        assert!((cs - (GRAVITY * 0.1f64).sqrt()).abs() / cs < 1e-3);
+        let kmin = 2.0 * PI / 0.017;
+        let cmin = capillary_gravity_omega(kmin, 10.0, WATER_TENSION) / kmin;
+        assert!((cmin - 0.231).abs() < 0.003, "minimum phase speed {cmin}");
+    }
+
+
+    /// A packet along x centred at `x0`: carrier `k`, envelope σ, moving +x.
+    fn packet(sim: &mut RippleSim, k: f64, sigma: f64, x0: f64) {
+        let s = sim.settings;
+        let d = s.depths[0];
+        let w = capillary_gravity_omega(k, d, s.tension);
+        let kk = k * (k * d).tanh();
+        sim.set(|x, _| {
+            let u = x - x0;
+            let env = 1e-3 * (-u * u / (2.0 * sigma * sigma)).exp();
+            (env * (k * u).cos(), env * w / kk * (k * u).sin())
+        });
+    }
+
+    /// Centroid (m) of h² along x, over the domain's middle row.
+    fn centroid(sim: &RippleSim) -> f64 {
+        let n = sim.settings.grid.cells;
+        let c = sim.settings.grid.cell_size;
+        let (mut m, mut mx) = (0.0, 0.0);
+        for i in 0..n {
+            let h = sim.height(i, n / 2);
+            m += h * h;
+            mx += h * h * (i as f64 + 0.5) * c;
+        }
+        mx / m
+    }
+
+    #[test]
+    fn packets_travel_at_the_group_speed() {
+        // Deep gravity waves (c_g = c/2) and capillary ripples (c_g → 3c/2).
+        for (lambda, cell, t) in [(0.25, 1.0 / 64.0, 6.0), (0.004, 0.004 / 16.0, 0.08)] {
+            let mut s = settings(RippleBoundary::Periodic, 256, cell, 10.0);
+            let steps = 12;
+            s.dt = t / steps as f64;
+            let k = 2.0 * PI / lambda;
+            let extent = 256.0 * cell;
+            let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+            packet(&mut sim, k, extent / 16.0, extent / 4.0);
+            let x0 = centroid(&sim);
+            for _ in 0..steps {
+                sim.step(&[]);
+            }
+            let speed = (centroid(&sim) - x0) / t;
+            let expected = capillary_gravity_group_speed(k, 10.0, s.tension);
+            let phase = capillary_gravity_omega(k, 10.0, s.tension) / k;
+            assert!(
+                (speed - expected).abs() / expected < 0.03,
+                "λ {lambda} m: packet moved at {speed} m/s, group speed {expected} (phase {phase})"
+            );
+        }
+    }
+
+    #[test]
+    fn walls_reflect_everything_and_keep_the_volume() {
+        let mut s = settings(RippleBoundary::Walls, 128, 1.0 / 32.0, 10.0);
+        s.dt = 0.25;
+        let k = 2.0 * PI / 0.25;
+        let extent = 4.0;
+        let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+        packet(&mut sim, k, 0.3, 2.5);
+        let e0 = sim.energy();
+        let x0 = centroid(&sim);
+        // The packet (c_g ≈ 0.31 m/s) hits the wall at x = 4 and comes back.
+        let steps = 24;
+        for _ in 0..steps {
+            sim.step(&[]);
+        }
+        let travelled = capillary_gravity_group_speed(k, 10.0, s.tension) * steps as f64 * s.dt;
+        let mirrored = 2.0 * extent - (x0 + travelled);
+        let x1 = centroid(&sim);
+        assert!(x1 < x0 + travelled - 0.5, "the packet came back: centroid {x0:.2} → {x1:.2} m");
+        assert!((x1 - mirrored).abs() < 0.3, "centroid {x1:.2} m, a mirror gives {mirrored:.2} m");
+        let e1 = sim.energy();
+        assert!((e1 - e0).abs() / e0 < 1e-6, "energy {e0:e} → {e1:e}");
+        // Volume: a lopsided bump (not volume-neutral) against the walls.
+        let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+        sim.set(|x, z| (0.01 * (-((x - 0.3).powi(2) + (z - 3.5).powi(2)) / 0.05).exp(), 0.0));
+        sim.step(&[Drop { x: 3.9, z: 0.2, radius: 0.1, strength: 0.01 }]);
+        let v0 = sim.volume();
+        for _ in 0..24 {
+            sim.step(&[]);
+        }
+        let v1 = sim.volume();
+        assert!(v0 > 1e-4, "volume {v0}");
+        assert!((v1 - v0).abs() < 1e-9 * v0, "volume {v0:e} → {v1:e} m³");
+    }
+
+    #[test]
+    fn a_drop_is_volume_neutral() {
+        let s = settings(RippleBoundary::Walls, 64, 0.02, 1.0);
+        // In open water, against a wall, in a corner.
+        for (x, z) in [(0.6, 0.7), (0.02, 0.7), (1.26, 1.25)] {
+            let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+            let drop = Drop { x, z, radius: 0.06, strength: 0.01 };
+            sim.step(&[drop]);
+            let crater = PI * drop.radius * drop.radius * drop.strength;
+            assert!(sim.volume().abs() < 1e-3 * crater, "at ({x}, {z}): volume {:e} m³", sim.volume());
+            assert!(sim.heights().iter().any(|h| h.abs() > 1e-4), "the drop made waves");
+        }
+    }
+
+    #[test]
+    fn open_edges_absorb_what_reaches_them() {
+        // Wavelengths from an eighth to the whole width of the sponge (32 cells of 1/32 m).
+        for lambda in [0.125, 0.5, 1.0] {
+            let mut s = settings(RippleBoundary::Open, 256, 1.0 / 32.0, 10.0);
+            let k = 2.0 * PI / lambda;
+            let cg = capillary_gravity_group_speed(k, 10.0, s.tension);
+            // Long enough to reach the edge, cross the sponge and come back.
+            let t = 2.0 * 4.0 / cg;
+            let steps = 40;
+            s.dt = t / steps as f64;
+            let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+            packet(&mut sim, k, 0.4, 5.0);
+            let e0 = sim.energy();
+            for _ in 0..steps {
+                sim.step(&[]);
+            }
+            let left = sim.energy() / e0;
+            assert!(left < 0.05, "λ {lambda} m: {:.1}% of the energy came back", 100.0 * left);
+        }
+    }
+
+    #[test]
+    fn an_open_window_moves_without_disturbing_the_water() {
+        let s = settings(RippleBoundary::Open, 64, 0.05, 2.0);
+        let mut sim = RippleSim::new(s, RippleWindow::centred(&s.grid, [0.0, 0.0]));
+        sim.step(&[Drop { x: 0.1, z: -0.2, radius: 0.15, strength: 0.01 }]);
+        sim.step(&[]);
+        let at = |sim: &RippleSim, x: f64, z: f64| {
+            let o = sim.window.origin;
+            let c = sim.settings.grid.cell_size;
+            let i = ((x / c).floor() as i64 - o[0]) as usize;
+            let j = ((z / c).floor() as i64 - o[1]) as usize;
+            sim.height(i, j)
+        };
+        let before = at(&sim, 0.3, 0.1);
+        sim.window.origin[0] += 3;
+        assert_eq!(at(&sim, 0.3, 0.1), before, "a world point keeps its height");
+    }
+
+    #[test]
+    fn between_two_depth_levels_waves_take_an_intermediate_speed() {
+        let lambda = 2.0;
+        let k = 2.0 * PI / lambda;
+        let mut s = settings(RippleBoundary::Periodic, 64, lambda / 32.0, 0.2);
+        s.depths = [0.1, 0.3];
+        s.dt = 0.05;
+        let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+        sim.depth.fill(0.2);
+        sim.set(|x, _| travelling(&s, k, 1e-3, x, 0.2));
+        let p0 = phase(&sim, k);
+        for _ in 0..4 {
+            sim.step(&[]);
+        }
+        let mut d = phase(&sim, k) - p0;
+        while d < 0.0 {
+            d += 2.0 * PI;
+        }
+        let speed = d / (k * 4.0 * s.dt);
+        let exact = capillary_gravity_omega(k, 0.2, s.tension) / k;
+        let slow = capillary_gravity_omega(k, 0.1, s.tension) / k;
+        let fast = capillary_gravity_omega(k, 0.3, s.tension) / k;
+        assert!(speed > slow && speed < fast, "{slow} < {speed} < {fast}");
+        assert!((speed - exact).abs() / exact < 0.03, "speed {speed}, exact {exact} m/s");
+    }
+}
