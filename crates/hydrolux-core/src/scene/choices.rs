@@ -52,6 +52,7 @@ choice!(Tonemap: Aces, Clamp);
 choice!(DebugView: Final, Reflection, Refraction, Depth, Normals, Shadow, Medium, Caustics);
 choice!(CausticMethod: Photons, Beam, Procedural, Off);
 choice!(GodRayMethod: Lines, March, Off);
+choice!(RippleEdges: Walls, Open);
 
 /// Each enumerated key (array indices left out: `objects.primitive`) and
 /// its allowed values.
@@ -71,6 +72,7 @@ pub fn enumerated_keys() -> Vec<(&'static str, Vec<String>)> {
         ("render.view", DebugView::names()),
         ("caustics.method", CausticMethod::names()),
         ("godrays.method", GodRayMethod::names()),
+        ("ripples.edges", RippleEdges::names()),
     ]
 }
 

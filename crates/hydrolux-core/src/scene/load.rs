@@ -104,8 +104,13 @@ fn check_against_schema(
 ) -> Result<(), SceneError> {
     for (k, v) in user.iter_mut() {
         let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-        if path == "objects" {
-            check_objects(v, origin)?;
+        let arrays: [(&str, fn() -> Table); 3] = [
+            ("objects", || Table::try_from(super::ObjectDesc::default()).expect("serialises")),
+            ("drops", || Table::try_from(super::DropDesc::default()).expect("serialises")),
+            ("emitters", || Table::try_from(super::EmitterDesc::default()).expect("serialises")),
+        ];
+        if let Some((name, schema)) = arrays.iter().find(|(name, _)| path == *name) {
+            check_array_of_tables(v, origin, name, &schema())?;
             continue;
         }
         let Some(expected) = schema.get(k) else {
@@ -120,20 +125,25 @@ fn check_against_schema(
     Ok(())
 }
 
-/// `[[objects]]`: an array of tables, each checked against a default object.
-fn check_objects(v: &mut Value, origin: &str) -> Result<(), SceneError> {
-    let schema =
-        toml::Table::try_from(super::ObjectDesc::default()).expect("an object always serialises");
+/// `[[objects]]`, `[[drops]]`, `[[emitters]]`: an array of tables, each
+/// checked against a default entry (`schema`).
+fn check_array_of_tables(
+    v: &mut Value,
+    origin: &str,
+    name: &str,
+    schema: &Table,
+) -> Result<(), SceneError> {
     let Value::Array(items) = v else {
         return Err(SceneError::WrongType {
             origin: origin.into(),
-            key: "objects".into(),
-            expected: "an array of tables ([[objects]] sections)".into(),
+            key: name.into(),
+            expected: format!("an array of tables ([[{name}]] sections)"),
             got: format!("{} {}", type_name(v), show(v)),
         });
     };
+    let what = name.trim_end_matches('s');
     for (i, item) in items.iter_mut().enumerate() {
-        let path = format!("objects[{i}]");
+        let path = format!("{name}[{i}]");
         let Value::Table(t) = item else {
             return Err(SceneError::WrongType {
                 origin: origin.into(),
@@ -146,18 +156,18 @@ fn check_objects(v: &mut Value, origin: &str) -> Result<(), SceneError> {
             let key = format!("{path}.{k}");
             let Some(expected) = schema.get(k) else {
                 let mut keys = Vec::new();
-                all_keys(&schema, "", &mut keys);
+                all_keys(schema, "", &mut keys);
                 let near = keys.iter().min_by_key(|c| levenshtein(k, c));
                 let suggestion = match near {
                     Some(c) if levenshtein(k, c) <= 3 => format!("; did you mean `{path}.{c}`?"),
                     _ => format!(
-                        " (object keys are {})",
+                        " ({what} keys are {})",
                         schema.keys().cloned().collect::<Vec<_>>().join(", ")
                     ),
                 };
                 return Err(SceneError::UnknownKey { origin: origin.into(), key, suggestion });
             };
-            check_value(v, expected, &key, origin, &schema)?;
+            check_value(v, expected, &key, origin, schema)?;
         }
     }
     Ok(())
@@ -461,6 +471,7 @@ impl Scene {
         self.caustics.validate()?;
         self.air.validate()?;
         self.godrays.validate()?;
+        self.validate_ripples()?;
         if self.water.model == WaterModel::Sines && !(1..=64).contains(&self.sines.count) {
             return Err(SceneError::OutOfRange {
                 key: "sines.count".into(),

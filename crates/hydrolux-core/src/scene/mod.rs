@@ -6,12 +6,14 @@ mod builtin;
 mod choices;
 mod geometry;
 mod load;
+mod ripples;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene};
 pub use choices::{Choice, enumerated_keys};
 pub use geometry::{FLOOR_EXTENT, SceneObject};
 pub use load::{SceneError, WORLD_EXTENT_M, apply_override, parse_override};
 use load::{range, validate_material, vec3_range};
+pub use ripples::{CLOCK_HZ, DropDesc, EmitterDesc, MAX_DROPS_PER_STEP, RippleEdges, RipplesDesc};
 
 use crate::camera::Camera;
 use crate::medium::Medium;
@@ -36,8 +38,14 @@ pub struct Scene {
     pub caustics: CausticsDesc,
     pub godrays: GodRaysDesc,
     pub air: AirDesc,
+    /// The interactive water's simulation (with `water.dynamic = true`).
+    pub ripples: RipplesDesc,
     /// `[[objects]]` entries: meshes and primitives with a transform and material.
     pub objects: Vec<ObjectDesc>,
+    /// `[[drops]]`: scripted disturbances of the interactive water.
+    pub drops: Vec<DropDesc>,
+    /// `[[emitters]]`: rain on the interactive water.
+    pub emitters: Vec<EmitterDesc>,
     /// Folder that relative mesh, texture and heightmap paths start from (the
     /// scene file's folder; the working directory for built-ins).
     #[serde(skip)]
@@ -198,6 +206,9 @@ pub struct WaterDesc {
     /// Height above the mean surface of the plane the reflected ray is
     /// intersected with (m): how far the reflection moves with the waves.
     pub reflection_height: f32,
+    /// Interactive water: a simulated surface (`[ripples]`) that drops,
+    /// rain and the viewer disturb, added to the model's waves.
+    pub dynamic: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -553,7 +564,10 @@ impl Default for Scene {
             caustics: CausticsDesc::default(),
             godrays: GodRaysDesc::default(),
             air: AirDesc::default(),
+            ripples: RipplesDesc::default(),
             objects: Vec::new(),
+            drops: Vec::new(),
+            emitters: Vec::new(),
             base_dir: std::path::PathBuf::new(),
         }
     }
@@ -755,6 +769,7 @@ impl Default for WaterDesc {
             refraction_max: 8.0,
             reflection_height: 1.5,
             roughness_scale: 1.0,
+            dynamic: false,
         }
     }
 }

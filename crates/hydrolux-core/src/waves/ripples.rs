@@ -45,7 +45,8 @@ pub fn capillary_gravity_omega(k: f64, depth: f64, tension: f64) -> f64 {
 /// The group speed dω/dk of [`capillary_gravity_omega`] (central difference).
 pub fn capillary_gravity_group_speed(k: f64, depth: f64, tension: f64) -> f64 {
     let e = k * 1e-5;
-    (capillary_gravity_omega(k + e, depth, tension) - capillary_gravity_omega(k - e, depth, tension))
+    (capillary_gravity_omega(k + e, depth, tension)
+        - capillary_gravity_omega(k - e, depth, tension))
         / (2.0 * e)
 }
 
@@ -199,7 +200,11 @@ impl RippleWindow {
 
 /// What a grid cell is: the domain cell whose state it holds and the world
 /// position of that cell's centre. Twin of `cell_of` in WGSL.
-pub fn domain_cell(grid: &RippleGrid, window: &RippleWindow, g: [usize; 2]) -> ([usize; 2], [f64; 2]) {
+pub fn domain_cell(
+    grid: &RippleGrid,
+    window: &RippleWindow,
+    g: [usize; 2],
+) -> ([usize; 2], [f64; 2]) {
     let n = grid.cells;
     let mut d = [0usize; 2];
     let mut w = [0.0; 2];
@@ -477,7 +482,8 @@ mod tests {
             (0.017, 1.0, 0.017 / 16.0),
         ] {
             let mut s = settings(RippleBoundary::Periodic, 64, cell, depth);
-            s.dt = 0.1 * lambda / capillary_gravity_omega(2.0 * PI / lambda, depth, s.tension).max(1e-9);
+            s.dt = 0.1 * lambda
+                / capillary_gravity_omega(2.0 * PI / lambda, depth, s.tension).max(1e-9);
             let k = 2.0 * PI / lambda;
             let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
             // A whole number of wavelengths fills the periodic tile.
@@ -518,7 +524,6 @@ mod tests {
         let cmin = capillary_gravity_omega(kmin, 10.0, WATER_TENSION) / kmin;
         assert!((cmin - 0.231).abs() < 0.003, "minimum phase speed {cmin}");
     }
-
 
     /// A packet along x centred at `x0`: carrier `k`, envelope σ, moving +x.
     fn packet(sim: &mut RippleSim, k: f64, sigma: f64, x0: f64) {
@@ -615,7 +620,11 @@ mod tests {
             let drop = Drop { x, z, radius: 0.06, strength: 0.01 };
             sim.step(&[drop]);
             let crater = PI * drop.radius * drop.radius * drop.strength;
-            assert!(sim.volume().abs() < 1e-3 * crater, "at ({x}, {z}): volume {:e} m³", sim.volume());
+            assert!(
+                sim.volume().abs() < 1e-3 * crater,
+                "at ({x}, {z}): volume {:e} m³",
+                sim.volume()
+            );
             assert!(sim.heights().iter().any(|h| h.abs() > 1e-4), "the drop made waves");
         }
     }

@@ -1,0 +1,394 @@
+//! The interactive water's settings: `water.dynamic = true` turns it on,
+//! `[ripples]` says how it is simulated, `[[drops]]` and `[[emitters]]`
+//! script its disturbances (seed 003 §2.3–2.4). The simulation is
+//! `waves::ripples`.
+
+use super::load::range;
+use super::{Scene, SceneError, WaterModel};
+use crate::waves::ripples::{
+    Drop, RippleBoundary, RippleGrid, RippleSettings, WATER_TENSION, WATER_VISCOSITY,
+};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RippleEdges {
+    /// Reflecting walls around the domain (a pool, a tank); the domain stays put.
+    Walls,
+    /// Open water: the domain's edges absorb, and it follows the camera.
+    Open,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RipplesDesc {
+    /// Cells per side of the simulated square (a power of two, 16 to 512).
+    pub resolution: u32,
+    /// Side of the simulated square (m).
+    pub extent: f32,
+    /// Its centre [x, z] (m); open water centres it below the camera instead.
+    pub center: [f32; 2],
+    pub edges: RippleEdges,
+    /// Water depth (m) under the domain; 0 = the floor's depth, or deep
+    /// water (100 m) without a floor.
+    pub depth: f32,
+    /// Kinematic viscosity ν (m²/s): waves of wave number k decay at 2νk².
+    pub viscosity: f32,
+    /// Surface tension over density σ/ρ (m³/s²); 0 = gravity waves only.
+    pub surface_tension: f32,
+    /// Extra damping of every wave (1/s), beyond viscosity (0 = physical).
+    pub damping: f32,
+    /// Simulation steps per second (a divisor of the clock's 120 Hz).
+    pub rate: u32,
+}
+
+impl Default for RipplesDesc {
+    fn default() -> Self {
+        RipplesDesc {
+            resolution: 128,
+            extent: 8.0,
+            center: [0.0, 0.0],
+            edges: RippleEdges::Open,
+            depth: 0.0,
+            viscosity: WATER_VISCOSITY as f32,
+            surface_tension: WATER_TENSION as f32,
+            damping: 0.0,
+            rate: 60,
+        }
+    }
+}
+
+/// Rate of the clock the simulations step on (Hz; `SIMULATION_STEP_S` in the renderer).
+pub const CLOCK_HZ: u32 = 120;
+
+impl RipplesDesc {
+    /// The `[ripples]` section's rules (one line naming the bad key and
+    /// what is allowed).
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let r = self;
+        if !(16..=512).contains(&r.resolution) || !r.resolution.is_power_of_two() {
+            return Err(SceneError::OutOfRange {
+                key: "ripples.resolution".into(),
+                value: r.resolution.to_string(),
+                allowed: "must be a power of two from 16 to 512".into(),
+            });
+        }
+        range(
+            "ripples.extent",
+            r.extent,
+            r.extent >= 0.01 && r.extent <= 10_000.0,
+            "must be 0.01 to 10000 m",
+        )?;
+        for (i, c) in r.center.iter().enumerate() {
+            range(
+                &format!("ripples.center[{i}]"),
+                *c,
+                c.abs() <= super::WORLD_EXTENT_M,
+                "must be finite, within ±100000 m",
+            )?;
+        }
+        range(
+            "ripples.depth",
+            r.depth,
+            (0.0..=10_000.0).contains(&r.depth),
+            "must be 0 (from the scene) to 10000 m",
+        )?;
+        range(
+            "ripples.viscosity",
+            r.viscosity,
+            (0.0..=1.0).contains(&r.viscosity),
+            "must be 0 to 1 m²/s",
+        )?;
+        range(
+            "ripples.surface_tension",
+            r.surface_tension,
+            (0.0..=1.0).contains(&r.surface_tension),
+            "must be 0 to 1 m³/s² (water: 7.28e-5)",
+        )?;
+        range(
+            "ripples.damping",
+            r.damping,
+            (0.0..=100.0).contains(&r.damping),
+            "must be 0 to 100 per second",
+        )?;
+        if r.rate == 0 || r.rate > CLOCK_HZ || CLOCK_HZ % r.rate != 0 {
+            return Err(SceneError::OutOfRange {
+                key: "ripples.rate".into(),
+                value: r.rate.to_string(),
+                allowed: "must divide 120 (120, 60, 40, 30, 24, 20, …) steps per second".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// `[[drops]]`: one disturbance at a given time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DropDesc {
+    /// When it lands (s).
+    pub time: f32,
+    /// Where, [x, z] (m).
+    pub position: [f32; 2],
+    /// Radius of its crater (m).
+    pub radius: f32,
+    /// Depth of its crater (m).
+    pub strength: f32,
+}
+
+impl Default for DropDesc {
+    fn default() -> Self {
+        DropDesc { time: 0.0, position: [0.0, 0.0], radius: 0.05, strength: 0.01 }
+    }
+}
+
+/// `[[emitters]]`: rain over a rectangle, drops at random places and times
+/// (the same ones on every run: they come from `seed`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct EmitterDesc {
+    /// Centre [x, z] and size [x, z] of the rectangle it rains on (m).
+    pub center: [f32; 2],
+    pub size: [f32; 2],
+    /// Drops per second over the whole rectangle.
+    pub rate: f32,
+    /// Mean crater radius and depth (m); each drop varies by ±30%.
+    pub radius: f32,
+    pub strength: f32,
+    /// It rains from `start` to `end` (s); `end` = 0: forever.
+    pub start: f32,
+    pub end: f32,
+    pub seed: u64,
+}
+
+impl Default for EmitterDesc {
+    fn default() -> Self {
+        EmitterDesc {
+            center: [0.0, 0.0],
+            size: [4.0, 4.0],
+            rate: 20.0,
+            radius: 0.02,
+            strength: 0.003,
+            start: 0.0,
+            end: 0.0,
+            seed: 1,
+        }
+    }
+}
+
+/// At most this many drops land in one simulation step (rain beyond is a
+/// different regime: a rough surface, not rings).
+pub const MAX_DROPS_PER_STEP: usize = 64;
+
+fn check_drop(key: &str, position: [f32; 2], radius: f32, strength: f32) -> Result<(), SceneError> {
+    for (i, c) in position.iter().enumerate() {
+        range(
+            &format!("{key}.position[{i}]"),
+            *c,
+            c.abs() <= super::WORLD_EXTENT_M,
+            "must be finite, within ±100000 m",
+        )?;
+    }
+    range(
+        &format!("{key}.radius"),
+        radius,
+        radius > 0.0 && radius <= 100.0,
+        "must be > 0 and at most 100 m",
+    )?;
+    range(&format!("{key}.strength"), strength, strength.abs() <= 10.0, "must be -10 to 10 m")
+}
+
+impl Scene {
+    /// The rules of `[ripples]`, `[[drops]]` and `[[emitters]]`.
+    pub(super) fn validate_ripples(&self) -> Result<(), SceneError> {
+        self.ripples.validate()?;
+        if self.water.dynamic && self.water.model == WaterModel::None {
+            return Err(SceneError::OutOfRange {
+                key: "water.dynamic".into(),
+                value: "true".into(),
+                allowed: "needs water: water.model is \"none\"".into(),
+            });
+        }
+        for (i, d) in self.drops.iter().enumerate() {
+            let key = format!("drops[{i}]");
+            range(
+                &format!("{key}.time"),
+                d.time,
+                (0.0..=1e6).contains(&d.time),
+                "must be 0 to 1e6 s",
+            )?;
+            check_drop(&key, d.position, d.radius, d.strength)?;
+        }
+        for (i, e) in self.emitters.iter().enumerate() {
+            let key = format!("emitters[{i}]");
+            check_drop(&key, e.center, e.radius, e.strength)?;
+            for (j, s) in e.size.iter().enumerate() {
+                range(
+                    &format!("{key}.size[{j}]"),
+                    *s,
+                    *s >= 0.0 && *s <= 1e5,
+                    "must be 0 to 100000 m",
+                )?;
+            }
+            let per_step = e.rate / self.ripples.rate.max(1) as f32;
+            range(
+                &format!("{key}.rate"),
+                e.rate,
+                e.rate >= 0.0 && per_step <= MAX_DROPS_PER_STEP as f32 / 2.0,
+                &format!(
+                    "must be 0 to {} drops per second at ripples.rate = {}",
+                    MAX_DROPS_PER_STEP / 2 * self.ripples.rate as usize,
+                    self.ripples.rate
+                ),
+            )?;
+            range(
+                &format!("{key}.start"),
+                e.start,
+                (0.0..=1e6).contains(&e.start),
+                "must be 0 to 1e6 s",
+            )?;
+            range(
+                &format!("{key}.end"),
+                e.end,
+                e.end == 0.0 || (e.end > e.start && e.end <= 1e6),
+                "must be 0 (forever) or after start",
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The interactive water's physics and grid, `None` without `water.dynamic`.
+    pub fn ripple_settings(&self) -> Option<RippleSettings> {
+        if !self.water.dynamic || !self.has_water() {
+            return None;
+        }
+        let r = &self.ripples;
+        let depth = if r.depth > 0.0 {
+            r.depth as f64
+        } else if self.floor.depth > 0.0 {
+            self.floor.depth as f64
+        } else {
+            100.0
+        };
+        Some(RippleSettings {
+            grid: RippleGrid {
+                boundary: match r.edges {
+                    RippleEdges::Walls => RippleBoundary::Walls,
+                    RippleEdges::Open => RippleBoundary::Open,
+                },
+                cells: r.resolution as usize,
+                cell_size: r.extent as f64 / r.resolution as f64,
+            },
+            tension: r.surface_tension as f64,
+            viscosity: r.viscosity as f64,
+            damping: r.damping as f64,
+            depths: [depth, depth],
+            dt: 1.0 / r.rate as f64,
+        })
+    }
+
+    /// The drops that land during simulation step `step` (of `dt` s): the
+    /// scripted ones whose time falls in [step·dt, (step+1)·dt) and the
+    /// emitters' rain, the same on every run.
+    pub fn drops_in_step(&self, step: u64, dt: f64) -> Vec<Drop> {
+        let (t0, t1) = (step as f64 * dt, (step + 1) as f64 * dt);
+        let mut out: Vec<Drop> = self
+            .drops
+            .iter()
+            .filter(|d| (t0..t1).contains(&(d.time as f64)) || (step == 0 && d.time as f64 <= 0.0))
+            .map(|d| Drop {
+                x: d.position[0] as f64,
+                z: d.position[1] as f64,
+                radius: d.radius as f64,
+                strength: d.strength as f64,
+            })
+            .collect();
+        for (i, e) in self.emitters.iter().enumerate() {
+            if t0 < e.start as f64 || (e.end > 0.0 && t0 >= e.end as f64) {
+                continue;
+            }
+            let mut rng = SplitMix(
+                e.seed
+                    ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                    ^ step.wrapping_mul(0xD1B5_4A32_D192_ED03),
+            );
+            let expected = e.rate as f64 * dt;
+            let count = expected.floor() as usize + (rng.unit() < expected.fract()) as usize;
+            for _ in 0..count {
+                let (u, v, a, b) = (rng.unit(), rng.unit(), rng.unit(), rng.unit());
+                out.push(Drop {
+                    x: e.center[0] as f64 + (u - 0.5) * e.size[0] as f64,
+                    z: e.center[1] as f64 + (v - 0.5) * e.size[1] as f64,
+                    radius: e.radius as f64 * (0.7 + 0.6 * a),
+                    strength: e.strength as f64 * (0.7 + 0.6 * b),
+                });
+            }
+        }
+        out.truncate(MAX_DROPS_PER_STEP);
+        out
+    }
+}
+
+/// SplitMix64 (Steele, Lea, Flood 2014): a tiny deterministic generator.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drops_land_in_the_step_of_their_time_and_rain_is_repeatable() {
+        let scene = Scene::from_toml(
+            "[water]\ndynamic = true\n[[drops]]\ntime = 0.51\nposition = [1.0, 2.0]\n\
+             [[emitters]]\nrate = 60.0\nsize = [2.0, 2.0]\n",
+            "test",
+            &[],
+        )
+        .unwrap();
+        let dt = scene.ripple_settings().unwrap().dt;
+        let scripted = |step| {
+            scene.drops_in_step(step, dt).iter().filter(|d| d.x == 1.0 && d.z == 2.0).count()
+        };
+        assert_eq!(scripted(30), 1, "0.51 s lies in step 30 of 1/60 s");
+        assert_eq!((0..100).map(scripted).sum::<usize>(), 1);
+        // 60 drops per second at 60 steps per second: one per step.
+        let rain: usize = (0..600).map(|s| scene.drops_in_step(s, dt).len()).sum();
+        assert_eq!(rain, 601, "600 raindrops in 10 s and the scripted one");
+        assert_eq!(scene.drops_in_step(77, dt), scene.drops_in_step(77, dt));
+        let d = scene.drops_in_step(77, dt)[0];
+        assert!(d.x.abs() <= 1.0 && d.z.abs() <= 1.0, "inside the rectangle: {d:?}");
+    }
+
+    #[test]
+    fn bad_ripple_settings_are_named() {
+        for (set, key) in [
+            ("ripples.resolution=100", "ripples.resolution"),
+            ("ripples.rate=7", "ripples.rate"),
+            ("ripples.extent=0", "ripples.extent"),
+        ] {
+            let e = Scene::load("pool", &[set.to_string()]).unwrap_err().to_string();
+            assert!(e.contains(key), "{set}: {e}");
+        }
+        let e = Scene::from_toml("[[drops]]\nradius = -1.0\n", "t", &[]).unwrap_err().to_string();
+        assert!(e.contains("drops[0].radius"), "{e}");
+        let e = Scene::from_toml("[[drops]]\nwobble_factor = 1.0\n", "t", &[]).unwrap_err().to_string();
+        assert!(e.contains("drops[0].wobble_factor") && e.contains("drop keys are"), "{e}");
+        let e = Scene::from_toml("[[emitters]]\nrate = 1e6\n", "t", &[]).unwrap_err().to_string();
+        assert!(e.contains("emitters[0].rate"), "{e}");
+    }
+}
