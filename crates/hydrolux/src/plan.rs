@@ -324,6 +324,7 @@ fn debug_view_index(view: DebugView) -> u32 {
         DebugView::Shadow => 5,
         DebugView::Medium => 6,
         DebugView::Caustics => 7,
+        DebugView::Ripples => 8,
     }
 }
 

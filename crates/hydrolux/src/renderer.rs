@@ -155,7 +155,12 @@ impl Renderer {
         };
         let techniques = Techniques::new(&shared, scene)?;
         let l = &shared.layouts;
-        let probe = ProbePass::new(device, &l.globals, &l.surface, scene.water.model);
+        let probe = ProbePass::new(
+            device,
+            &l.globals,
+            &l.surface,
+            crate::passes::surface::SurfaceKind::of(scene),
+        );
         let bound = Bound {
             globals: Self::globals(&shared, &techniques, &samplers),
             surface: techniques.surface.group.clone(),
@@ -241,12 +246,26 @@ impl Renderer {
             shared.geometry = shared.meshes.upload(&shared.device, &shared.queue, scene)?;
             self.targets = None;
         }
+        // A new simulation of the interactive water starts from still water
+        // and catches up with the clock's time on the next frame.
+        let ripples_restart = match &self.techniques.surface.ripples {
+            Some(r) => !r.fits(scene),
+            None => scene.ripple_settings().is_some(),
+        };
+        if ripples_restart {
+            self.clock.reset();
+        }
         if self.techniques.set_scene(&self.shared, &self.scene, scene)? {
             self.bound.globals = Self::globals(&self.shared, &self.techniques, &self.samplers);
         }
         self.bound.surface = self.techniques.surface.group.clone();
         let (device, l) = (&self.shared.device, &self.shared.layouts);
-        self.probe.specialise(device, &l.globals, &l.surface, scene.water.model);
+        self.probe.specialise(
+            device,
+            &l.globals,
+            &l.surface,
+            crate::passes::surface::SurfaceKind::of(scene),
+        );
         self.scene = scene.clone();
         self.last_plan = None;
         self.update_sky();
@@ -390,6 +409,20 @@ impl Renderer {
             t.resolve(encoder);
         }
         self.last_plan = Some(plan);
+    }
+
+    /// Disturb the interactive water at world (x, z): a crater of `radius`
+    /// and depth `strength` (m) lands in its next step (a click in the
+    /// viewer, a thrown stone). Returns false without `water.dynamic`.
+    pub fn disturb(&mut self, x: f32, z: f32, radius: f32, strength: f32) -> bool {
+        let Some(r) = &mut self.techniques.surface.ripples else { return false };
+        r.disturb(hydrolux_core::waves::ripples::Drop {
+            x: x as f64,
+            z: z as f64,
+            radius: radius as f64,
+            strength: strength as f64,
+        });
+        true
     }
 
     /// Start stateful simulations again from their initial state; the next

@@ -114,6 +114,7 @@ impl Layouts {
                 sampler_entry(4, all),
                 sampler_entry(5, all),
                 texture_entry(6, all, wgpu::TextureViewDimension::D2, false),
+                texture_entry(7, all, wgpu::TextureViewDimension::D2, true),
             ],
         });
         Layouts { globals, frame_only, surface }

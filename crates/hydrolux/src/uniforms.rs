@@ -287,6 +287,8 @@ uniform! { SurfaceParams;
         pub counts: [u32; 4],
         pub waves: [[f32; 4]; 64],
         pub wave_q: [[f32; 4]; 16],
+        pub ripple_area: [f32; 4],
+        pub ripple_window: [f32; 4],
     }
 }
 

@@ -547,6 +547,9 @@ pub enum DebugView {
     Medium,
     /// The floor caustic map (over the patch, letterboxed).
     Caustics,
+    /// The interactive water's height on the surface (red up, blue down,
+    /// saturating at ±5 mm), shaded by its slopes; the rest in grey.
+    Ripples,
 }
 
 impl Default for Scene {

@@ -386,7 +386,8 @@ mod tests {
         }
         let e = Scene::from_toml("[[drops]]\nradius = -1.0\n", "t", &[]).unwrap_err().to_string();
         assert!(e.contains("drops[0].radius"), "{e}");
-        let e = Scene::from_toml("[[drops]]\nwobble_factor = 1.0\n", "t", &[]).unwrap_err().to_string();
+        let e =
+            Scene::from_toml("[[drops]]\nwobble_factor = 1.0\n", "t", &[]).unwrap_err().to_string();
         assert!(e.contains("drops[0].wobble_factor") && e.contains("drop keys are"), "{e}");
         let e = Scene::from_toml("[[emitters]]\nrate = 1e6\n", "t", &[]).unwrap_err().to_string();
         assert!(e.contains("emitters[0].rate"), "{e}");

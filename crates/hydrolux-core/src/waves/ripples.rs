@@ -192,6 +192,16 @@ impl RippleWindow {
         RippleWindow { origin: [o(center[0]), o(center[1])] }
     }
 
+    /// Where an open domain goes for a camera at `position` looking at
+    /// `look_at`: centred a quarter of its side ahead of the camera, over
+    /// the water it looks at.
+    pub fn ahead_of(grid: &RippleGrid, position: [f64; 3], look_at: [f64; 3]) -> Self {
+        let (dx, dz) = (look_at[0] - position[0], look_at[2] - position[2]);
+        let len = (dx * dx + dz * dz).sqrt();
+        let ahead = if len > 1e-9 { 0.25 * grid.extent() / len } else { 0.0 };
+        Self::centred(grid, [position[0] + dx * ahead, position[2] + dz * ahead])
+    }
+
     /// World x (or z) of the domain's low edge.
     pub fn low_edge(&self, grid: &RippleGrid, axis: usize) -> f64 {
         self.origin[axis] as f64 * grid.cell_size
@@ -254,12 +264,16 @@ pub fn sponge(grid: &RippleGrid, d: [usize; 2], dt: f64) -> f64 {
     if edge == 0 {
         return 0.0;
     }
-    // Quadratic ramp of the damping rate; its peak is a few periods of the
-    // longest wave the sponge is wide enough to hold.
-    let width = w as f64 * grid.cell_size;
-    let sigma_max = 6.0 * (GRAVITY * 2.0 * PI / width).sqrt();
     let x = (w - edge) as f64 / w as f64;
-    (-sigma_max * x * x * dt).exp()
+    (-sponge_rate(grid) * x * x * dt).exp()
+}
+
+/// Peak damping rate (1/s) of the sponge, reached at its outer edge: a
+/// quadratic ramp up to six times the angular frequency of the longest
+/// wave the sponge is as wide as.
+pub fn sponge_rate(grid: &RippleGrid) -> f64 {
+    let width = grid.sponge_cells() as f64 * grid.cell_size;
+    6.0 * (GRAVITY * 2.0 * PI / width.max(1e-9)).sqrt()
 }
 
 /// Blend weight of depth level 1 at depth `d` (level 0 at 0, level 1 at

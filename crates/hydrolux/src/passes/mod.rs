@@ -13,6 +13,7 @@ pub mod godrays;
 pub mod mips;
 pub mod ocean;
 pub mod probe;
+pub mod ripples;
 pub mod sky;
 pub mod surface;
 pub mod tonemap;

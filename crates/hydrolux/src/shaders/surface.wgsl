@@ -13,6 +13,11 @@ struct SurfaceParams {
     waves: array<vec4<f32>, 64>,
     // Horizontal (Gerstner) amplitude Q·A of each wave, four per vec4.
     wave_q: array<vec4<f32>, 16>,
+    // Interactive water (RIPPLES > 0): xy world point of the ripple
+    // texture's uv (0, 0), z its side (m), w its cell (m).
+    ripple_area: vec4<f32>,
+    // The simulated domain: x min, z min, x max, z max (m).
+    ripple_window: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> surface: SurfaceParams;
@@ -29,6 +34,8 @@ struct SurfaceParams {
 @group(1) @binding(5) var surface_sampler_aniso: sampler;
 // A user's heights (model 3): row = z, col = x, corner-sampled, periodic.
 @group(1) @binding(6) var heightfield_tex: texture_2d<f32>;
+// Interactive water: h, ∂h/∂x, ∂h/∂z per cell (passes/ripples).
+@group(1) @binding(7) var ripple_tex: texture_2d<f32>;
 
 struct SurfaceSample {
     disp: vec3<f32>,
@@ -166,22 +173,58 @@ fn surface_model() -> u32 {
     return SURFACE_MODEL;
 }
 
-fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
-    switch surface_model() {
-        case 0u: { return fft_sample_footprint(p, footprint); }
-        case 1u: { return sines_sample(p, footprint); }
-        case 3u: { return heightfield_sample(p); }
-        default: { return zero_sample(); }
+// The interactive water as a pipeline constant: 0 none, 1 walls (the
+// texture covers the domain, clamped at its edges), 2 open (the texture
+// tiles the plane; the window says which tile is simulated). Specialised
+// like SURFACE_MODEL, so surfaces without it pay nothing.
+override RIPPLES: u32 = 0u;
+
+// The ripples' height and slopes at p, faded out where the footprint
+// (m) spans several cells (their slopes then go into the roughness).
+fn add_ripples(s: ptr<function, SurfaceSample>, p: vec2<f32>, footprint: f32) {
+    if (RIPPLES == 0u) {
+        return;
     }
+    let w = surface.ripple_window;
+    if (any(p < w.xy) || any(p > w.zw)) {
+        return;
+    }
+    let side = surface.ripple_area.z;
+    var uv = (p - surface.ripple_area.xy) / side;
+    if (RIPPLES == 1u) {
+        let half_texel = surface.ripple_area.w / (2.0 * side);
+        uv = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
+    }
+    let r = textureSampleLevel(ripple_tex, surface_sampler, uv, 0.0);
+    let keep = 1.0 - smoothstep(1.0, 4.0, footprint / surface.ripple_area.w);
+    (*s).disp.y += r.x;
+    (*s).slope += r.yz * keep;
+    (*s).slope_variance += r.yz * r.yz * (1.0 - keep * keep);
+}
+
+fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
+    var s = zero_sample();
+    switch surface_model() {
+        case 0u: { s = fft_sample_footprint(p, footprint); }
+        case 1u: { s = sines_sample(p, footprint); }
+        case 3u: { s = heightfield_sample(p); }
+        default: {}
+    }
+    add_ripples(&s, p, footprint);
+    return s;
 }
 
 fn surface_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSample {
+    var s = zero_sample();
+    let footprint = max(length(dpdx), length(dpdy));
     switch surface_model() {
-        case 0u: { return fft_sample_grad(p, dpdx, dpdy); }
-        case 1u: { return sines_sample(p, max(length(dpdx), length(dpdy))); }
-        case 3u: { return heightfield_sample(p); }
-        default: { return zero_sample(); }
+        case 0u: { s = fft_sample_grad(p, dpdx, dpdy); }
+        case 1u: { s = sines_sample(p, footprint); }
+        case 3u: { s = heightfield_sample(p); }
+        default: {}
     }
+    add_ripples(&s, p, footprint);
+    return s;
 }
 
 // Unit normal of the displaced surface: ∂p/∂z × ∂p/∂x.

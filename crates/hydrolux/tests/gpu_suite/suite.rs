@@ -1231,3 +1231,91 @@ fn wgpu_errors_become_one_line_render_errors_and_the_renderer_goes_on() {
     let uncaught = ctx.take_error().expect("kept");
     assert!(uncaught.contains("impossible") && !uncaught.contains('\n'), "{uncaught}");
 }
+
+/// A small interactive-water scene: flat water, drops and rain.
+fn ripple_scene(edges: &str) -> Scene {
+    use hydrolux::core::scene::{DropDesc, EmitterDesc};
+    let mut s = scene(&[
+        "water.model=\"flat\"",
+        "water.dynamic=true",
+        "ripples.resolution=32",
+        "ripples.extent=2.0",
+        "ripples.center=[0.4, -0.3]",
+        &format!("ripples.edges=\"{edges}\""),
+        "floor.depth=0.5",
+        "caustics.method=\"off\"",
+        "godrays.method=\"off\"",
+        // An open domain goes half a metre ahead of the camera: onto the drops.
+        "camera.position=[0.4, 3.0, 0.2]",
+        "camera.look_at=[0.4, 0.0, -0.3]",
+    ]);
+    s.drops = vec![
+        DropDesc { time: 0.0, position: [0.6, -0.2], radius: 0.15, strength: 0.01 },
+        DropDesc { time: 0.2, position: [-0.3, 0.3], radius: 0.1, strength: -0.005 },
+    ];
+    s.emitters = vec![EmitterDesc { rate: 30.0, size: [1.5, 1.5], radius: 0.08, ..Default::default() }];
+    s.validate().expect("valid ripple scene");
+    s
+}
+
+#[test]
+fn interactive_water_matches_the_cpu_twin_with_walls_and_open_edges() {
+    use hydrolux::core::waves::ripples::{RippleSim, RippleWindow};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    for edges in ["walls", "open"] {
+        let s = ripple_scene(edges);
+        let mut r = renderer(&ctx, &s);
+        let t = 0.5;
+        r.simulate(&s.camera(), (16, 16), t);
+        let gpu = r.read_ripples().expect("dynamic water");
+        let settings = s.ripple_settings().unwrap();
+        let cam = s.camera();
+        let window = match edges {
+            "walls" => RippleWindow::centred(&settings.grid, [0.4, -0.3]),
+            _ => RippleWindow::ahead_of(
+                &settings.grid,
+                cam.position.to_array().map(|c| c as f64),
+                cam.look_at.to_array().map(|c| c as f64),
+            ),
+        };
+        assert_eq!(gpu.origin[0], window.low_edge(&settings.grid, 0) as f32, "{edges}: window");
+        let mut sim = RippleSim::new(settings, window);
+        let steps = (t * 60.0).round() as u64;
+        for i in 0..steps {
+            sim.step(&s.drops_in_step(i, settings.dt));
+        }
+        let cpu = sim.heights();
+        let scale = cpu.iter().fold(0.0f64, |m, h| m.max(h.abs()));
+        assert!(scale > 1e-4, "{edges}: the drops made waves ({scale} m)");
+        let worst = gpu.heights.iter().zip(&cpu).map(|(g, c)| (*g as f64 - c).abs()).fold(0.0, f64::max);
+        assert!(worst < 2e-3 * scale, "{edges}: GPU vs CPU max error {worst:e} m, waves {scale:e} m");
+        // Height queries see the interactive water (flat model: it is all there is).
+        let n = gpu.cells as usize;
+        let peak = (0..n * n).max_by(|&a, &b| gpu.heights[a].abs().total_cmp(&gpu.heights[b].abs()));
+        let (i, j) = (peak.unwrap() % n, peak.unwrap() / n);
+        let x = gpu.origin[0] + (i as f32 + 0.5) * gpu.cell_size;
+        let z = gpu.origin[1] + (j as f32 + 0.5) * gpu.cell_size;
+        let h = r.height_at(x, z);
+        let expected = gpu.heights[j * n + i];
+        assert!((h - expected).abs() < 2e-3 * scale as f32 + 1e-6, "{edges}: height_at {h} vs {expected} m");
+    }
+}
+
+#[test]
+fn interactive_water_is_the_same_at_a_time_whatever_the_frame_rate() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let s = ripple_scene("walls");
+    let mut at_once = renderer(&ctx, &s);
+    at_once.simulate(&s.camera(), (16, 16), 0.75);
+    let mut frames = renderer(&ctx, &s);
+    for f in 0..=30 {
+        frames.simulate(&s.camera(), (16, 16), f as f64 * 0.025);
+    }
+    let (a, b) = (at_once.read_ripples().unwrap(), frames.read_ripples().unwrap());
+    assert_eq!(a.time, b.time);
+    assert_eq!(a.heights, b.heights, "30 frames and one jump reach the same state");
+    // Back in time: the state starts over and steps forward again.
+    frames.simulate(&s.camera(), (16, 16), 0.1);
+    frames.simulate(&s.camera(), (16, 16), 0.75);
+    assert_eq!(frames.read_ripples().unwrap().heights, a.heights);
+}

@@ -9,7 +9,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
-use hydrolux_core::scene::{CausticMethod, WaterModel};
+use hydrolux_core::scene::CausticMethod;
 
 pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Fixed-point scale of the accumulator: 2¹⁶ per unit of relative irradiance.
@@ -57,7 +57,7 @@ pub struct CausticsPass {
 
 /// The pipelines, specialised to one surface model.
 struct Pipelines {
-    model: WaterModel,
+    model: crate::passes::surface::SurfaceKind,
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
@@ -69,7 +69,7 @@ impl Pipelines {
     fn new(
         device: &wgpu::Device,
         [frame_only, surface, layout, beam_layout]: [&wgpu::BindGroupLayout; 4],
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) -> Self {
         let constants = crate::passes::surface::specialised_to(model);
         let options =
@@ -130,7 +130,7 @@ impl CausticsPass {
         device: &wgpu::Device,
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
         caps: &crate::capabilities::Capabilities,
     ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -157,7 +157,7 @@ impl CausticsPass {
         device: &wgpu::Device,
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) {
         if model != self.pipelines.model {
             let layouts = [frame_only, surface, &self.layout, &self.beam_layout];
@@ -363,7 +363,7 @@ impl Caustics {
             &shared.device,
             &l.frame_only,
             &l.surface,
-            scene.water.model,
+            crate::passes::surface::SurfaceKind::of(scene),
             &shared.caps,
         );
         let c = &scene.caustics;
@@ -400,7 +400,12 @@ impl Technique for Caustics {
         new: &hydrolux_core::scene::Scene,
     ) -> Result<bool, crate::error::RenderError> {
         let l = &shared.layouts;
-        self.pass.specialise(&shared.device, &l.frame_only, &l.surface, new.water.model);
+        self.pass.specialise(
+            &shared.device,
+            &l.frame_only,
+            &l.surface,
+            crate::passes::surface::SurfaceKind::of(new),
+        );
         Ok(self.resize(&shared.device, new))
     }
 

@@ -22,7 +22,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
-use hydrolux_core::scene::{GodRayMethod, WaterModel};
+use hydrolux_core::scene::GodRayMethod;
 
 /// The buffer of scattered light (linear radiance, pre-exposed).
 pub const BUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -110,7 +110,7 @@ pub struct GodRaysPass {
     composite_layout: wgpu::BindGroupLayout,
     build: wgpu::ComputePipeline,
     /// The surface model `build` is specialised to.
-    model: WaterModel,
+    model: crate::passes::surface::SurfaceKind,
     ribbons: wgpu::RenderPipeline,
     march: wgpu::RenderPipeline,
     fog: wgpu::RenderPipeline,
@@ -165,7 +165,7 @@ impl GodRaysPass {
     fn build_pipeline(
         device: &wgpu::Device,
         layouts: [&wgpu::BindGroupLayout; 3],
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) -> wgpu::ComputePipeline {
         let module = shader(device, "god-ray tubes", &tubes_source());
         let constants = crate::passes::surface::specialised_to(model);
@@ -178,7 +178,7 @@ impl GodRaysPass {
         device: &wgpu::Device,
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) {
         if model != self.model {
             let layouts = [frame_only, surface, &self.build_layout];
@@ -193,7 +193,7 @@ impl GodRaysPass {
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
         hdr_format: wgpu::TextureFormat,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) -> Self {
         let (vs, fs, cs) =
             (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
@@ -543,7 +543,7 @@ impl GodRays {
             &l.frame_only,
             &l.surface,
             crate::targets::HDR_FORMAT,
-            scene.water.model,
+            crate::passes::surface::SurfaceKind::of(scene),
         );
         let tubes = pass.create_tubes(&shared.device, scene.godrays.photons);
         GodRays { pass, tubes, object_tubes: None }
@@ -572,7 +572,12 @@ impl Technique for GodRays {
         new: &hydrolux_core::scene::Scene,
     ) -> Result<bool, crate::error::RenderError> {
         let l = &shared.layouts;
-        self.pass.specialise(&shared.device, &l.frame_only, &l.surface, new.water.model);
+        self.pass.specialise(
+            &shared.device,
+            &l.frame_only,
+            &l.surface,
+            crate::passes::surface::SurfaceKind::of(new),
+        );
         self.resize(&shared.device, new);
         Ok(false)
     }

@@ -4,7 +4,6 @@
 
 use crate::gpu_util::*;
 use crate::shaders;
-use hydrolux_core::scene::WaterModel;
 use hydrolux_core::waves::SurfaceSample;
 use wgpu::util::DeviceExt;
 
@@ -15,7 +14,7 @@ pub fn source() -> String {
 pub struct ProbePass {
     layout: wgpu::BindGroupLayout,
     /// The surface model the pipelines are specialised to, as the renderer's are.
-    model: WaterModel,
+    model: crate::passes::surface::SurfaceKind,
     surface: wgpu::ComputePipeline,
     sky: wgpu::ComputePipeline,
     fresnel: wgpu::ComputePipeline,
@@ -26,7 +25,7 @@ impl ProbePass {
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -40,7 +39,7 @@ impl ProbePass {
         device: &wgpu::Device,
         [globals, surface]: [&wgpu::BindGroupLayout; 2],
         layout: wgpu::BindGroupLayout,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) -> Self {
         let module = shader(device, "probe", &source());
         let constants = crate::passes::surface::specialised_to(model);
@@ -63,7 +62,7 @@ impl ProbePass {
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) {
         if model != self.model {
             *self = Self::with_layout(device, [globals, surface], self.layout.clone(), model);

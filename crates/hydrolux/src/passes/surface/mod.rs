@@ -8,11 +8,13 @@
 use crate::error::RenderError;
 use crate::gpu_util::*;
 use crate::passes::ocean::OceanPass;
+use crate::passes::ripples::RipplePass;
 use crate::technique::{FrameContext, Shared, Stage, Technique};
 use crate::timing::GpuTimer;
 use crate::uniforms::SurfaceUniforms;
 use hydrolux_core::scene::{Choice, Scene, WaterModel};
 use hydrolux_core::waves::ocean::{OceanSettings, OceanSpectrum};
+use hydrolux_core::waves::ripples::RippleBoundary;
 use hydrolux_core::waves::sines::{MAX_SINE_WAVES, SineWaves};
 use hydrolux_core::waves::spectrum::cox_munk_slope_variance;
 use wgpu::util::DeviceExt;
@@ -38,6 +40,8 @@ pub(crate) struct Surface {
     pub moving: bool,
     /// A heightfield's texture and samples per side (x, z), for updates.
     heightfield: Option<(wgpu::Texture, u32, u32)>,
+    /// The interactive water, with `water.dynamic`.
+    pub ripples: Option<RipplePass>,
 }
 
 /// Crest reach of a surface of significant wave height `hs` (m):
@@ -54,8 +58,29 @@ fn surface_reach(scene: &Scene, hs: f64) -> (f32, f32) {
 
 impl Surface {
     /// Build the surface `scene` describes.
-    pub fn new(shared: &Shared, scene: &Scene) -> Result<Self, RenderError> {
+    pub fn new(
+        shared: &Shared,
+        scene: &Scene,
+        keep: Option<RipplePass>,
+    ) -> Result<Self, RenderError> {
         let (device, queue) = (&shared.device, &shared.queue);
+        // The simulation goes on through edits that do not touch it.
+        let ripples = match (keep, scene.ripple_settings()) {
+            (Some(r), Some(_)) if r.fits(scene) => Some(r),
+            (_, Some(settings)) => {
+                Some(RipplePass::new(device, queue, &shared.caps, scene, settings))
+            }
+            (_, None) => None,
+        };
+        let no_ripples = texture_2d(
+            device,
+            "no ripples",
+            (1, 1),
+            crate::passes::ripples::FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let ripple_view =
+            ripples.as_ref().map_or(&no_ripples, |r| &r.texture).create_view(&Default::default());
         let downsampler = &shared.downsampler;
         let layout = &shared.layouts.surface;
         let buffer = uniform_buffer(device, "surface", &SurfaceUniforms::default());
@@ -147,6 +172,10 @@ impl Surface {
                     binding: 6,
                     resource: wgpu::BindingResource::TextureView(&heightfield_view),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::TextureView(&ripple_view),
+                },
             ],
         });
         let sea = scene.sea_state();
@@ -201,7 +230,7 @@ impl Surface {
                 heightfield.as_ref().map_or(0.0, |f| 2.0 * f.max_abs() as f64)
             }
         };
-        let (vertical_reach, bounds_margin) = surface_reach(scene, hs);
+        let (vertical_reach, bounds_margin) = surface_reach(scene, hs + ripple_reach(scene));
         Ok(Surface {
             ocean_settings,
             buffer,
@@ -212,8 +241,10 @@ impl Surface {
             unresolved_variance,
             bounds_margin,
             vertical_reach,
-            moving: matches!(scene.water.model, WaterModel::Fft | WaterModel::Sines),
+            moving: matches!(scene.water.model, WaterModel::Fft | WaterModel::Sines)
+                || ripples.is_some(),
             heightfield: heightfield.is_some().then_some(heightfield_texture),
+            ripples,
         })
     }
 
@@ -271,6 +302,18 @@ impl Surface {
             u.cascade_sizes[0] = s.water.size[0];
             u.cascade_sizes[1] = s.water.size[1];
         }
+        if let Some(r) = &self.ripples {
+            let g = r.settings.grid;
+            let lo = [0, 1].map(|a| r.window.low_edge(&g, a) as f32);
+            let side = g.extent() as f32;
+            // Walls: the texture is the domain; open: it tiles from the origin.
+            let origin = match g.boundary {
+                RippleBoundary::Walls => lo,
+                _ => [0.0, 0.0],
+            };
+            u.ripple_area = [origin[0], origin[1], side, g.cell_size as f32];
+            u.ripple_window = [lo[0], lo[1], lo[0] + side, lo[1] + side];
+        }
         let model = model_index(s.water.model);
         let waves = &self.sines.waves;
         u.counts =
@@ -297,7 +340,20 @@ impl Surface {
             || scene.base_dir != old.base_dir
             || scene.render.anisotropy != old.render.anisotropy
             || scene.ocean_settings() != self.ocean_settings
+            || self.ripples.as_ref().map_or(scene.water.dynamic, |r| !r.fits(scene))
+            || scene.floor.depth != old.floor.depth
     }
+}
+
+/// How far (m) the interactive water may lift the surface: its scripted
+/// craters' rims and rings, and room for what the viewer throws in.
+fn ripple_reach(scene: &Scene) -> f64 {
+    if scene.ripple_settings().is_none() {
+        return 0.0;
+    }
+    let drops = scene.drops.iter().map(|d| d.strength.abs());
+    let rain = scene.emitters.iter().map(|e| 1.3 * e.strength.abs());
+    0.25 + drops.chain(rain).fold(0.0f32, f32::max) as f64
 }
 
 /// The shaders' index of a surface model (`surface.wgsl`: `counts.y` and
@@ -311,16 +367,35 @@ pub fn model_index(model: WaterModel) -> u32 {
     }
 }
 
+/// What pipelines that draw the surface are specialised to: its model and
+/// whether (and how) interactive water is added.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SurfaceKind {
+    pub model: WaterModel,
+    /// `RIPPLES` in `surface.wgsl`: 0 none, 1 walls, 2 open.
+    pub ripples: u32,
+}
+
+impl SurfaceKind {
+    pub fn of(scene: &Scene) -> Self {
+        let ripples = scene.ripple_settings().map_or(0, |s| match s.grid.boundary {
+            RippleBoundary::Walls => 1,
+            RippleBoundary::Open | RippleBoundary::Periodic => 2,
+        });
+        SurfaceKind { model: scene.water.model, ripples }
+    }
+}
+
 /// Pipeline constants that specialise a pipeline importing `surface` to one
-/// model (see `SURFACE_MODEL` in `surface.wgsl`); such a pipeline is rebuilt
-/// when the scene's model changes.
-pub fn specialised_to(model: WaterModel) -> [(&'static str, f64); 1] {
-    [("SURFACE_MODEL", model_index(model) as f64)]
+/// kind (see `SURFACE_MODEL` and `RIPPLES` in `surface.wgsl`); such a
+/// pipeline is rebuilt when the scene's kind changes.
+pub fn specialised_to(kind: SurfaceKind) -> [(&'static str, f64); 2] {
+    [("SURFACE_MODEL", model_index(kind.model) as f64), ("RIPPLES", kind.ripples as f64)]
 }
 
 impl Technique for Surface {
     fn create(shared: &Shared, scene: &Scene) -> Result<Self, RenderError> {
-        Surface::new(shared, scene)
+        Surface::new(shared, scene, None)
     }
 
     fn set_scene(
@@ -331,9 +406,33 @@ impl Technique for Surface {
     ) -> Result<bool, RenderError> {
         let outdated = self.outdated(new);
         if outdated {
-            *self = Surface::new(shared, new)?;
+            let keep = self.ripples.take();
+            *self = Surface::new(shared, new, keep)?;
         }
         Ok(outdated)
+    }
+
+    fn simulates(&self) -> bool {
+        self.ripples.is_some()
+    }
+
+    fn reset_state(&mut self, queue: &wgpu::Queue) {
+        if let Some(r) = &mut self.ripples {
+            r.reset(queue);
+        }
+    }
+
+    fn step(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        steps: u32,
+        _clock_dt: f64,
+    ) {
+        let Some(r) = &mut self.ripples else { return };
+        r.follow(&frame.plan.camera);
+        let shared = frame.shared;
+        r.advance(&shared.device, &shared.queue, encoder, steps, None);
     }
 
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
@@ -354,6 +453,17 @@ impl Technique for Surface {
     }
 }
 
-/// The surface's GPU work is the ocean's FFT: its shaders and uniforms.
-pub(crate) const INFO: crate::technique::TechniqueInfo =
-    crate::technique::TechniqueInfo { name: "surface", ..crate::passes::ocean::INFO };
+/// The surface's GPU work: the ocean's FFT and the interactive water.
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
+    name: "surface",
+    shaders: || {
+        let mut v = (crate::passes::ocean::INFO.shaders)();
+        v.extend((crate::passes::ripples::INFO.shaders)());
+        v
+    },
+    uniforms: || {
+        let mut v = (crate::passes::ocean::INFO.uniforms)();
+        v.extend((crate::passes::ripples::INFO.uniforms)());
+        v
+    },
+};

@@ -47,7 +47,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         case VIEW_REFRACTION: {
             mapped = tone(textureLoad(refraction_tex, scaled_texel(pos.xy, textureDimensions(refraction_tex)), 0).rgb);
         }
-        case VIEW_NORMALS: {
+        case VIEW_NORMALS, VIEW_RIPPLES: {
             mapped = textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb;
         }
         case VIEW_DEPTH: {

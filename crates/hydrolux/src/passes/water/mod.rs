@@ -6,7 +6,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use hydrolux_core::camera::Camera;
-use hydrolux_core::scene::{Scene, WaterModel};
+use hydrolux_core::scene::Scene;
 use wgpu::util::DeviceExt;
 
 /// Grid cells from a ring's centre to its edge.
@@ -162,7 +162,7 @@ pub struct WaterPass {
     /// the screen targets bind.
     pub inputs_layout: wgpu::BindGroupLayout,
     /// The surface model the pipelines are specialised to.
-    model: WaterModel,
+    model: crate::passes::surface::SurfaceKind,
 }
 
 /// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
@@ -220,7 +220,7 @@ impl WaterPass {
         surface: &wgpu::BindGroupLayout,
         inputs: &wgpu::BindGroupLayout,
         main_depth_format: wgpu::TextureFormat,
-        model: WaterModel,
+        model: crate::passes::surface::SurfaceKind,
     ) -> Self {
         let module = shader(device, "water", &source());
         let constants = crate::passes::surface::specialised_to(model);
@@ -460,7 +460,7 @@ impl Technique for WaterPass {
     ) -> Result<Self, crate::error::RenderError> {
         let (device, l) = (&shared.device, &shared.layouts);
         let inputs = WaterPass::inputs_layout(device);
-        let model = scene.water.model;
+        let model = crate::passes::surface::SurfaceKind::of(scene);
         Ok(WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format, model))
     }
 
@@ -472,10 +472,10 @@ impl Technique for WaterPass {
         _old: &Scene,
         new: &Scene,
     ) -> Result<bool, crate::error::RenderError> {
-        if new.water.model != self.model {
+        if crate::passes::surface::SurfaceKind::of(new) != self.model {
             let (device, l) = (&shared.device, &shared.layouts);
             let inputs = self.inputs_layout.clone();
-            let model = new.water.model;
+            let model = crate::passes::surface::SurfaceKind::of(new);
             *self =
                 WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format, model);
         }

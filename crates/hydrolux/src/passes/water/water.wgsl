@@ -227,6 +227,17 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
     return shafts + sun_in_scatter(0.0, t_dir, reach, s) + sky_in_scatter(0.0, t_dir, s);
 }
 
+// `render.view = "ripples"`: the interactive water's height (red up, blue
+// down, saturating at ±5 mm) lit by the surface's normal.
+fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
+    var r = zero_sample();
+    add_ripples(&r, p, 0.0);
+    let t = tanh(r.disp.y / 0.005);
+    let hue = mix(vec3<f32>(0.85), select(vec3<f32>(0.15, 0.35, 1.0), vec3<f32>(1.0, 0.25, 0.1), t > 0.0), abs(t));
+    let light = 0.35 + 0.65 * max(dot(n, normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0);
+    return vec4<f32>(hue * light, 1.0);
+}
+
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let p = in.grid_pos;
@@ -254,6 +265,9 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     }
     if (frame.modes.debug_view == VIEW_NORMALS) {
         return vec4<f32>(n * 0.5 + 0.5, 1.0);
+    }
+    if (frame.modes.debug_view == VIEW_RIPPLES) {
+        return ripple_view(p, n);
     }
     let cos_v = max(dot(n, v), 1e-3);
     let ior = frame.water.ior;
@@ -334,6 +348,9 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     }
     if (frame.modes.debug_view == VIEW_NORMALS) {
         return vec4<f32>(n * 0.5 + 0.5, 1.0);
+    }
+    if (frame.modes.debug_view == VIEW_RIPPLES) {
+        return ripple_view(g, -n);
     }
     let ior = frame.water.ior;
     let cos_v = max(dot(n, v), 1e-3);

@@ -1,0 +1,212 @@
+// Interactive water (seed 003 §2.4; Tessendorf's eWave): one step is
+// `disturb` (drops, the sponge, h + iφ conjugated into `spatial`), the
+// FFT of `spatial` (ocean/fft.wgsl: an inverse transform of the conjugate
+// is the conjugate of the forward one), `spectral` (each wave's exact
+// rotation at both depth levels), the inverse FFT of `spectral`. `publish`
+// writes the heights and slopes the surface is drawn with. Twin:
+// hydrolux_core::waves::ripples.
+#import constants, complex
+
+struct RippleParams {
+    // x domain cells N, y FFT size F, z edges (0 walls, 1 open, 2 periodic), w sponge cells
+    grid: vec4<u32>,
+    // xy world cell of the window's first cell; z first drop of this step, w drop count
+    window: vec4<i32>,
+    // x cell size (m), y step (s), z depth level 0, w depth level 1 (m)
+    space: vec4<f32>,
+    // x g (m/s²), y σ/ρ (m³/s²), z ν (m²/s), w extra damping (1/s)
+    physics: vec4<f32>,
+    // x the sponge's peak damping rate (1/s)
+    sponge: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> params: RippleParams;
+// The FFT grid, row = z: what is transformed forward (xy: conj(h + iφ)).
+@group(0) @binding(1) var<storage, read_write> spatial: array<vec4<f32>>;
+// The FFT grid: the spectrum stepped at both depth levels, then (after the
+// inverse FFT) the state per level: (h₀, φ₀, h₁, φ₁).
+@group(0) @binding(2) var<storage, read_write> spectral: array<vec4<f32>>;
+// Depth (m) per domain cell, row = z.
+@group(0) @binding(3) var<storage, read> depth: array<f32>;
+// Drops of this batch: x, z, radius, crater depth (m).
+@group(0) @binding(4) var<storage, read> drops: array<vec4<f32>>;
+// Heights per domain cell (row = z), for readbacks.
+@group(0) @binding(5) var<storage, read_write> heights: array<f32>;
+// h, ∂h/∂x, ∂h/∂z per texel (texel = grid cell of the domain's N × N).
+@group(0) @binding(6) var surface_out: texture_storage_2d<rgba16float, write>;
+
+const EDGES_WALLS: u32 = 0u;
+
+// The domain cell a grid cell holds: walls mirror (cell 2N−1−i holds i);
+// open and periodic grids hold the world cell ≡ g (mod N) in the window.
+fn domain_cell(g: vec2<u32>) -> vec2<u32> {
+    let n = params.grid.x;
+    if (params.grid.z == EDGES_WALLS) {
+        return select(vec2<u32>(2u * n - 1u) - g, g, g < vec2<u32>(n));
+    }
+    let ni = i32(n);
+    return vec2<u32>(((vec2<i32>(g) - params.window.xy) % ni + ni) % ni);
+}
+
+fn world_of(d: vec2<u32>) -> vec2<f32> {
+    return (vec2<f32>(params.window.xy + vec2<i32>(d)) + 0.5) * params.space.x;
+}
+
+fn grid_index(g: vec2<u32>) -> u32 {
+    return g.y * params.grid.y + g.x;
+}
+
+// Blend weight of depth level 1, linear in √d.
+fn depth_weight(d: f32) -> f32 {
+    let a = sqrt(params.space.z);
+    let b = sqrt(params.space.w);
+    if (b > a) {
+        return clamp((sqrt(max(d, 0.0)) - a) / (b - a), 0.0, 1.0);
+    }
+    return 0.0;
+}
+
+// (h, φ) of grid cell g: its two depth levels blended by its own depth.
+fn state(g: vec2<u32>) -> vec2<f32> {
+    let d = domain_cell(g);
+    let v = spectral[grid_index(g)];
+    return mix(v.xy, v.zw, depth_weight(depth[d.y * params.grid.x + d.x]));
+}
+
+// The crater of drop (x, z, R, s) at world point w, with its mirror images
+// in walls (volume-neutral next to a wall).
+fn drop_height(drop: vec4<f32>, w: vec2<f32>) -> f32 {
+    var images = 1;
+    if (params.grid.z == EDGES_WALLS) {
+        images = 3;
+    }
+    let lo = vec2<f32>(params.window.xy) * params.space.x;
+    let hi = lo + f32(params.grid.x) * params.space.x;
+    var dh = 0.0;
+    for (var ix = 0; ix < images; ix++) {
+        for (var iz = 0; iz < images; iz++) {
+            var c = drop.xy;
+            if (ix == 1) { c.x = 2.0 * lo.x - c.x; }
+            if (ix == 2) { c.x = 2.0 * hi.x - c.x; }
+            if (iz == 1) { c.y = 2.0 * lo.y - c.y; }
+            if (iz == 2) { c.y = 2.0 * hi.y - c.y; }
+            let r = w - c;
+            let u = dot(r, r) / (drop.z * drop.z);
+            if (u <= 16.0) {
+                dh -= drop.w * (1.0 - u) * exp(-u);
+            }
+        }
+    }
+    return dh;
+}
+
+// Per-step damping of the sponge ring of an open domain.
+fn sponge(d: vec2<u32>) -> f32 {
+    let width = params.grid.w;
+    if (width == 0u) {
+        return 1.0;
+    }
+    let n = params.grid.x;
+    let e = min(min(d.x, n - 1u - d.x), min(d.y, n - 1u - d.y));
+    if (e >= width) {
+        return 1.0;
+    }
+    if (e == 0u) {
+        return 0.0;
+    }
+    let x = f32(width - e) / f32(width);
+    return exp(-params.sponge.x * x * x * params.space.y);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
+    let f = params.grid.y;
+    if (id.x >= f || id.y >= f) {
+        return;
+    }
+    let g = id.xy;
+    let d = domain_cell(g);
+    let w = world_of(d);
+    var s = state(g);
+    let first = params.window.z;
+    for (var i = 0; i < params.window.w; i++) {
+        s.x += drop_height(drops[first + i], w);
+    }
+    s *= sponge(d);
+    spatial[grid_index(g)] = vec4<f32>(s.x, -s.y, 0.0, 0.0);
+}
+
+// One step's rotation of wave number k at depth h: (decay, cos, s_h, s_φ)
+// with h' = e·(c·h + s_h·φ), φ' = e·(c·φ − s_φ·h).
+fn rotation(k: f32, h: f32) -> vec4<f32> {
+    if (k == 0.0) {
+        return vec4<f32>(1.0, 1.0, 0.0, 0.0);
+    }
+    let dt = params.space.y;
+    let kk = k * tanh(min(k * h, 20.0));
+    let bb = params.physics.x + params.physics.y * k * k;
+    let wt = sqrt(kk * bb) * dt;
+    var sinc = 1.0;
+    if (wt > 1e-4) {
+        sinc = sin(wt) / wt;
+    }
+    let decay = exp(-(2.0 * params.physics.z * k * k + params.physics.w) * dt);
+    return vec4<f32>(decay, cos(wt), kk * dt * sinc, bb * dt * sinc);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
+    let f = params.grid.y;
+    if (id.x >= f || id.y >= f) {
+        return;
+    }
+    let i = id.y * f + id.x;
+    let m = ((f - id.y) % f) * f + (f - id.x) % f;
+    // spatial holds conj(Z): Z(k) = conj(a), conj(Z(−k)) = b.
+    let a = spatial[i].xy;
+    let b = spatial[m].xy;
+    let zk = vec2<f32>(a.x, -a.y);
+    let hk = (zk + b) * 0.5;
+    let pk = cmul(zk - b, vec2<f32>(0.0, -0.5));
+    let half = f / 2u;
+    let signed = vec2<f32>(
+        select(f32(id.x), f32(id.x) - f32(f), id.x > half),
+        select(f32(id.y), f32(id.y) - f32(f), id.y > half),
+    );
+    let k = length(signed) * TAU / (f32(f) * params.space.x);
+    let norm = 1.0 / (f32(f) * f32(f));
+    var out = vec4<f32>(0.0);
+    for (var l = 0u; l < 2u; l++) {
+        let r = rotation(k, params.space[2u + l]);
+        let h1 = (hk * r.y + pk * r.z) * r.x;
+        let p1 = (pk * r.y - hk * r.w) * r.x;
+        let z = (h1 + cmul_i(p1)) * norm;
+        if (l == 0u) {
+            out = vec4<f32>(z, out.zw);
+        } else {
+            out = vec4<f32>(out.xy, z);
+        }
+    }
+    spectral[i] = out;
+}
+
+// Per texel of the domain's N × N: heights for readbacks and the surface's
+// texture (h and central-difference slopes).
+@compute @workgroup_size(8, 8, 1)
+fn publish(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = params.grid.x;
+    let f = params.grid.y;
+    if (id.x >= n || id.y >= n) {
+        return;
+    }
+    let g = id.xy;
+    let d = domain_cell(g);
+    let h = state(g).x;
+    let east = state(vec2<u32>((g.x + 1u) % f, g.y)).x;
+    let west = state(vec2<u32>((g.x + f - 1u) % f, g.y)).x;
+    let north = state(vec2<u32>(g.x, (g.y + 1u) % f)).x;
+    let south = state(vec2<u32>(g.x, (g.y + f - 1u) % f)).x;
+    let slope = vec2<f32>(east - west, north - south) / (2.0 * params.space.x);
+    heights[d.y * n + d.x] = h;
+    textureStore(surface_out, vec2<i32>(g), vec4<f32>(h, slope, 0.0));
+}
