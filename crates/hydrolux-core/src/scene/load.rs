@@ -104,13 +104,8 @@ fn check_against_schema(
 ) -> Result<(), SceneError> {
     for (k, v) in user.iter_mut() {
         let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-        let arrays: [(&str, fn() -> Table); 3] = [
-            ("objects", || Table::try_from(super::ObjectDesc::default()).expect("serialises")),
-            ("drops", || Table::try_from(super::DropDesc::default()).expect("serialises")),
-            ("emitters", || Table::try_from(super::EmitterDesc::default()).expect("serialises")),
-        ];
-        if let Some((name, schema)) = arrays.iter().find(|(name, _)| path == *name) {
-            check_array_of_tables(v, origin, name, &schema())?;
+        if let Some(schema) = array_schema(&path) {
+            check_array_of_tables(v, origin, &path, &schema)?;
             continue;
         }
         let Some(expected) = schema.get(k) else {
@@ -123,6 +118,17 @@ fn check_against_schema(
         check_value(v, expected, &path, origin, root)?;
     }
     Ok(())
+}
+
+/// The schema of one entry of a top-level array of tables, by its name.
+fn array_schema(name: &str) -> Option<Table> {
+    let table = |t: Result<Table, _>| t.expect("a default entry serialises");
+    match name {
+        "objects" => Some(table(Table::try_from(super::ObjectDesc::default()))),
+        "drops" => Some(table(Table::try_from(super::DropDesc::default()))),
+        "emitters" => Some(table(Table::try_from(super::EmitterDesc::default()))),
+        _ => None,
+    }
 }
 
 /// `[[objects]]`, `[[drops]]`, `[[emitters]]`: an array of tables, each

@@ -111,7 +111,7 @@ impl RipplesDesc {
             (0.0..=100.0).contains(&r.damping),
             "must be 0 to 100 per second",
         )?;
-        if r.rate == 0 || r.rate > CLOCK_HZ || CLOCK_HZ % r.rate != 0 {
+        if r.rate == 0 || r.rate > CLOCK_HZ || !CLOCK_HZ.is_multiple_of(r.rate) {
             return Err(SceneError::OutOfRange {
                 key: "ripples.rate".into(),
                 value: r.rate.to_string(),
