@@ -526,6 +526,26 @@ impl Scene {
                 "must be finite angles (degrees)",
             )?;
             validate_material(&format!("objects[{i}].material"), &o.material)?;
+            range(
+                &format!("objects[{i}].density"),
+                o.density,
+                (1.0..=100_000.0).contains(&o.density),
+                "must be 1 to 100000 kg/m³ (water: 1000)",
+            )?;
+            vec3_range(
+                &format!("objects[{i}].velocity"),
+                o.velocity,
+                1000.0,
+                "must be finite, each component within ±1000 m/s",
+            )?;
+            let moving = o.dynamic || o.velocity.iter().any(|&v| v != 0.0);
+            if moving && crate::bodies::Shape::of(o).is_none() {
+                return Err(SceneError::OutOfRange {
+                    key: format!("objects[{i}].dynamic"),
+                    value: if o.dynamic { "true".into() } else { format!("velocity {:?}", o.velocity) },
+                    allowed: "moving objects are sphere (equal scale), box or cylinder (equal x and z scale) primitives".into(),
+                });
+            }
         }
         Ok(())
     }

@@ -495,6 +495,14 @@ pub struct ObjectDesc {
     pub rotation_deg: [f32; 3],
     pub scale: [f32; 3],
     pub material: MaterialDesc,
+    /// Moved by rigid-body physics (a sphere, box or cylinder primitive):
+    /// gravity, contacts, and buoyancy and drag from the water it is in.
+    pub dynamic: bool,
+    /// Density (kg/m³) of a dynamic object (water: 1000).
+    pub density: f32,
+    /// Velocity (m/s): a dynamic object's at the start; any other object
+    /// keeps it, moving steadily through the scene (a boat crossing).
+    pub velocity: [f32; 3],
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -966,6 +974,9 @@ impl Default for ObjectDesc {
             rotation_deg: [0.0; 3],
             scale: [1.0; 3],
             material: MaterialDesc::default(),
+            dynamic: false,
+            density: 500.0,
+            velocity: [0.0; 3],
         }
     }
 }

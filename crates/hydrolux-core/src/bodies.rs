@@ -1,0 +1,573 @@
+//! Rigid bodies in the water (seed 003 §2.4, two-way coupling of objects
+//! and heightfields): rapier3d moves the scene's dynamic objects (contacts
+//! with the floor, static objects and each other); buoyancy and drag come
+//! from the water surface handed in (the one the GPU draws: the surface
+//! model plus the interactive water), integrated column by column over each
+//! body's footprint. A body's columns are also what it gives to or takes
+//! from the water each step (`waves::ripples`): the GPU twin is
+//! `body_column` in `passes/ripples/ripples.wgsl`.
+
+use crate::scene::{ObjectDesc, Primitive, Scene};
+use glam::{DQuat, DVec3};
+use rapier3d::prelude as rp;
+
+/// Density of water (kg/m³).
+pub const WATER_DENSITY: f64 = 1000.0;
+
+/// A body's shape in its own frame (centred on its origin).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    Sphere {
+        radius: f64,
+    },
+    Box {
+        half: DVec3,
+    },
+    /// Axis along the body's y.
+    Cylinder {
+        radius: f64,
+        half_height: f64,
+    },
+}
+
+impl Shape {
+    /// The shape of a primitive object (`None` for meshes, planes and
+    /// scalings a shape cannot follow, e.g. a squashed sphere).
+    pub fn of(o: &ObjectDesc) -> Option<Shape> {
+        if !o.mesh.is_empty() {
+            return None;
+        }
+        let s = o.scale.map(|c| c.abs() as f64);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.max(b);
+        match o.primitive {
+            Primitive::Sphere if close(s[0], s[1]) && close(s[1], s[2]) => {
+                Some(Shape::Sphere { radius: 0.5 * s[0] })
+            }
+            Primitive::Box => Some(Shape::Box { half: DVec3::from(s) * 0.5 }),
+            Primitive::Cylinder if close(s[0], s[2]) => {
+                Some(Shape::Cylinder { radius: 0.5 * s[0], half_height: 0.5 * s[1] })
+            }
+            _ => None,
+        }
+    }
+
+    pub fn volume(&self) -> f64 {
+        use std::f64::consts::PI;
+        match *self {
+            Shape::Sphere { radius } => 4.0 / 3.0 * PI * radius.powi(3),
+            Shape::Box { half } => 8.0 * half.x * half.y * half.z,
+            Shape::Cylinder { radius, half_height } => PI * radius * radius * 2.0 * half_height,
+        }
+    }
+
+    /// Radius of a sphere around the shape.
+    pub fn bounding_radius(&self) -> f64 {
+        match *self {
+            Shape::Sphere { radius } => radius,
+            Shape::Box { half } => half.length(),
+            Shape::Cylinder { radius, half_height } => radius.hypot(half_height),
+        }
+    }
+
+    /// The code of the shape in the shaders (`BODY_*` in ripples.wgsl) and
+    /// its three size parameters.
+    pub fn gpu(&self) -> (u32, [f32; 3]) {
+        match *self {
+            Shape::Sphere { radius } => (0, [radius as f32, 0.0, 0.0]),
+            Shape::Box { half } => (1, half.as_vec3().to_array()),
+            Shape::Cylinder { radius, half_height } => {
+                (2, [radius as f32, half_height as f32, 0.0])
+            }
+        }
+    }
+}
+
+/// Where a body is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    pub position: DVec3,
+    pub rotation: DQuat,
+}
+
+impl Pose {
+    pub fn matrix(&self, scale: [f32; 3]) -> glam::Mat4 {
+        glam::Mat4::from_scale_rotation_translation(
+            scale.into(),
+            self.rotation.as_quat(),
+            self.position.as_vec3(),
+        )
+    }
+}
+
+/// The vertical extent [y0, y1] of `shape` at `pose` over the column at
+/// world (x, z), or `None` if the column misses it.
+pub fn body_column(shape: &Shape, pose: &Pose, x: f64, z: f64) -> Option<(f64, f64)> {
+    // A downward ray from just above the body, in the body's frame.
+    let top = pose.position.y + shape.bounding_radius() + 1.0;
+    let inv = pose.rotation.inverse();
+    let o = inv * (DVec3::new(x, top, z) - pose.position);
+    let d = inv * DVec3::NEG_Y;
+    let (t0, t1) = match *shape {
+        Shape::Sphere { radius } => {
+            let b = o.dot(d);
+            let c = o.length_squared() - radius * radius;
+            let disc = b * b - c;
+            if disc < 0.0 {
+                return None;
+            }
+            let s = disc.sqrt();
+            (-b - s, -b + s)
+        }
+        Shape::Box { half } => slab(o, d, -half, half)?,
+        Shape::Cylinder { radius, half_height } => {
+            let (a, b, c) = (
+                d.x * d.x + d.z * d.z,
+                o.x * d.x + o.z * d.z,
+                o.x * o.x + o.z * o.z - radius * radius,
+            );
+            let (mut t0, mut t1) = if a < 1e-12 {
+                if c > 0.0 {
+                    return None;
+                }
+                (f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                let disc = b * b - a * c;
+                if disc < 0.0 {
+                    return None;
+                }
+                let s = disc.sqrt();
+                ((-b - s) / a, (-b + s) / a)
+            };
+            if d.y.abs() < 1e-12 {
+                if o.y.abs() > half_height {
+                    return None;
+                }
+            } else {
+                let (ya, yb) = ((-half_height - o.y) / d.y, (half_height - o.y) / d.y);
+                t0 = t0.max(ya.min(yb));
+                t1 = t1.min(ya.max(yb));
+            }
+            if t0 > t1 {
+                return None;
+            }
+            (t0, t1)
+        }
+    };
+    Some((top - t1, top - t0))
+}
+
+fn slab(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
+    let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
+    for a in 0..3 {
+        if d[a].abs() < 1e-12 {
+            if o[a] < lo[a] || o[a] > hi[a] {
+                return None;
+            }
+        } else {
+            let (ta, tb) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+        }
+    }
+    (t0 <= t1).then_some((t0, t1))
+}
+
+/// The part of a body below the water.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Submerged {
+    /// m³
+    pub volume: f64,
+    /// Centre of buoyancy (world).
+    pub centroid: DVec3,
+    /// Area (m²) of the body's cut by the water surface.
+    pub waterplane: f64,
+}
+
+/// Columns per side of the footprint grid buoyancy is integrated over.
+pub const BUOYANCY_COLUMNS: usize = 32;
+
+/// Submerged volume and centre of buoyancy of `shape` at `pose` under the
+/// surface `water(x, z)` (height, m): the midpoint rule over a grid of
+/// columns across the body's footprint, each column exact.
+pub fn submerged(shape: &Shape, pose: &Pose, water: &dyn Fn(f64, f64) -> f64) -> Submerged {
+    let r = shape.bounding_radius();
+    let n = BUOYANCY_COLUMNS;
+    let cell = 2.0 * r / n as f64;
+    let mut s = Submerged::default();
+    let mut moment = DVec3::ZERO;
+    for j in 0..n {
+        for i in 0..n {
+            let x = pose.position.x - r + (i as f64 + 0.5) * cell;
+            let z = pose.position.z - r + (j as f64 + 0.5) * cell;
+            let Some((y0, y1)) = body_column(shape, pose, x, z) else { continue };
+            let h = water(x, z);
+            let top = h.min(y1);
+            if top <= y0 {
+                continue;
+            }
+            let v = (top - y0) * cell * cell;
+            s.volume += v;
+            moment += DVec3::new(x, 0.5 * (y0 + top), z) * v;
+            if h > y0 && h < y1 {
+                s.waterplane += cell * cell;
+            }
+        }
+    }
+    if s.volume > 0.0 {
+        s.centroid = moment / s.volume;
+    }
+    s
+}
+
+/// A body of the scene that moves.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// Its `[[objects]]` index.
+    pub object: usize,
+    pub shape: Shape,
+    /// Simulated (true) or moved at a constant velocity (false: kinematic).
+    pub dynamic: bool,
+    pub density: f64,
+    handle: rp::RigidBodyHandle,
+    /// Constant velocity of a kinematic body (m/s).
+    velocity: DVec3,
+}
+
+/// What a body's state is, for dumps and the viewer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyState {
+    pub object: usize,
+    pub pose: Pose,
+    pub velocity: DVec3,
+    pub angular_velocity: DVec3,
+    pub submerged: f64,
+}
+
+/// Drag coefficient of a sphere at the Reynolds numbers of a floating ball.
+const DRAG_SPHERE: f64 = 0.47;
+const DRAG_BLUFF: f64 = 1.0;
+/// Damping of heave, as a fraction of critical: the energy a bobbing body
+/// radiates as waves (the interactive water carries the waves, but not
+/// their reaction on the body).
+const HEAVE_DAMPING: f64 = 0.15;
+
+/// The scene's moving bodies in a rapier3d world with its static objects
+/// and floor.
+pub struct BodyWorld {
+    pub bodies: Vec<Body>,
+    set: rp::RigidBodySet,
+    colliders: rp::ColliderSet,
+    pipeline: rp::PhysicsPipeline,
+    islands: rp::IslandManager,
+    broad_phase: rp::BroadPhaseBvh,
+    narrow_phase: rp::NarrowPhase,
+    impulse_joints: rp::ImpulseJointSet,
+    multibody_joints: rp::MultibodyJointSet,
+    soft_bodies: rp::SoftBodySet,
+    ccd: rp::CCDSolver,
+    params: rp::IntegrationParameters,
+    /// Steps taken.
+    pub steps: u64,
+}
+
+fn v3(v: DVec3) -> rp::Vector {
+    rp::Vector::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+fn dv3(v: rp::Vector) -> DVec3 {
+    DVec3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+fn collider(shape: &Shape) -> rp::ColliderBuilder {
+    match *shape {
+        Shape::Sphere { radius } => rp::ColliderBuilder::ball(radius as f32),
+        Shape::Box { half } => {
+            rp::ColliderBuilder::cuboid(half.x as f32, half.y as f32, half.z as f32)
+        }
+        Shape::Cylinder { radius, half_height } => {
+            rp::ColliderBuilder::cylinder(half_height as f32, radius as f32)
+        }
+    }
+}
+
+impl BodyWorld {
+    /// The world of `scene`'s moving objects (`None` if nothing moves),
+    /// stepping `dt` s at a time.
+    pub fn new(scene: &Scene, dt: f64) -> Option<Self> {
+        let moving = |o: &ObjectDesc| o.dynamic || o.velocity.iter().any(|&v| v != 0.0);
+        if !scene.objects.iter().any(moving) {
+            return None;
+        }
+        let mut set = rp::RigidBodySet::new();
+        let mut colliders = rp::ColliderSet::new();
+        if scene.floor.depth > 0.0 {
+            let floor = rp::ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(rp::Vector::Y)).translation(rp::Vector::new(
+                0.0,
+                -scene.floor.depth,
+                0.0,
+            ));
+            colliders.insert(floor.build());
+        }
+        let mut bodies = Vec::new();
+        for (i, o) in scene.objects.iter().enumerate() {
+            let transform = Scene::object_transform(o);
+            let (_, rotation, position) = transform.to_scale_rotation_translation();
+            let pose = rp::Pose::from_parts(position.to_array().into(), rotation_of(rotation));
+            let shape = Shape::of(o);
+            if !moving(o) {
+                // A static obstacle: its exact shape, or the box around a mesh.
+                let c = match shape {
+                    Some(s) => collider(&s),
+                    None => {
+                        let h = o.scale.map(|c| 0.5 * c.abs());
+                        rp::ColliderBuilder::cuboid(h[0], h[1], h[2])
+                    }
+                };
+                colliders.insert(c.position(pose).build());
+                continue;
+            }
+            let shape = shape?;
+            let velocity = DVec3::from(o.velocity.map(|c| c as f64));
+            let builder = if o.dynamic {
+                rp::RigidBodyBuilder::dynamic().linvel(v3(velocity)).angular_damping(0.5)
+            } else {
+                rp::RigidBodyBuilder::kinematic_velocity_based().linvel(v3(velocity))
+            };
+            let handle = set.insert(builder.pose(pose).can_sleep(false).build());
+            colliders.insert_with_parent(
+                collider(&shape).density(o.density).friction(0.4).restitution(0.1).build(),
+                handle,
+                &mut set,
+            );
+            bodies.push(Body {
+                object: i,
+                shape,
+                dynamic: o.dynamic,
+                density: o.density as f64,
+                handle,
+                velocity,
+            });
+        }
+        let params = rp::IntegrationParameters { dt: dt as f32, ..Default::default() };
+        Some(BodyWorld {
+            bodies,
+            set,
+            colliders,
+            pipeline: rp::PhysicsPipeline::new(),
+            islands: rp::IslandManager::new(),
+            broad_phase: rp::BroadPhaseBvh::new(),
+            narrow_phase: rp::NarrowPhase::new(),
+            impulse_joints: rp::ImpulseJointSet::new(),
+            multibody_joints: rp::MultibodyJointSet::new(),
+            soft_bodies: rp::SoftBodySet::new(),
+            ccd: rp::CCDSolver::new(),
+            params,
+            steps: 0,
+        })
+    }
+
+    fn pose_of(&self, b: &Body) -> Pose {
+        let p = self.set[b.handle].position();
+        let q = p.rotation;
+        Pose {
+            position: dv3(p.translation),
+            rotation: DQuat::from_xyzw(q.x as f64, q.y as f64, q.z as f64, q.w as f64),
+        }
+    }
+
+    /// Every moving body's state.
+    pub fn states(&self, water: &dyn Fn(f64, f64) -> f64) -> Vec<BodyState> {
+        self.bodies
+            .iter()
+            .map(|b| {
+                let rb = &self.set[b.handle];
+                let pose = self.pose_of(b);
+                BodyState {
+                    object: b.object,
+                    pose,
+                    velocity: dv3(rb.linvel()),
+                    angular_velocity: dv3(rb.angvel()),
+                    submerged: submerged(&b.shape, &pose, water).volume,
+                }
+            })
+            .collect()
+    }
+
+    pub fn poses(&self) -> Vec<Pose> {
+        self.bodies.iter().map(|b| self.pose_of(b)).collect()
+    }
+
+    /// One step: buoyancy and drag from the water surface `water(x, z)`,
+    /// then rapier's step (gravity, contacts).
+    pub fn step(&mut self, water: &dyn Fn(f64, f64) -> f64) {
+        let g = crate::waves::dispersion::GRAVITY;
+        for b in &self.bodies {
+            let pose = self.pose_of(b);
+            let rb = &mut self.set[b.handle];
+            if !b.dynamic {
+                rb.set_linvel(v3(b.velocity), true);
+                continue;
+            }
+            rb.reset_forces(true);
+            let sub = submerged(&b.shape, &pose, water);
+            if sub.volume <= 0.0 {
+                continue;
+            }
+            let r = sub.centroid - pose.position;
+            let v = dv3(rb.linvel()) + dv3(rb.angvel()).cross(r);
+            let mass = b.density * b.shape.volume();
+            let fraction = (sub.volume / b.shape.volume()).min(1.0);
+            let radius = b.shape.bounding_radius();
+            let cd = if matches!(b.shape, Shape::Sphere { .. }) { DRAG_SPHERE } else { DRAG_BLUFF };
+            let area = std::f64::consts::PI * radius * radius * fraction;
+            let drag = -0.5 * WATER_DENSITY * cd * area * v.length() * v;
+            let stiffness = WATER_DENSITY * g * sub.waterplane;
+            let heave = -2.0 * HEAVE_DAMPING * (stiffness * mass).sqrt() * v.y;
+            let force = DVec3::Y * (WATER_DENSITY * g * sub.volume + heave) + drag;
+            rb.add_force_at_point(v3(force), v3(sub.centroid), true);
+        }
+        self.pipeline.step(
+            rp::Vector::new(0.0, -g as f32, 0.0),
+            &self.params,
+            &mut self.islands,
+            &mut self.broad_phase,
+            &mut self.narrow_phase,
+            &mut self.set,
+            &mut self.colliders,
+            &mut self.impulse_joints,
+            &mut self.multibody_joints,
+            &mut self.soft_bodies,
+            &mut self.ccd,
+            &(),
+            &(),
+        );
+        self.steps += 1;
+    }
+
+    /// Move body `i` towards `target` (the viewer's drag): its velocity is
+    /// set to cover the distance in `over` seconds.
+    pub fn pull(&mut self, i: usize, target: DVec3, over: f64) {
+        let Some(b) = self.bodies.get(i) else { return };
+        let pose = self.pose_of(b);
+        let rb = &mut self.set[b.handle];
+        rb.set_linvel(v3((target - pose.position) / over.max(1e-3)), true);
+        rb.set_angvel(rp::Vector::ZERO, true);
+    }
+}
+
+fn rotation_of(q: glam::Quat) -> rp::Rotation {
+    rp::Rotation::from_xyzw(q.x, q.y, q.z, q.w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    fn flat(_: f64, _: f64) -> f64 {
+        0.0
+    }
+
+    #[test]
+    fn columns_are_exact_for_each_shape() {
+        let at = |p: DVec3| Pose { position: p, rotation: DQuat::IDENTITY };
+        let s = Shape::Sphere { radius: 0.5 };
+        let (y0, y1) = body_column(&s, &at(DVec3::new(1.0, 2.0, 0.0)), 1.3, 0.0).unwrap();
+        let half = (0.25f64 - 0.09).sqrt();
+        assert!((y0 - (2.0 - half)).abs() < 1e-9 && (y1 - (2.0 + half)).abs() < 1e-9);
+        assert!(body_column(&s, &at(DVec3::ZERO), 0.6, 0.0).is_none());
+        // A box turned 90° about z: its x extent is now vertical.
+        let b = Shape::Box { half: DVec3::new(1.0, 0.2, 0.3) };
+        let turned = Pose { position: DVec3::ZERO, rotation: DQuat::from_rotation_z(PI / 2.0) };
+        let (y0, y1) = body_column(&b, &turned, 0.1, 0.0).unwrap();
+        assert!((y0 + 1.0).abs() < 1e-9 && (y1 - 1.0).abs() < 1e-9, "{y0} {y1}");
+        let c = Shape::Cylinder { radius: 0.5, half_height: 1.0 };
+        let (y0, y1) = body_column(&c, &at(DVec3::ZERO), 0.3, 0.2).unwrap();
+        assert!((y0 + 1.0).abs() < 1e-9 && (y1 - 1.0).abs() < 1e-9);
+        assert!(body_column(&c, &at(DVec3::ZERO), 0.4, 0.4).is_none());
+    }
+
+    #[test]
+    fn submerged_volume_matches_closed_forms() {
+        // A half-submerged sphere, a spherical cap, a box at 30% draft.
+        let r = 0.4;
+        let s = Shape::Sphere { radius: r };
+        let at = |y: f64| Pose { position: DVec3::new(0.3, y, -0.2), rotation: DQuat::IDENTITY };
+        let half = submerged(&s, &at(0.0), &flat);
+        assert!((half.volume - s.volume() / 2.0).abs() < 0.01 * s.volume(), "{half:?}");
+        assert!((half.centroid.y + 3.0 * r / 8.0).abs() < 0.01, "centroid {:?}", half.centroid);
+        let d = 0.15;
+        let cap = submerged(&s, &at(r - d), &flat).volume;
+        let exact = PI * d * d * (3.0 * r - d) / 3.0;
+        assert!((cap - exact).abs() < 0.02 * exact, "cap {cap} vs {exact}");
+        let b = Shape::Box { half: DVec3::new(0.5, 0.5, 0.25) };
+        let v = submerged(&b, &at(0.2), &flat).volume;
+        assert!((v - 0.3 * b.volume()).abs() < 0.01 * b.volume(), "box {v}");
+    }
+
+    fn floating_sphere(density: f32) -> Scene {
+        Scene::from_toml(
+            &format!(
+                "[water]\nmodel = \"flat\"\n[floor]\ndepth = 2.0\n[[objects]]\nprimitive = \"sphere\"\n\
+                 position = [0.0, 0.6, 0.0]\nscale = [0.5, 0.5, 0.5]\ndynamic = true\ndensity = {density}\n"
+            ),
+            "test",
+            &[],
+        )
+        .unwrap()
+    }
+
+    /// Draft d of a sphere of radius r and density ρ: the cap below the
+    /// water, π·d²·(3r − d)/3, weighs as much as the sphere (bisection).
+    fn archimedes_draft(r: f64, density: f64) -> f64 {
+        let target = density / WATER_DENSITY * 4.0 / 3.0 * PI * r.powi(3);
+        let (mut lo, mut hi) = (0.0, 2.0 * r);
+        for _ in 0..60 {
+            let d = 0.5 * (lo + hi);
+            if PI * d * d * (3.0 * r - d) / 3.0 < target {
+                lo = d;
+            } else {
+                hi = d;
+            }
+        }
+        lo
+    }
+
+    #[test]
+    fn spheres_float_at_the_draft_archimedes_gives_and_settle() {
+        for density in [250.0f32, 500.0, 800.0] {
+            let scene = floating_sphere(density);
+            let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+            let mut heights = Vec::new();
+            for _ in 0..60 * 20 {
+                world.step(&flat);
+                heights.push(world.poses()[0].position.y);
+            }
+            let r = 0.25;
+            let draft = r - heights.last().unwrap();
+            let expected = archimedes_draft(r, density as f64);
+            assert!(
+                (draft - expected).abs() < 0.02 * 2.0 * r,
+                "density {density}: draft {draft:.4} m, Archimedes {expected:.4} m"
+            );
+            // It bobbed (it was dropped from above) and settled.
+            let lowest = heights.iter().cloned().fold(f64::MAX, f64::min);
+            assert!(lowest < r - expected - 0.02, "density {density}: it never dipped ({lowest})");
+            let last_second = &heights[heights.len() - 60..];
+            let spread = last_second.iter().cloned().fold(f64::MIN, f64::max)
+                - last_second.iter().cloned().fold(f64::MAX, f64::min);
+            assert!(spread < 1e-3, "density {density}: still bobbing by {spread} m");
+        }
+    }
+
+    #[test]
+    fn a_sphere_denser_than_water_sinks_to_the_floor() {
+        let scene = floating_sphere(1500.0);
+        let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+        for _ in 0..60 * 10 {
+            world.step(&flat);
+        }
+        let y = world.poses()[0].position.y;
+        assert!((y - (-2.0 + 0.25)).abs() < 0.02, "resting on the floor at y = {y}");
+    }
+}
