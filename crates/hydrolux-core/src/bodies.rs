@@ -301,11 +301,9 @@ impl BodyWorld {
         let mut set = rp::RigidBodySet::new();
         let mut colliders = rp::ColliderSet::new();
         if scene.floor.depth > 0.0 {
-            let floor = rp::ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(rp::Vector::Y)).translation(rp::Vector::new(
-                0.0,
-                -scene.floor.depth,
-                0.0,
-            ));
+            let floor =
+                rp::ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(rp::Vector::Y))
+                    .translation(rp::Vector::new(0.0, -scene.floor.depth, 0.0));
             colliders.insert(floor.build());
         }
         let mut bodies = Vec::new();
@@ -442,6 +440,16 @@ impl BodyWorld {
             &(),
         );
         self.steps += 1;
+    }
+
+    /// Put body `i` at `position`, at rest and upright.
+    pub fn place(&mut self, i: usize, position: DVec3) {
+        let Some(b) = self.bodies.get(i) else { return };
+        let rb = &mut self.set[b.handle];
+        rb.set_translation(v3(position), true);
+        rb.set_rotation(rp::Rotation::IDENTITY, true);
+        rb.set_linvel(rp::Vector::ZERO, true);
+        rb.set_angvel(rp::Vector::ZERO, true);
     }
 
     /// Move body `i` towards `target` (the viewer's drag): its velocity is

@@ -162,7 +162,7 @@ impl Renderer {
     /// heights (m) over its domain, row = z, col = x, and where the domain
     /// lies; `None` without `water.dynamic`.
     pub fn read_ripples(&self) -> Option<RippleField> {
-        let r = self.techniques.surface.ripples.as_ref()?;
+        let r = self.techniques.surface.dynamics.as_ref()?.ripples.as_ref()?;
         let g = r.settings.grid;
         Some(RippleField {
             cells: g.cells as u32,

@@ -10,6 +10,7 @@ use crate::gpu_util::*;
 use crate::passes::geometry::{GeometryPass, Winding};
 use crate::passes::mips::Downsampler;
 use crate::passes::probe::ProbePass;
+use crate::passes::ripples::dynamics::Dynamics;
 use crate::plan::{FramePlan, World};
 use crate::registry::Techniques;
 use crate::targets::{TargetSettings, Targets};
@@ -248,9 +249,9 @@ impl Renderer {
         }
         // A new simulation of the interactive water starts from still water
         // and catches up with the clock's time on the next frame.
-        let ripples_restart = match &self.techniques.surface.ripples {
-            Some(r) => !r.fits(scene),
-            None => scene.ripple_settings().is_some(),
+        let ripples_restart = match &self.techniques.surface.dynamics {
+            Some(d) => !d.fits(scene),
+            None => Dynamics::new_needed(scene),
         };
         if ripples_restart {
             self.clock.reset();
@@ -375,6 +376,12 @@ impl Renderer {
             t.prepare(queue, &frame);
         }
         record_simulation_steps(&mut self.techniques, &self.clock, encoder, &frame);
+        // Bodies the simulation moved are drawn where they are now.
+        if let Some(d) = &self.techniques.surface.dynamics {
+            for (i, transform) in d.transforms() {
+                self.shared.geometry.move_object(queue, i, transform);
+            }
+        }
         let mut timer = if self.timing && output.is_some() { self.timer.as_mut() } else { None };
         if let Some(t) = timer.as_deref_mut() {
             t.begin_frame();
@@ -415,7 +422,10 @@ impl Renderer {
     /// and depth `strength` (m) lands in its next step (a click in the
     /// viewer, a thrown stone). Returns false without `water.dynamic`.
     pub fn disturb(&mut self, x: f32, z: f32, radius: f32, strength: f32) -> bool {
-        let Some(r) = &mut self.techniques.surface.ripples else { return false };
+        let Some(r) = self.techniques.surface.dynamics.as_mut().and_then(|d| d.ripples.as_mut())
+        else {
+            return false;
+        };
         r.disturb(hydrolux_core::waves::ripples::Drop {
             x: x as f64,
             z: z as f64,
@@ -423,6 +433,27 @@ impl Renderer {
             strength: strength as f64,
         });
         true
+    }
+
+    /// The moving bodies now: position, orientation, velocities and
+    /// submerged volume of each (empty if nothing moves).
+    pub fn bodies(&self) -> Vec<hydrolux_core::bodies::BodyState> {
+        self.techniques.surface.dynamics.as_ref().map_or(Vec::new(), |d| d.states())
+    }
+
+    /// Pull moving body `i` (in [`Renderer::bodies`] order) towards world
+    /// `target` over the next steps: the viewer's drag.
+    pub fn pull_body(&mut self, i: usize, target: glam::Vec3) {
+        if let Some(d) = &mut self.techniques.surface.dynamics {
+            d.pull(i, target.as_dvec3());
+        }
+    }
+
+    /// Put moving body `i` at world `position`, at rest (drop it from there).
+    pub fn place_body(&mut self, i: usize, position: glam::Vec3) {
+        if let Some(d) = &mut self.techniques.surface.dynamics {
+            d.place(i, position.as_dvec3());
+        }
     }
 
     /// Start stateful simulations again from their initial state; the next

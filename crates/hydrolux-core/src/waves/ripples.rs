@@ -176,6 +176,28 @@ pub fn drop_height(grid: &RippleGrid, window: &RippleWindow, drop: &Drop, w: [f6
     dh
 }
 
+/// A body's move during one step: the water its columns take up below
+/// the surface is given to the water where it enters and taken back where
+/// it leaves (a dropped ball makes rings, a hull a bow wave and a wake).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyMove {
+    pub shape: crate::bodies::Shape,
+    pub before: crate::bodies::Pose,
+    pub after: crate::bodies::Pose,
+}
+
+impl BodyMove {
+    /// Δh at world (x, z) whose surface is at `h`: the change of the
+    /// body's submerged thickness in that column. Twin of `body_height` in WGSL.
+    pub fn height(&self, x: f64, z: f64, h: f64) -> f64 {
+        let wet = |pose: &crate::bodies::Pose| {
+            crate::bodies::body_column(&self.shape, pose, x, z)
+                .map_or(0.0, |(y0, y1)| (h.min(y1) - y0).max(0.0))
+        };
+        wet(&self.after) - wet(&self.before)
+    }
+}
+
 /// Where the domain lies in the world: its centre (m). A walled domain
 /// stays put; an open one may follow the camera, snapped to whole cells.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -350,12 +372,21 @@ impl RippleSim {
     /// One step: the disturbances first (drops, the sponge), then the
     /// exact rotation of every wave.
     pub fn step(&mut self, drops: &[Drop]) {
+        self.step_with(drops, &[]);
+    }
+
+    /// A step with bodies moving through the water.
+    pub fn step_with(&mut self, drops: &[Drop], bodies: &[BodyMove]) {
         let (grid, dt) = (self.settings.grid, self.settings.dt);
         let f = self.f();
         for q in 0..f {
             for p in 0..f {
                 let (d, w) = domain_cell(&grid, &self.window, [p, q]);
                 let i = q * f + p;
+                let h = self.h[i];
+                for b in bodies {
+                    self.h[i] += b.height(w[0], w[1], h);
+                }
                 for drop in drops {
                     self.h[i] += drop_height(&grid, &self.window, drop, w);
                 }

@@ -50,6 +50,9 @@ struct GpuObject {
     indices: std::ops::Range<u32>,
     base_vertex: i32,
     group: wgpu::BindGroup,
+    /// Its uniforms, rewritten when it moves.
+    buffer: wgpu::Buffer,
+    uniforms: ObjectUniforms,
     /// A clear refractive object (`material.ior` > 0): drawn by water_object.
     refractive: bool,
 }
@@ -62,11 +65,30 @@ pub enum Objects {
     All,
 }
 
+impl SceneGeometry {
+    /// Put `[[objects]]` entry `index` at `transform` (a moving body) from
+    /// the next frame on.
+    pub fn move_object(&self, queue: &wgpu::Queue, index: usize, transform: glam::Mat4) {
+        let Some(o) = self.objects.get(self.first_object + index) else { return };
+        let normal = glam::Mat3::from_mat4(transform).inverse().transpose();
+        let mut u = o.uniforms;
+        u.model = transform.to_cols_array_2d();
+        u.normal_matrix = [
+            normal.x_axis.extend(0.0).into(),
+            normal.y_axis.extend(0.0).into(),
+            normal.z_axis.extend(0.0).into(),
+        ];
+        queue.write_buffer(&o.buffer, 0, bytemuck::bytes_of(&u));
+    }
+}
+
 /// The scene's meshes on the GPU.
 pub struct SceneGeometry {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     objects: Vec<GpuObject>,
+    /// Entries of `objects` before the scene's `[[objects]]` (the floor).
+    first_object: usize,
     /// Union of the shadow casters' boxes (`None`: nothing casts shadows).
     pub shadow_bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// Union of the refractive objects' boxes (`None`: there are none).
@@ -314,6 +336,8 @@ impl GeometryPass {
                 indices: first..indices.len() as u32,
                 base_vertex,
                 group,
+                buffer,
+                uniforms: u,
                 refractive: m.ior > 0.0,
             });
         }
@@ -339,6 +363,7 @@ impl GeometryPass {
                 wgpu::BufferUsages::INDEX,
             ),
             triangle_count: (indices.len() - 1) / 3,
+            first_object: built.len() - scene.objects.len(),
             objects,
             shadow_bounds,
             refractive_bounds,

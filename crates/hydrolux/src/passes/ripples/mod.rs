@@ -5,15 +5,18 @@
 //! surface model (`shaders/surface.wgsl`, `RIPPLES`). Physics, boundaries
 //! and the step are described with the CPU twin,
 //! `hydrolux_core::waves::ripples`; `ripples.wgsl` follows it line by line.
+//! `dynamics.rs` steps it together with the bodies floating in it.
+
+pub mod dynamics;
 
 use crate::gpu_util::*;
 use crate::shaders;
 use crate::timing::GpuTimer;
 use crate::uniforms::uniform;
-use hydrolux_core::scene::{CLOCK_HZ, Scene};
+use hydrolux_core::scene::Scene;
 use hydrolux_core::waves::dispersion::GRAVITY;
 use hydrolux_core::waves::ripples::{
-    Drop, RippleBoundary, RippleSettings, RippleWindow, sponge_rate,
+    BodyMove, Drop, RippleBoundary, RippleSettings, RippleWindow, sponge_rate,
 };
 
 uniform! { RippleParams;
@@ -24,6 +27,7 @@ uniform! { RippleParams;
         pub space: [f32; 4],
         pub physics: [f32; 4],
         pub sponge: [f32; 4],
+        pub bodies: [i32; 4],
     }
 }
 
@@ -47,16 +51,44 @@ pub fn edges_index(b: RippleBoundary) -> u32 {
 
 /// Slots of the per-step uniforms, each at the device's dynamic-offset alignment.
 const SLOTS: u64 = 256;
+/// Steps one [`RipplePass::record`] takes at most (one slot is the publish's).
+pub const MAX_STEPS: usize = SLOTS as usize - 1;
+
+/// What disturbs the water in one step.
+#[derive(Clone, Debug, Default)]
+pub struct StepInput {
+    pub drops: Vec<Drop>,
+    pub moves: Vec<BodyMove>,
+}
+
+/// A body move as the shader's `BodyMove`.
+fn gpu_move(m: &BodyMove) -> [[f32; 4]; 5] {
+    let (code, size) = m.shape.gpu();
+    let pos = |p: &hydrolux_core::bodies::Pose| p.position.as_vec3().extend(0.0).to_array();
+    let rot = |p: &hydrolux_core::bodies::Pose| p.rotation.as_quat().to_array();
+    [
+        [size[0], size[1], size[2], code as f32],
+        pos(&m.before),
+        rot(&m.before),
+        pos(&m.after),
+        rot(&m.after),
+    ]
+}
+
+fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
 
 pub struct RipplePass {
     pub settings: RippleSettings,
     /// The scene whose drops and emitters are scripted.
     scene: Scene,
     pub window: RippleWindow,
-    /// Clock steps (of 1/120 s) per simulation step.
-    stride: u64,
-    /// Clock steps followed since the initial state.
-    clock_steps: u64,
     /// Drops asked for by the viewer, for the next step.
     pending: Vec<Drop>,
     params: wgpu::Buffer,
@@ -66,6 +98,8 @@ pub struct RipplePass {
     depth: wgpu::Buffer,
     drops: wgpu::Buffer,
     drop_capacity: u64,
+    moves: wgpu::Buffer,
+    move_capacity: u64,
     heights: wgpu::Buffer,
     pub texture: wgpu::Texture,
     layout: wgpu::BindGroupLayout,
@@ -147,6 +181,7 @@ impl RipplePass {
                 storage_entry(4, cs, true),
                 storage_entry(5, cs, false),
                 storage_texture_entry(6, FORMAT, wgpu::TextureViewDimension::D2),
+                storage_entry(7, cs, true),
             ],
         });
         let fft_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -177,16 +212,20 @@ impl RipplePass {
         let (disturb, spectral_step, publish) =
             (pipeline("disturb"), pipeline("spectral_step"), pipeline("publish"));
         let (fft_rows, fft_columns) = (fft("fft_rows"), fft("fft_columns"));
+        let move_capacity = 16;
+        let moves = cells(move_capacity, 80, "ripples body moves", copy);
+        // Bound below, once the pass owns its resources.
+        let placeholder = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ripples fft"),
+            layout: &fft_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: spatial.as_entire_binding() }],
+        });
         let mut pass = RipplePass {
             settings,
             scene: scene.clone(),
             window: RippleWindow::centred(&settings.grid, scene.ripples.center.map(|c| c as f64)),
-            stride: (CLOCK_HZ / scene.ripples.rate.max(1)) as u64,
-            clock_steps: 0,
             pending: Vec::new(),
-            group: Self::bind(
-                device, &layout, &params, &spatial, &spectral, &depth, &drops, &heights, &texture,
-            ),
+            group: placeholder,
             params,
             slot_size,
             spatial,
@@ -194,6 +233,8 @@ impl RipplePass {
             depth,
             drops,
             drop_capacity,
+            moves,
+            move_capacity,
             heights,
             texture,
             layout,
@@ -204,46 +245,38 @@ impl RipplePass {
             fft_rows,
             fft_columns,
         };
+        pass.group = pass.bind(device);
         pass.reset(queue);
         pass
     }
 
-    fn bind(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        params: &wgpu::Buffer,
-        spatial: &wgpu::Buffer,
-        spectral: &wgpu::Buffer,
-        depth: &wgpu::Buffer,
-        drops: &wgpu::Buffer,
-        heights: &wgpu::Buffer,
-        texture: &wgpu::Texture,
-    ) -> wgpu::BindGroup {
-        let view = texture.create_view(&Default::default());
+    fn bind(&self, device: &wgpu::Device) -> wgpu::BindGroup {
+        let view = self.texture.create_view(&Default::default());
         fn whole(b: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry { binding: b, resource: buffer.as_entire_binding() }
         }
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("ripples"),
-            layout,
+            layout: &self.layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
                     resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: params,
+                        buffer: &self.params,
                         offset: 0,
                         size: wgpu::BufferSize::new(std::mem::size_of::<RippleUniforms>() as u64),
                     }),
                 },
-                whole(1, spatial),
-                whole(2, spectral),
-                whole(3, depth),
-                whole(4, drops),
-                whole(5, heights),
+                whole(1, &self.spatial),
+                whole(2, &self.spectral),
+                whole(3, &self.depth),
+                whole(4, &self.drops),
+                whole(5, &self.heights),
                 wgpu::BindGroupEntry {
                     binding: 6,
                     resource: wgpu::BindingResource::TextureView(&view),
                 },
+                whole(7, &self.moves),
             ],
         })
     }
@@ -272,7 +305,6 @@ impl RipplePass {
             },
             wgpu::Extent3d { width: n, height: n, depth_or_array_layers: 1 },
         );
-        self.clock_steps = 0;
         self.pending.clear();
     }
 
@@ -314,89 +346,71 @@ impl RipplePass {
             space: [g.cell_size as f32, s.dt as f32, s.depths[0] as f32, s.depths[1] as f32],
             physics: [GRAVITY as f32, s.tension as f32, s.viscosity as f32, s.damping as f32],
             sponge: [sponge_rate(g) as f32, 0.0, 0.0, 0.0],
+            bodies: [0; 4],
         }
     }
 
-    /// Follow `clock_steps` more steps of the simulation clock: the
-    /// simulation steps each time a whole step of its own is due, then its
-    /// surface texture is written. Steps beyond what the uniform slots hold
-    /// go to the queue in submissions of their own.
-    pub fn advance(
+    /// The scripted drops of simulation step `step`, and the viewer's
+    /// pending ones.
+    pub fn drops_for(&mut self, step: u64) -> Vec<Drop> {
+        let mut drops = self.scene.drops_in_step(step, self.settings.dt);
+        drops.append(&mut self.pending);
+        drops
+    }
+
+    /// Record one simulation step per input (at most [`MAX_STEPS`]), then
+    /// write the surface's texture and heights.
+    pub fn record(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        clock_steps: u32,
-        mut timer: Option<&mut GpuTimer>,
-    ) {
-        let before = self.clock_steps / self.stride;
-        self.clock_steps += clock_steps as u64;
-        let mut due = self.clock_steps / self.stride - before;
-        let mut next = before;
-        while due > SLOTS - 1 {
-            let mut early = device.create_command_encoder(&Default::default());
-            self.record(device, queue, &mut early, next, SLOTS - 1, None);
-            queue.submit([early.finish()]);
-            next += SLOTS - 1;
-            due -= SLOTS - 1;
-        }
-        self.record(device, queue, encoder, next, due, timer.take());
-    }
-
-    /// Record simulation steps `first..first + count` and the publish.
-    fn record(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        encoder: &mut wgpu::CommandEncoder,
-        first: u64,
-        count: u64,
+        inputs: &[StepInput],
         timer: Option<&mut GpuTimer>,
     ) {
-        let dt = self.settings.dt;
+        let count = inputs.len() as u64;
+        assert!(count <= MAX_STEPS as u64, "at most {MAX_STEPS} steps per record");
         let mut drops: Vec<[f32; 4]> = Vec::new();
+        let mut moves: Vec<[[f32; 4]; 5]> = Vec::new();
         let mut slots = vec![0u8; (self.slot_size * (count + 1)) as usize];
-        for i in 0..=count {
-            let mut step_drops = Vec::new();
-            if i < count {
-                step_drops = self.scene.drops_in_step(first + i, dt);
-                if i == 0 {
-                    step_drops.append(&mut self.pending);
-                }
-            }
-            let u = self.uniforms(drops.len(), step_drops.len());
+        for i in 0..=count as usize {
+            let empty = StepInput::default();
+            let input = inputs.get(i).unwrap_or(&empty);
+            let mut u = self.uniforms(drops.len(), input.drops.len());
+            u.bodies = [moves.len() as i32, input.moves.len() as i32, 0, 0];
             drops.extend(
-                step_drops
+                input
+                    .drops
                     .iter()
                     .map(|d| [d.x as f32, d.z as f32, d.radius as f32, d.strength as f32]),
             );
-            let at = (i * self.slot_size) as usize;
+            moves.extend(input.moves.iter().map(gpu_move));
+            let at = i * self.slot_size as usize;
             slots[at..at + std::mem::size_of::<RippleUniforms>()]
                 .copy_from_slice(bytemuck::bytes_of(&u));
         }
         queue.write_buffer(&self.params, 0, &slots);
-        if drops.len() as u64 > self.drop_capacity {
-            self.drop_capacity = (drops.len() as u64).next_power_of_two();
-            self.drops = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("ripples drops"),
-                size: self.drop_capacity * 16,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            self.group = Self::bind(
-                device,
-                &self.layout,
-                &self.params,
-                &self.spatial,
-                &self.spectral,
-                &self.depth,
-                &self.drops,
-                &self.heights,
-                &self.texture,
-            );
+        let grow = |have: u64, need: usize| {
+            (need as u64 > have).then(|| (need as u64).next_power_of_two())
+        };
+        let (grow_drops, grow_moves) =
+            (grow(self.drop_capacity, drops.len()), grow(self.move_capacity, moves.len()));
+        if let Some(c) = grow_drops {
+            self.drop_capacity = c;
+            self.drops = storage(device, "ripples drops", c * 16);
+        }
+        if let Some(c) = grow_moves {
+            self.move_capacity = c;
+            self.moves = storage(device, "ripples body moves", c * 80);
+        }
+        if grow_drops.is_some() || grow_moves.is_some() {
+            self.group = self.bind(device);
         }
         if !drops.is_empty() {
             queue.write_buffer(&self.drops, 0, bytemuck::cast_slice(&drops));
+        }
+        if !moves.is_empty() {
+            queue.write_buffer(&self.moves, 0, bytemuck::cast_slice(&moves));
         }
         let f = self.settings.grid.fft_size() as u32;
         let n = self.settings.grid.cells as u32;

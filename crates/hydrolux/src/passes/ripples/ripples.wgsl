@@ -18,6 +18,19 @@ struct RippleParams {
     physics: vec4<f32>,
     // x the sponge's peak damping rate (1/s)
     sponge: vec4<f32>,
+    // x first body move of this step, y their count
+    bodies: vec4<i32>,
+}
+
+// A body's move over one step (twin: waves::ripples::BodyMove): shape
+// (three sizes, code BODY_*), then position and rotation (quaternion
+// x, y, z, w) before and after.
+struct BodyMove {
+    shape: vec4<f32>,
+    before_position: vec4<f32>,
+    before_rotation: vec4<f32>,
+    after_position: vec4<f32>,
+    after_rotation: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> params: RippleParams;
@@ -34,6 +47,99 @@ struct RippleParams {
 @group(0) @binding(5) var<storage, read_write> heights: array<f32>;
 // h, ∂h/∂x, ∂h/∂z per texel (texel = grid cell of the domain's N × N).
 @group(0) @binding(6) var surface_out: texture_storage_2d<rgba16float, write>;
+// Bodies moving through the water in this batch's steps.
+@group(0) @binding(7) var<storage, read> moves: array<BodyMove>;
+
+const BODY_SPHERE: u32 = 0u;
+const BODY_BOX: u32 = 1u;
+
+fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
+    let t = 2.0 * cross(q.xyz, v);
+    return v + q.w * t + cross(q.xyz, t);
+}
+
+// The vertical extent (y0, y1) of a body over the column at world (x, z);
+// y0 > y1 when the column misses it. Twin: bodies::body_column.
+fn body_column(shape: vec4<f32>, position: vec3<f32>, rotation: vec4<f32>, xz: vec2<f32>) -> vec2<f32> {
+    let code = u32(shape.w);
+    var reach = shape.x;
+    if (code == BODY_BOX) {
+        reach = length(shape.xyz);
+    } else if (code != BODY_SPHERE) {
+        reach = length(shape.xy);
+    }
+    let top = position.y + reach + 1.0;
+    let inv = vec4<f32>(-rotation.xyz, rotation.w);
+    let o = rotate(inv, vec3<f32>(xz.x, top, xz.y) - position);
+    let d = rotate(inv, vec3<f32>(0.0, -1.0, 0.0));
+    let miss = vec2<f32>(1.0, -1.0);
+    var t = vec2<f32>(-1e30, 1e30);
+    if (code == BODY_SPHERE) {
+        let b = dot(o, d);
+        let disc = b * b - (dot(o, o) - shape.x * shape.x);
+        if (disc < 0.0) {
+            return miss;
+        }
+        t = vec2<f32>(-b - sqrt(disc), -b + sqrt(disc));
+    } else if (code == BODY_BOX) {
+        for (var a = 0; a < 3; a++) {
+            if (abs(d[a]) < 1e-6) {
+                if (abs(o[a]) > shape[a]) {
+                    return miss;
+                }
+            } else {
+                let ta = (-shape[a] - o[a]) / d[a];
+                let tb = (shape[a] - o[a]) / d[a];
+                t = vec2<f32>(max(t.x, min(ta, tb)), min(t.y, max(ta, tb)));
+            }
+        }
+    } else {
+        // Cylinder of radius shape.x, half-height shape.y along its y.
+        let a = d.x * d.x + d.z * d.z;
+        let b = o.x * d.x + o.z * d.z;
+        let c = o.x * o.x + o.z * o.z - shape.x * shape.x;
+        if (a < 1e-8) {
+            if (c > 0.0) {
+                return miss;
+            }
+        } else {
+            let disc = b * b - a * c;
+            if (disc < 0.0) {
+                return miss;
+            }
+            t = vec2<f32>((-b - sqrt(disc)) / a, (-b + sqrt(disc)) / a);
+        }
+        if (abs(d.y) < 1e-6) {
+            if (abs(o.y) > shape.y) {
+                return miss;
+            }
+        } else {
+            let ta = (-shape.y - o.y) / d.y;
+            let tb = (shape.y - o.y) / d.y;
+            t = vec2<f32>(max(t.x, min(ta, tb)), min(t.y, max(ta, tb)));
+        }
+    }
+    if (t.x > t.y) {
+        return miss;
+    }
+    return vec2<f32>(top - t.y, top - t.x);
+}
+
+// The body's submerged thickness in a column whose surface is at h.
+fn wet(column: vec2<f32>, h: f32) -> f32 {
+    if (column.x > column.y) {
+        return 0.0;
+    }
+    return max(min(h, column.y) - column.x, 0.0);
+}
+
+// Δh of a body's move at world point w whose surface is at h: the water
+// its submerged thickness gains or loses there. Twin: BodyMove::height.
+fn body_height(m: BodyMove, w: vec2<f32>, h: f32) -> f32 {
+    let after = body_column(m.shape, m.after_position.xyz, m.after_rotation, w);
+    let before = body_column(m.shape, m.before_position.xyz, m.before_rotation, w);
+    return wet(after, h) - wet(before, h);
+}
 
 const EDGES_WALLS: u32 = 0u;
 
@@ -128,6 +234,10 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     let d = domain_cell(g);
     let w = world_of(d);
     var s = state(g);
+    let h = s.x;
+    for (var b = 0; b < params.bodies.y; b++) {
+        s.x += body_height(moves[params.bodies.x + b], w, h);
+    }
     let first = params.window.z;
     for (var i = 0; i < params.window.w; i++) {
         s.x += drop_height(drops[first + i], w);

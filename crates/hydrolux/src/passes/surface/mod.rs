@@ -9,6 +9,7 @@ use crate::error::RenderError;
 use crate::gpu_util::*;
 use crate::passes::ocean::OceanPass;
 use crate::passes::ripples::RipplePass;
+use crate::passes::ripples::dynamics::Dynamics;
 use crate::technique::{FrameContext, Shared, Stage, Technique};
 use crate::timing::GpuTimer;
 use crate::uniforms::SurfaceUniforms;
@@ -40,8 +41,8 @@ pub(crate) struct Surface {
     pub moving: bool,
     /// A heightfield's texture and samples per side (x, z), for updates.
     heightfield: Option<(wgpu::Texture, u32, u32)>,
-    /// The interactive water, with `water.dynamic`.
-    pub ripples: Option<RipplePass>,
+    /// The interactive water (with `water.dynamic`) and the bodies in it.
+    pub dynamics: Option<Dynamics>,
 }
 
 /// Crest reach of a surface of significant wave height `hs` (m):
@@ -61,16 +62,18 @@ impl Surface {
     pub fn new(
         shared: &Shared,
         scene: &Scene,
-        keep: Option<RipplePass>,
+        keep: Option<Dynamics>,
     ) -> Result<Self, RenderError> {
         let (device, queue) = (&shared.device, &shared.queue);
         // The simulation goes on through edits that do not touch it.
-        let ripples = match (keep, scene.ripple_settings()) {
-            (Some(r), Some(_)) if r.fits(scene) => Some(r),
-            (_, Some(settings)) => {
-                Some(RipplePass::new(device, queue, &shared.caps, scene, settings))
+        let dynamics = match keep {
+            Some(d) if d.fits(scene) => Some(d),
+            _ => {
+                let ripples = scene
+                    .ripple_settings()
+                    .map(|settings| RipplePass::new(device, queue, &shared.caps, scene, settings));
+                Dynamics::new(scene, ripples)
             }
-            (_, None) => None,
         };
         let no_ripples = texture_2d(
             device,
@@ -79,8 +82,11 @@ impl Surface {
             crate::passes::ripples::FORMAT,
             wgpu::TextureUsages::TEXTURE_BINDING,
         );
-        let ripple_view =
-            ripples.as_ref().map_or(&no_ripples, |r| &r.texture).create_view(&Default::default());
+        let ripple_view = dynamics
+            .as_ref()
+            .and_then(|d| d.ripples.as_ref())
+            .map_or(&no_ripples, |r| &r.texture)
+            .create_view(&Default::default());
         let downsampler = &shared.downsampler;
         let layout = &shared.layouts.surface;
         let buffer = uniform_buffer(device, "surface", &SurfaceUniforms::default());
@@ -242,9 +248,9 @@ impl Surface {
             bounds_margin,
             vertical_reach,
             moving: matches!(scene.water.model, WaterModel::Fft | WaterModel::Sines)
-                || ripples.is_some(),
+                || dynamics.is_some(),
             heightfield: heightfield.is_some().then_some(heightfield_texture),
-            ripples,
+            dynamics,
         })
     }
 
@@ -302,7 +308,7 @@ impl Surface {
             u.cascade_sizes[0] = s.water.size[0];
             u.cascade_sizes[1] = s.water.size[1];
         }
-        if let Some(r) = &self.ripples {
+        if let Some(r) = self.dynamics.as_ref().and_then(|d| d.ripples.as_ref()) {
             let g = r.settings.grid;
             let lo = [0, 1].map(|a| r.window.low_edge(&g, a) as f32);
             let side = g.extent() as f32;
@@ -340,7 +346,7 @@ impl Surface {
             || scene.base_dir != old.base_dir
             || scene.render.anisotropy != old.render.anisotropy
             || scene.ocean_settings() != self.ocean_settings
-            || self.ripples.as_ref().map_or(scene.water.dynamic, |r| !r.fits(scene))
+            || self.dynamics.as_ref().map_or(scene.water.dynamic, |d| !d.fits(scene))
             || scene.floor.depth != old.floor.depth
     }
 }
@@ -406,33 +412,10 @@ impl Technique for Surface {
     ) -> Result<bool, RenderError> {
         let outdated = self.outdated(new);
         if outdated {
-            let keep = self.ripples.take();
+            let keep = self.dynamics.take();
             *self = Surface::new(shared, new, keep)?;
         }
         Ok(outdated)
-    }
-
-    fn simulates(&self) -> bool {
-        self.ripples.is_some()
-    }
-
-    fn reset_state(&mut self, queue: &wgpu::Queue) {
-        if let Some(r) = &mut self.ripples {
-            r.reset(queue);
-        }
-    }
-
-    fn step(
-        &mut self,
-        encoder: &mut wgpu::CommandEncoder,
-        frame: &FrameContext,
-        steps: u32,
-        _clock_dt: f64,
-    ) {
-        let Some(r) = &mut self.ripples else { return };
-        r.follow(&frame.plan.camera);
-        let shared = frame.shared;
-        r.advance(&shared.device, &shared.queue, encoder, steps, None);
     }
 
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
@@ -449,6 +432,29 @@ impl Technique for Surface {
     ) {
         if stage == Stage::Simulate && frame.plan.ocean {
             self.ocean.record(encoder, &frame.shared.downsampler, timer);
+        }
+    }
+
+    fn simulates(&self) -> bool {
+        self.dynamics.is_some()
+    }
+
+    fn reset_state(&mut self, queue: &wgpu::Queue) {
+        if let Some(d) = &mut self.dynamics {
+            d.reset(queue);
+        }
+    }
+
+    fn step(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        steps: u32,
+        _clock_dt: f64,
+    ) {
+        if let Some(d) = &mut self.dynamics {
+            let shared = frame.shared;
+            d.step(&shared.device, &shared.queue, encoder, &frame.plan.camera, steps);
         }
     }
 }

@@ -1,0 +1,251 @@
+//! The water's state and what floats in it, stepped together on the
+//! simulation clock: the interactive water on the GPU (`RipplePass`) and
+//! the scene's moving bodies on the CPU (`hydrolux_core::bodies`, rapier3d).
+//!
+//! Each step, the bodies move first (buoyancy and drag from the water
+//! surface), then the water takes their moves (`BodyMove`) and the drops.
+//! The bodies see the water as rendered: the surface model's CPU twin plus
+//! the interactive water's heights, read back from the GPU every
+//! [`SYNC_STEPS`] steps (a fixed rhythm of simulated time, so the state
+//! at a time does not depend on the frame rate).
+
+use super::{MAX_STEPS, RipplePass, StepInput};
+use hydrolux_core::bodies::{BodyState, BodyWorld, Pose};
+use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
+use hydrolux_core::waves::ripples::{BodyMove, RippleBoundary};
+use hydrolux_core::waves::sines::SineWaves;
+
+/// Steps between readbacks of the water the bodies float in (0.1 s at 60 Hz).
+pub const SYNC_STEPS: u64 = 6;
+
+/// The interactive water's heights as last read back, for buoyancy.
+struct HeightsSeen {
+    heights: Vec<f32>,
+    cells: usize,
+    cell: f64,
+    origin: [f64; 2],
+    walls: bool,
+}
+
+impl HeightsSeen {
+    /// Bilinear height at world (x, z), as the surface shader samples it
+    /// (0 outside the domain).
+    fn at(&self, x: f64, z: f64) -> f64 {
+        let n = self.cells;
+        let side = n as f64 * self.cell;
+        let (u, v) =
+            ((x - self.origin[0]) / self.cell - 0.5, (z - self.origin[1]) / self.cell - 0.5);
+        if !(-0.5..=side / self.cell - 0.5).contains(&u)
+            || !(-0.5..=side / self.cell - 0.5).contains(&v)
+        {
+            return 0.0;
+        }
+        let (i0, j0) = (u.floor(), v.floor());
+        let (a, b) = (u - i0, v - j0);
+        let texel = |i: f64, j: f64| {
+            let c = |k: f64| {
+                if self.walls {
+                    k.clamp(0.0, (n - 1) as f64) as usize
+                } else {
+                    k.rem_euclid(n as f64) as usize
+                }
+            };
+            self.heights[c(j) * n + c(i)] as f64
+        };
+        let top = texel(i0, j0) * (1.0 - a) + texel(i0 + 1.0, j0) * a;
+        let bottom = texel(i0, j0 + 1.0) * (1.0 - a) + texel(i0 + 1.0, j0 + 1.0) * a;
+        top * (1.0 - b) + bottom * b
+    }
+}
+
+pub struct Dynamics {
+    pub ripples: Option<RipplePass>,
+    pub bodies: Option<BodyWorld>,
+    /// Scale of each body's object (its transform is scale × pose).
+    scales: Vec<[f32; 3]>,
+    /// The surface model's waves, for buoyancy (sines; flat water is 0).
+    sines: Option<SineWaves>,
+    seen: Option<HeightsSeen>,
+    /// Clock steps followed since the initial state, and per step of ours.
+    clock_steps: u64,
+    stride: u64,
+    dt: f64,
+    /// The bodies' initial world, for resets.
+    scene: Scene,
+}
+
+impl Dynamics {
+    /// The scene's stateful water and bodies (`None` if nothing moves).
+    pub fn new(scene: &Scene, ripples: Option<RipplePass>) -> Option<Self> {
+        let dt = 1.0 / scene.ripples.rate.max(1) as f64;
+        let bodies = BodyWorld::new(scene, dt);
+        if ripples.is_none() && bodies.is_none() {
+            return None;
+        }
+        let scales = bodies.as_ref().map_or(Vec::new(), |w| {
+            w.bodies.iter().map(|b| scene.objects[b.object].scale).collect()
+        });
+        let sines = (scene.water.model == WaterModel::Sines).then(|| {
+            SineWaves::from_sea_state(
+                &scene.sea_state(),
+                scene.sines.count as usize,
+                scene.ocean.seed,
+                scene.sines.gerstner as f64,
+            )
+        });
+        Some(Dynamics {
+            ripples,
+            bodies,
+            scales,
+            sines,
+            seen: None,
+            clock_steps: 0,
+            stride: (CLOCK_HZ / scene.ripples.rate.max(1)) as u64,
+            dt,
+            scene: scene.clone(),
+        })
+    }
+
+    /// Whether `scene` has anything that moves by itself.
+    pub fn new_needed(scene: &Scene) -> bool {
+        scene.ripple_settings().is_some()
+            || scene.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0))
+    }
+
+    /// Whether `scene` keeps this state (same water simulation, same objects).
+    pub fn fits(&self, scene: &Scene) -> bool {
+        let water = match &self.ripples {
+            Some(r) => r.fits(scene),
+            None => scene.ripple_settings().is_none(),
+        };
+        water
+            && scene.objects == self.scene.objects
+            && scene.ripples.rate == self.scene.ripples.rate
+    }
+
+    pub fn reset(&mut self, queue: &wgpu::Queue) {
+        if let Some(r) = &mut self.ripples {
+            r.reset(queue);
+        }
+        if self.bodies.is_some() {
+            self.bodies = BodyWorld::new(&self.scene, self.dt);
+        }
+        self.seen = None;
+        self.clock_steps = 0;
+    }
+
+    /// The water height the bodies float on at world (x, z) and time t.
+    fn water(&self, t: f64) -> impl Fn(f64, f64) -> f64 + '_ {
+        move |x, z| {
+            let base = self.sines.as_ref().map_or(0.0, |s| s.height_at(x, z, t) as f64);
+            base + self.seen.as_ref().map_or(0.0, |h| h.at(x, z))
+        }
+    }
+
+    fn read_back(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        let (Some(r), Some(_)) = (&self.ripples, &self.bodies) else { return };
+        let g = r.settings.grid;
+        self.seen = Some(HeightsSeen {
+            heights: r.read_heights(device, queue),
+            cells: g.cells,
+            cell: g.cell_size,
+            origin: [0, 1].map(|a| r.window.low_edge(&g, a)),
+            walls: g.boundary == RippleBoundary::Walls,
+        });
+    }
+
+    /// Follow `clock_steps` more steps of the clock: the bodies step on the
+    /// CPU, the water records its steps (earlier batches are submitted at
+    /// once; the last goes into `encoder`).
+    pub fn step(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &hydrolux_core::camera::Camera,
+        clock_steps: u32,
+    ) {
+        let first = self.clock_steps / self.stride;
+        self.clock_steps += clock_steps as u64;
+        let count = self.clock_steps / self.stride - first;
+        if let Some(r) = &mut self.ripples {
+            r.follow(camera);
+        }
+        let syncing = self.ripples.is_some()
+            && self.bodies.as_ref().is_some_and(|b| b.bodies.iter().any(|b| b.dynamic));
+        let mut k = 0;
+        while k < count {
+            let step = first + k;
+            if syncing && step.is_multiple_of(SYNC_STEPS) {
+                self.read_back(device, queue);
+            }
+            let mut end = (k + MAX_STEPS as u64).min(count);
+            if syncing {
+                end = end.min((step / SYNC_STEPS + 1) * SYNC_STEPS - first);
+            }
+            let mut inputs = Vec::with_capacity((end - k) as usize);
+            for s in first + k..first + end {
+                let moves = self.step_bodies(s);
+                let drops = self.ripples.as_mut().map_or(Vec::new(), |r| r.drops_for(s));
+                inputs.push(StepInput { drops, moves });
+            }
+            if let Some(r) = &mut self.ripples {
+                if end < count {
+                    let mut early = device.create_command_encoder(&Default::default());
+                    r.record(device, queue, &mut early, &inputs, None);
+                    queue.submit([early.finish()]);
+                } else {
+                    r.record(device, queue, encoder, &inputs, None);
+                }
+            }
+            k = end;
+        }
+    }
+
+    /// Step the bodies once (simulation step `s`); their moves for the water.
+    fn step_bodies(&mut self, s: u64) -> Vec<BodyMove> {
+        let Some(mut world) = self.bodies.take() else { return Vec::new() };
+        let before = world.poses();
+        world.step(&self.water(s as f64 * self.dt));
+        let after = world.poses();
+        let moves = world
+            .bodies
+            .iter()
+            .zip(before.iter().zip(&after))
+            .map(|(b, (p0, p1))| BodyMove { shape: b.shape, before: *p0, after: *p1 })
+            .collect();
+        self.bodies = Some(world);
+        moves
+    }
+
+    /// Each moving object's index and world transform now.
+    pub fn transforms(&self) -> Vec<(usize, glam::Mat4)> {
+        let Some(w) = &self.bodies else { return Vec::new() };
+        w.bodies
+            .iter()
+            .zip(w.poses())
+            .zip(&self.scales)
+            .map(|((b, p), s): ((_, Pose), _)| (b.object, p.matrix(*s)))
+            .collect()
+    }
+
+    /// Each moving body's state (for dumps and the viewer).
+    pub fn states(&self) -> Vec<BodyState> {
+        let t = self.clock_steps as f64 / CLOCK_HZ as f64;
+        self.bodies.as_ref().map_or(Vec::new(), |w| w.states(&self.water(t)))
+    }
+
+    /// Pull moving body `i` towards `target` (the viewer's drag).
+    pub fn pull(&mut self, i: usize, target: glam::DVec3) {
+        if let Some(w) = &mut self.bodies {
+            w.pull(i, target, 0.1);
+        }
+    }
+
+    /// Put moving body `i` at `position`, at rest (the viewer drops it).
+    pub fn place(&mut self, i: usize, position: glam::DVec3) {
+        if let Some(w) = &mut self.bodies {
+            w.place(i, position);
+        }
+    }
+}
