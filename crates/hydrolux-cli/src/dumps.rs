@@ -23,10 +23,13 @@ pub enum DumpKind {
     Godrays,
     /// The caustic of refractive objects in their light view.
     ObjectCaustics,
+    /// The interactive water's heights over its domain.
+    Ripples,
+    /// The moving bodies' state (JSON).
+    Bodies,
 }
 
-pub const KINDS: &str =
-    "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics";
+pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics, ripples, bodies";
 
 #[derive(Clone, Debug)]
 pub struct Dump {
@@ -46,6 +49,8 @@ pub fn dump_name(kind: DumpKind) -> &'static str {
         DumpKind::Caustics => "caustics",
         DumpKind::Godrays => "godrays",
         DumpKind::ObjectCaustics => "object_caustics",
+        DumpKind::Ripples => "ripples",
+        DumpKind::Bodies => "bodies",
     }
 }
 
@@ -62,10 +67,14 @@ pub fn parse(text: &str) -> Result<Dump> {
         "caustics" => DumpKind::Caustics,
         "godrays" => DumpKind::Godrays,
         "object_caustics" => DumpKind::ObjectCaustics,
+        "ripples" => DumpKind::Ripples,
+        "bodies" => DumpKind::Bodies,
         other => bail!("--dump `{other}`: unknown buffer; choose one of {KINDS}"),
     };
     let path = PathBuf::from(file);
-    let format = output::format_of(&path, &[Format::Npy, Format::Exr], "--dump file")?;
+    let allowed: &[Format] =
+        if kind == DumpKind::Bodies { &[Format::Json] } else { &[Format::Npy, Format::Exr] };
+    let format = output::format_of(&path, allowed, &format!("--dump {} file", dump_name(kind)))?;
     Ok(Dump { kind, path, format })
 }
 
@@ -127,14 +136,64 @@ pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
             "--dump object_caustics: the scene has no refractive object (an object with material.ior > 0)"
         );
     }
+    if dump.kind == DumpKind::Ripples && scene.ripple_settings().is_none() {
+        bail!(
+            "--dump ripples: the scene has no interactive water (set water.dynamic = true, with water.model other than \"none\")"
+        );
+    }
+    let moving = scene.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
+    if dump.kind == DumpKind::Bodies && !moving {
+        bail!(
+            "--dump bodies: the scene has no moving object (an object with dynamic = true or a velocity)"
+        );
+    }
     Ok(())
+}
+
+/// The moving bodies as JSON: time, then per body its object, position,
+/// orientation (quaternion x, y, z, w), velocities and submerged volume.
+fn bodies_json(renderer: &Renderer) -> String {
+    let scene = renderer.scene();
+    let bodies: Vec<serde_json::Value> = renderer
+        .bodies()
+        .iter()
+        .map(|b| {
+            let o = &scene.objects[b.object];
+            serde_json::json!({
+                "object": b.object,
+                "name": o.name,
+                "position": b.pose.position.to_array(),
+                "orientation": b.pose.rotation.to_array(),
+                "velocity": b.velocity.to_array(),
+                "angular_velocity": b.angular_velocity.to_array(),
+                "submerged_volume": b.submerged,
+            })
+        })
+        .collect();
+    let doc = serde_json::json!({ "time": renderer.simulation_time(), "bodies": bodies });
+    serde_json::to_string_pretty(&doc).expect("JSON of numbers and strings") + "\n"
 }
 
 /// Read the buffer back and stage it for writing.
 pub fn write(dump: &Dump, renderer: &Renderer, staged: &mut output::Staged) -> Result<()> {
+    if dump.kind == DumpKind::Bodies {
+        return staged.text(&dump.path, &bodies_json(renderer));
+    }
     let (width, height, channels, data): (usize, usize, usize, Vec<f32>) = if dump.kind
-        == DumpKind::Hdr
+        == DumpKind::Ripples
     {
+        let Some(f) = renderer.read_ripples() else {
+            bail!("--dump ripples: the scene has no interactive water (water.dynamic = false)")
+        };
+        println!(
+            "ripples: {n}×{n} cells of {c} m, cell (0, 0) centred at x = {x}, z = {z} m",
+            n = f.cells,
+            c = f.cell_size,
+            x = f.origin[0] + 0.5 * f.cell_size,
+            z = f.origin[1] + 0.5 * f.cell_size
+        );
+        (f.cells as usize, f.cells as usize, 1, f.heights)
+    } else if dump.kind == DumpKind::Hdr {
         let Some((w, h, px)) = renderer.read_hdr() else {
             bail!("no frame has been rendered to dump")
         };
@@ -163,9 +222,12 @@ pub fn write(dump: &Dump, renderer: &Renderer, staged: &mut output::Staged) -> R
             DumpKind::Displacement => (3, samples.iter().flat_map(|s| s.displacement).collect()),
             DumpKind::Normals => (3, samples.iter().flat_map(|s| s.normal().to_array()).collect()),
             DumpKind::Jacobian => (1, samples.iter().map(|s| s.jacobian()).collect()),
-            DumpKind::Hdr | DumpKind::Caustics | DumpKind::Godrays | DumpKind::ObjectCaustics => {
-                unreachable!("handled above")
-            }
+            DumpKind::Hdr
+            | DumpKind::Caustics
+            | DumpKind::Godrays
+            | DumpKind::ObjectCaustics
+            | DumpKind::Ripples
+            | DumpKind::Bodies => unreachable!("handled above"),
         };
         (n, n, c, data)
     };

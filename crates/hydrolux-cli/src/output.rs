@@ -13,6 +13,7 @@ pub enum Format {
     Png,
     Exr,
     Npy,
+    Json,
 }
 
 /// The format of `path` from its extension, if it is one of `allowed`.
@@ -22,6 +23,7 @@ pub fn format_of(path: &Path, allowed: &[Format], what: &str) -> Result<Format> 
         Some("png") => Some(Format::Png),
         Some("exr") => Some(Format::Exr),
         Some("npy") => Some(Format::Npy),
+        Some("json") => Some(Format::Json),
         _ => None,
     };
     match f {
@@ -33,6 +35,7 @@ pub fn format_of(path: &Path, allowed: &[Format], what: &str) -> Result<Format> 
                     Format::Png => ".png",
                     Format::Exr => ".exr",
                     Format::Npy => ".npy",
+                    Format::Json => ".json",
                 })
                 .collect();
             bail!("{what} `{}` must end in {}", path.display(), names.join(" or "))
@@ -181,6 +184,13 @@ impl Staged {
         })
     }
 
+    pub fn text(&mut self, path: &Path, text: &str) -> Result<()> {
+        self.stage(path, |tmp| {
+            std::fs::write(tmp, text)?;
+            Ok(())
+        })
+    }
+
     pub fn npy(&mut self, path: &Path, img: &FloatImage) -> Result<()> {
         let shape: Vec<usize> = if img.channels == 1 {
             vec![img.height, img.width]
@@ -198,7 +208,9 @@ impl Staged {
         match format {
             Format::Exr => self.exr(path, img),
             Format::Npy => self.npy(path, img),
-            Format::Png => bail!("`{}`: float buffers are written as .npy or .exr", path.display()),
+            Format::Png | Format::Json => {
+                bail!("`{}`: float buffers are written as .npy or .exr", path.display())
+            }
         }
     }
 }

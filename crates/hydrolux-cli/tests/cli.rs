@@ -90,6 +90,10 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--scene", "unknown_builtin_mesh.toml"], "cannot load mesh builtin:teapot"),
         (&["render", "--set", "godrays.method=off", "--dump", "godrays=g.npy"], "god rays are off"),
         (&["render", "--dump", "object_caustics=o.npy"], "no refractive object"),
+        (&["render", "--dump", "ripples=r.npy"], "no interactive water"),
+        (&["render", "--dump", "bodies=b.json"], "no moving object"),
+        (&["render", "--scene", "pool", "--dump", "bodies=b.npy"], "must end in .json"),
+        (&["render", "--scene", "pool", "--set", "ripples.rate=7"], "ripples.rate"),
         (&["render", "--out", "x.exr", "--dump", "hdr=./x.exr"], "the same file as --out x.exr"),
         (
             &["render", "--dump", "hdr=h.npy", "--dump", "height=h.npy"],
@@ -817,4 +821,51 @@ fn slices_of_a_sequence_render_the_same_frames_as_the_whole() {
         let b = std::fs::read(dir.join(format!("part_{i:04}.png"))).unwrap();
         assert!(a == b, "frame {i} differs between the whole sequence and its slice");
     }
+}
+
+#[test]
+fn ripples_and_bodies_dumps_hold_the_water_and_the_ball() {
+    let dir = scratch("ripples");
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--scene",
+            "pool",
+            "--set",
+            "ripples.resolution=32",
+            "--set",
+            "caustics.method=\"off\"",
+            "--time",
+            "1.0",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--dump",
+            "ripples=r.npy",
+            "--dump",
+            "bodies=b.json",
+            "--out",
+            "p.png",
+        ],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let npy = std::fs::read(dir.join("r.npy")).unwrap();
+    let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (32, 32)"));
+    let heights: Vec<f32> = npy[10 + hlen..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let peak = heights.iter().fold(0.0f32, |m, h| m.max(h.abs()));
+    assert!(peak > 1e-3 && peak < 0.5, "the ball's splash: peak {peak} m");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("b.json")).unwrap()).unwrap();
+    assert_eq!(json["time"], 1.0);
+    let ball = &json["bodies"][0];
+    assert_eq!(ball["name"], "sphere");
+    assert_eq!(ball["position"].as_array().unwrap().len(), 3);
+    assert_eq!(ball["orientation"].as_array().unwrap().len(), 4);
+    assert!(ball["submerged_volume"].as_f64().unwrap() > 0.0);
 }

@@ -4,7 +4,7 @@
 //! `waves::ripples`.
 
 use super::load::range;
-use super::{Scene, SceneError, WaterModel};
+use super::{Scene, SceneError};
 use crate::waves::ripples::{
     Drop, RippleBoundary, RippleGrid, RippleSettings, WATER_TENSION, WATER_VISCOSITY,
 };
@@ -202,13 +202,6 @@ impl Scene {
     /// The rules of `[ripples]`, `[[drops]]` and `[[emitters]]`.
     pub(super) fn validate_ripples(&self) -> Result<(), SceneError> {
         self.ripples.validate()?;
-        if self.water.dynamic && self.water.model == WaterModel::None {
-            return Err(SceneError::OutOfRange {
-                key: "water.dynamic".into(),
-                value: "true".into(),
-                allowed: "needs water: water.model is \"none\"".into(),
-            });
-        }
         for (i, d) in self.drops.iter().enumerate() {
             let key = format!("drops[{i}]");
             range(
@@ -257,7 +250,8 @@ impl Scene {
         Ok(())
     }
 
-    /// The interactive water's physics and grid, `None` without `water.dynamic`.
+    /// The interactive water's physics and grid, `None` without
+    /// `water.dynamic` (or without water: `water.model = "none"`).
     pub fn ripple_settings(&self) -> Option<RippleSettings> {
         if !self.water.dynamic || !self.has_water() {
             return None;

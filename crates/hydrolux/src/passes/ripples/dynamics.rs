@@ -136,7 +136,11 @@ impl Dynamics {
 
     /// The water height the bodies float on at world (x, z) and time t.
     fn water(&self, t: f64) -> impl Fn(f64, f64) -> f64 + '_ {
+        let water = self.scene.has_water();
         move |x, z| {
+            if !water {
+                return f64::NEG_INFINITY;
+            }
             let base = self.sines.as_ref().map_or(0.0, |s| s.height_at(x, z, t) as f64);
             base + self.seen.as_ref().map_or(0.0, |h| h.at(x, z))
         }
