@@ -13,7 +13,7 @@ use hydrolux::core::camera::Camera;
 use hydrolux::core::scene::{Choice, DebugView, GodRayMethod, Scene};
 use hydrolux::{FrameInput, GpuContext, Renderer, wgpu};
 use hydrolux_ui::camera::Motion;
-use hydrolux_ui::{FlyCamera, Playback, SceneEditor, header_ui};
+use hydrolux_ui::{FlyCamera, Playback, Pointer, SceneEditor, header_ui};
 use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
@@ -53,6 +53,9 @@ struct Viewer {
     keys: std::collections::HashSet<KeyCode>,
     looking: bool,
     last_cursor: Option<(f64, f64)>,
+    /// The left button on the water or a body.
+    pointer: Pointer,
+    cursor: (f64, f64),
     clock: Playback,
     last_frame: Instant,
     frames: u64,
@@ -156,6 +159,12 @@ impl Viewer {
 
     fn panel(&mut self, ui: &mut egui::Ui) {
         let actions = header_ui(ui, &mut self.clock, "screenshot (P)");
+        if actions.step {
+            self.clock.step();
+        }
+        if actions.restart {
+            self.clock.restart();
+        }
         if actions.reset_camera {
             self.camera = FlyCamera::from_scene(&self.scene.camera());
         }
@@ -182,6 +191,14 @@ impl Viewer {
             fast: self.keys.contains(&KeyCode::ShiftLeft),
         };
         self.camera.fly(motion, dt);
+    }
+
+    /// The cursor in normalised device coordinates, and the view's aspect.
+    fn cursor_ndc(&self) -> ([f32; 2], f32) {
+        let Some(g) = &self.gfx else { return ([0.0, 0.0], 1.0) };
+        let (w, h) = (g.config.width.max(1) as f64, g.config.height.max(1) as f64);
+        let ndc = [(2.0 * self.cursor.0 / w - 1.0) as f32, (1.0 - 2.0 * self.cursor.1 / h) as f32];
+        (ndc, (w / h) as f32)
     }
 
     fn redraw(&mut self) -> Result<()> {
@@ -354,6 +371,20 @@ impl ApplicationHandler for Viewer {
                                 self.clock.time_scale = (self.clock.time_scale * 2.0).min(64.0)
                             }
                             KeyCode::KeyP => self.screenshot_requested = true,
+                            KeyCode::KeyN => self.clock.step(),
+                            KeyCode::KeyR => self.clock.restart(),
+                            KeyCode::KeyB => {
+                                let (ndc, aspect) = self.cursor_ndc();
+                                let camera = self.camera.camera();
+                                if let Some(g) = &mut self.gfx {
+                                    hydrolux_ui::pointer::drop_ball(
+                                        &mut g.renderer,
+                                        &camera,
+                                        ndc,
+                                        aspect,
+                                    );
+                                }
+                            }
                             KeyCode::KeyV => {
                                 self.cycle_option("render", "view", &DebugView::names())
                             }
@@ -371,11 +402,31 @@ impl ApplicationHandler for Viewer {
                 self.looking = state == ElementState::Pressed && !consumed;
                 self.last_cursor = None;
             }
-            WindowEvent::CursorMoved { position, .. } if self.looking => {
-                if let Some((x, y)) = self.last_cursor {
-                    self.camera.drag((position.x - x) as f32, (position.y - y) as f32);
+            WindowEvent::MouseInput { button: MouseButton::Left, state, .. } => {
+                if state == ElementState::Pressed && !consumed {
+                    let (ndc, aspect) = self.cursor_ndc();
+                    let camera = self.camera.camera();
+                    if let Some(g) = &mut self.gfx {
+                        self.pointer.press(&mut g.renderer, &camera, ndc, aspect);
+                    }
+                } else if state == ElementState::Released {
+                    self.pointer.release();
                 }
-                self.last_cursor = Some((position.x, position.y));
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                self.cursor = (position.x, position.y);
+                if self.looking {
+                    if let Some((x, y)) = self.last_cursor {
+                        self.camera.drag((position.x - x) as f32, (position.y - y) as f32);
+                    }
+                    self.last_cursor = Some((position.x, position.y));
+                } else if self.pointer.grabbing() {
+                    let (ndc, aspect) = self.cursor_ndc();
+                    let camera = self.camera.camera();
+                    if let Some(g) = &mut self.gfx {
+                        self.pointer.drag(&mut g.renderer, &camera, ndc, aspect);
+                    }
+                }
             }
             WindowEvent::RedrawRequested => {
                 if let Err(e) = self.redraw() {
@@ -421,6 +472,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
         keys: Default::default(),
         looking: false,
         last_cursor: None,
+        pointer: Pointer::default(),
+        cursor: (0.0, 0.0),
         clock: Playback { sim_time: 0.0, time_scale: 1.0, paused: false, frame_ms: 0.0 },
         last_frame: Instant::now(),
         frames: 0,

@@ -395,11 +395,11 @@ impl BodyWorld {
         self.bodies.iter().map(|b| self.pose_of(b)).collect()
     }
 
-    /// One step: buoyancy and drag from the water surface `water(x, z)`,
-    /// then rapier's step (gravity, contacts).
-    pub fn step(&mut self, water: &dyn Fn(f64, f64) -> f64) {
+    /// One step: buoyancy and drag from the water surface each body is in,
+    /// `water(body, x, z)`, then rapier's step (gravity, contacts).
+    pub fn step(&mut self, water: &dyn Fn(usize, f64, f64) -> f64) {
         let g = crate::waves::dispersion::GRAVITY;
-        for b in &self.bodies {
+        for (i, b) in self.bodies.iter().enumerate() {
             let pose = self.pose_of(b);
             let rb = &mut self.set[b.handle];
             if !b.dynamic {
@@ -407,7 +407,7 @@ impl BodyWorld {
                 continue;
             }
             rb.reset_forces(true);
-            let sub = submerged(&b.shape, &pose, water);
+            let sub = submerged(&b.shape, &pose, &|x, z| water(i, x, z));
             if sub.volume <= 0.0 {
                 continue;
             }
@@ -548,7 +548,7 @@ mod tests {
             let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
             let mut heights = Vec::new();
             for _ in 0..60 * 20 {
-                world.step(&flat);
+                world.step(&|_, x, z| flat(x, z));
                 heights.push(world.poses()[0].position.y);
             }
             let r = 0.25;
@@ -573,7 +573,7 @@ mod tests {
         let scene = floating_sphere(1500.0);
         let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
         for _ in 0..60 * 10 {
-            world.step(&flat);
+            world.step(&|_, x, z| flat(x, z));
         }
         let y = world.poses()[0].position.y;
         assert!((y - (-2.0 + 0.25)).abs() < 0.02, "resting on the floor at y = {y}");

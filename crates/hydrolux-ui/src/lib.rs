@@ -6,9 +6,11 @@
 
 pub mod camera;
 pub mod editor;
+pub mod pointer;
 
 pub use camera::FlyCamera;
 pub use editor::SceneEditor;
+pub use pointer::Pointer;
 
 /// The clock a viewer shows and steers.
 pub struct Playback {
@@ -19,11 +21,28 @@ pub struct Playback {
     pub frame_ms: f64,
 }
 
+impl Playback {
+    /// One simulation step forward, pausing.
+    pub fn step(&mut self) {
+        self.paused = true;
+        self.sim_time += 1.0 / 60.0;
+    }
+
+    /// Back to t = 0.
+    pub fn restart(&mut self) {
+        self.sim_time = 0.0;
+    }
+}
+
 /// What the header's buttons asked for this frame.
 #[derive(Default)]
 pub struct HeaderActions {
     pub reset_camera: bool,
     pub screenshot: bool,
+    /// Start the simulation over (still water, bodies where they began).
+    pub restart: bool,
+    /// One simulation step forward (while paused).
+    pub step: bool,
 }
 
 /// The panel's header, the same in the viewer and the page: title, frame
@@ -41,8 +60,10 @@ pub fn header_ui(ui: &mut egui::Ui, p: &mut Playback, screenshot_label: &str) ->
         if ui.button(if p.paused { "play" } else { "pause" }).clicked() {
             p.paused = !p.paused;
         }
-        ui.add(egui::Slider::new(&mut p.time_scale, 0.0..=4.0).text("time ×"));
+        actions.step = ui.button("step").on_hover_text("one step of 1/60 s").clicked();
+        actions.restart = ui.button("restart").on_hover_text("t = 0: still water").clicked();
     });
+    ui.add(egui::Slider::new(&mut p.time_scale, 0.0..=4.0).text("time ×"));
     ui.horizontal(|ui| {
         actions.reset_camera = ui.button("reset camera").clicked();
         actions.screenshot = ui.button(screenshot_label).clicked();

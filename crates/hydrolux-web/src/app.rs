@@ -269,6 +269,12 @@ impl WebApp {
 
     fn panel(&mut self, ui: &mut egui::Ui) {
         let actions = header_ui(ui, &mut self.clock, "screenshot");
+        if actions.step {
+            self.clock.step();
+        }
+        if actions.restart {
+            self.clock.restart();
+        }
         ui.label(&self.status);
         let mut pick = None;
         ui.horizontal(|ui| {

@@ -15,6 +15,7 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     BuiltinScene { name: "harbor", toml: include_str!("../../../../scenes/harbor.toml") },
     BuiltinScene { name: "coastal", toml: include_str!("../../../../scenes/coastal.toml") },
     BuiltinScene { name: "underwater", toml: include_str!("../../../../scenes/underwater.toml") },
+    BuiltinScene { name: "wake", toml: include_str!("../../../../scenes/wake.toml") },
     BuiltinScene {
         name: "water_dragon",
         toml: include_str!("../../../../scenes/water_dragon.toml"),

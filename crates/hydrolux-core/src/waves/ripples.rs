@@ -176,9 +176,13 @@ pub fn drop_height(grid: &RippleGrid, window: &RippleWindow, drop: &Drop, w: [f6
     dh
 }
 
-/// A body's move during one step: the water its columns take up below
-/// the surface is given to the water where it enters and taken back where
-/// it leaves (a dropped ball makes rings, a hull a bow wave and a wake).
+/// A body in the water during one step, pressing on it: the classic
+/// moving pressure patch of ship-wave theory (Havelock; Tessendorf's iWave
+/// sources). Where the body reaches a depth d below the mean level it holds
+/// the surface down with the pressure ρ·g·d: a floating body rests in its
+/// own hollow, the water it pushes away rises around it, a bobbing buoy
+/// radiates rings and a moving hull leaves a bow wave and a Kelvin wake.
+/// The volume of water never changes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyMove {
     pub shape: crate::bodies::Shape,
@@ -187,15 +191,26 @@ pub struct BodyMove {
 }
 
 impl BodyMove {
-    /// Δh at world (x, z) whose surface is at `h`: the change of the
-    /// body's submerged thickness in that column. Twin of `body_height` in WGSL.
-    pub fn height(&self, x: f64, z: f64, h: f64) -> f64 {
-        let wet = |pose: &crate::bodies::Pose| {
-            crate::bodies::body_column(&self.shape, pose, x, z)
-                .map_or(0.0, |(y0, y1)| (h.min(y1) - y0).max(0.0))
-        };
-        wet(&self.after) - wet(&self.before)
+    /// Depth (m) the body reaches below the mean level at world (x, z),
+    /// after the move: its pressure head. Twin of `body_depth` in WGSL.
+    pub fn depth(&self, x: f64, z: f64) -> f64 {
+        crate::bodies::body_column(&self.shape, &self.after, x, z)
+            .map_or(0.0, |(y0, y1)| (0.0f64.min(y1) - y0).max(0.0))
     }
+}
+
+/// The still water around floating bodies: each rests in its hollow,
+/// h = −d (the equilibrium of the pressure heads), over the FFT grid.
+pub fn resting_heights(grid: &RippleGrid, window: &RippleWindow, bodies: &[BodyMove]) -> Vec<f64> {
+    let f = grid.fft_size();
+    let mut h = vec![0.0; f * f];
+    for q in 0..f {
+        for p in 0..f {
+            let (_, w) = domain_cell(grid, window, [p, q]);
+            h[q * f + p] = -bodies.iter().map(|b| b.depth(w[0], w[1])).sum::<f64>();
+        }
+    }
+    h
 }
 
 /// Where the domain lies in the world: its centre (m). A walled domain
@@ -383,9 +398,9 @@ impl RippleSim {
             for p in 0..f {
                 let (d, w) = domain_cell(&grid, &self.window, [p, q]);
                 let i = q * f + p;
-                let h = self.h[i];
+                // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's worth.
                 for b in bodies {
-                    self.h[i] += b.height(w[0], w[1], h);
+                    self.phi[i] -= GRAVITY * b.depth(w[0], w[1]) * dt;
                 }
                 for drop in drops {
                     self.h[i] += drop_height(&grid, &self.window, drop, w);

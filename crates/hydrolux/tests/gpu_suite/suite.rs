@@ -1325,6 +1325,7 @@ fn bodies_moving_through_the_water_match_the_cpu_twin() {
     use hydrolux::core::bodies::BodyWorld;
     use hydrolux::core::scene::ObjectDesc;
     use hydrolux::core::waves::ripples::{BodyMove, RippleSim, RippleWindow};
+    #[allow(unused_mut)]
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let mut s = ripple_scene("walls");
     s.drops.clear();
@@ -1345,9 +1346,17 @@ fn bodies_moving_through_the_water_match_the_cpu_twin() {
     let settings = s.ripple_settings().unwrap();
     let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
     let mut world = BodyWorld::new(&s, settings.dt).unwrap();
+    // The water starts at rest around the hull: in its hollow.
+    let start: Vec<BodyMove> = world
+        .bodies
+        .iter()
+        .zip(world.poses())
+        .map(|(b, p)| BodyMove { shape: b.shape, before: p, after: p })
+        .collect();
+    sim.h = hydrolux::core::waves::ripples::resting_heights(&settings.grid, &sim.window, &start);
     for _ in 0..(t * 60.0).round() as u64 {
         let before = world.poses();
-        world.step(&|_, _| 0.0);
+        world.step(&|_, _, _| 0.0);
         let moves: Vec<BodyMove> = world
             .bodies
             .iter()

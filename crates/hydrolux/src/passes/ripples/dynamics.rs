@@ -12,11 +12,13 @@
 use super::{MAX_STEPS, RipplePass, StepInput};
 use hydrolux_core::bodies::{BodyState, BodyWorld, Pose};
 use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
-use hydrolux_core::waves::ripples::{BodyMove, RippleBoundary};
+use hydrolux_core::waves::ripples::{BodyMove, RippleBoundary, resting_heights};
 use hydrolux_core::waves::sines::SineWaves;
 
 /// Steps between readbacks of the water the bodies float in (0.1 s at 60 Hz).
 pub const SYNC_STEPS: u64 = 6;
+/// Time constant (s) of the water level bodies float on.
+pub const LEVEL_SMOOTHING_S: f64 = 1.0;
 
 /// The interactive water's heights as last read back, for buoyancy.
 struct HeightsSeen {
@@ -66,6 +68,8 @@ pub struct Dynamics {
     /// The surface model's waves, for buoyancy (sines; flat water is 0).
     sines: Option<SineWaves>,
     seen: Option<HeightsSeen>,
+    /// Each body's smoothed water level from the interactive water (m).
+    levels: Vec<f64>,
     /// Clock steps followed since the initial state, and per step of ours.
     clock_steps: u64,
     stride: u64,
@@ -76,7 +80,7 @@ pub struct Dynamics {
 
 impl Dynamics {
     /// The scene's stateful water and bodies (`None` if nothing moves).
-    pub fn new(scene: &Scene, ripples: Option<RipplePass>) -> Option<Self> {
+    pub fn new(queue: &wgpu::Queue, scene: &Scene, ripples: Option<RipplePass>) -> Option<Self> {
         let dt = 1.0 / scene.ripples.rate.max(1) as f64;
         let bodies = BodyWorld::new(scene, dt);
         if ripples.is_none() && bodies.is_none() {
@@ -93,17 +97,34 @@ impl Dynamics {
                 scene.sines.gerstner as f64,
             )
         });
-        Some(Dynamics {
+        let d = Dynamics {
             ripples,
             bodies,
             scales,
             sines,
             seen: None,
+            levels: Vec::new(),
             clock_steps: 0,
             stride: (CLOCK_HZ / scene.ripples.rate.max(1)) as u64,
             dt,
             scene: scene.clone(),
-        })
+        };
+        d.settle_water(queue);
+        Some(d)
+    }
+
+    /// The water at rest around the bodies where they start (no rings from
+    /// bodies appearing at t = 0).
+    fn settle_water(&self, queue: &wgpu::Queue) {
+        let (Some(r), Some(world)) = (&self.ripples, &self.bodies) else { return };
+        let moves: Vec<BodyMove> = world
+            .bodies
+            .iter()
+            .zip(world.poses())
+            .map(|(b, p)| BodyMove { shape: b.shape, before: p, after: p })
+            .collect();
+        let g = r.settings.grid;
+        r.set_heights(queue, &resting_heights(&g, &r.window, &moves));
     }
 
     /// Whether `scene` has anything that moves by itself.
@@ -129,20 +150,54 @@ impl Dynamics {
         }
         if self.bodies.is_some() {
             self.bodies = BodyWorld::new(&self.scene, self.dt);
+            self.settle_water(queue);
         }
         self.seen = None;
+        self.levels.clear();
         self.clock_steps = 0;
     }
 
-    /// The water height the bodies float on at world (x, z) and time t.
-    fn water(&self, t: f64) -> impl Fn(f64, f64) -> f64 + '_ {
-        let water = self.scene.has_water();
-        move |x, z| {
-            if !water {
+    /// The interactive water's level around each body: the mean on a ring
+    /// just outside its waterline (not the water its own columns displaced,
+    /// which would feed back on itself).
+    fn ring_levels(&self, world: &BodyWorld) -> Vec<f64> {
+        let poses = world.poses();
+        match &self.seen {
+            Some(seen) => world
+                .bodies
+                .iter()
+                .zip(&poses)
+                .map(|(b, p)| {
+                    let r = 1.25 * b.shape.bounding_radius();
+                    let n = 16;
+                    (0..n)
+                        .map(|k| {
+                            let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                            seen.at(p.position.x + r * a.cos(), p.position.z + r * a.sin())
+                        })
+                        .sum::<f64>()
+                        / n as f64
+                })
+                .collect(),
+            _ => vec![0.0; poses.len()],
+        }
+    }
+
+    /// The water height body `i` floats on at world (x, z) and time t: the
+    /// surface model's, raised by the interactive water's level around the
+    /// body averaged over [`LEVEL_SMOOTHING_S`]. The body rides the slow
+    /// swell of the water it is in; the quick reply of the water to the
+    /// body's own bobbing is left out (read back 0.1 s late, it would pump
+    /// the bobbing instead of damping it).
+    fn water(&self, t: f64) -> impl Fn(usize, f64, f64) -> f64 + '_ {
+        let has_water = self.scene.has_water();
+        let levels = &self.levels;
+        move |i, x, z| {
+            if !has_water {
                 return f64::NEG_INFINITY;
             }
             let base = self.sines.as_ref().map_or(0.0, |s| s.height_at(x, z, t) as f64);
-            base + self.seen.as_ref().map_or(0.0, |h| h.at(x, z))
+            base + levels.get(i).copied().unwrap_or(0.0)
         }
     }
 
@@ -156,6 +211,12 @@ impl Dynamics {
             origin: [0, 1].map(|a| r.window.low_edge(&g, a)),
             walls: g.boundary == RippleBoundary::Walls,
         });
+        let raw = self.ring_levels(self.bodies.as_ref().expect("bodies"));
+        let keep = (-(SYNC_STEPS as f64 * self.dt) / LEVEL_SMOOTHING_S).exp();
+        self.levels.resize(raw.len(), 0.0);
+        for (l, r) in self.levels.iter_mut().zip(raw) {
+            *l = keep * *l + (1.0 - keep) * r;
+        }
     }
 
     /// Follow `clock_steps` more steps of the clock: the bodies step on the
@@ -236,7 +297,10 @@ impl Dynamics {
     /// Each moving body's state (for dumps and the viewer).
     pub fn states(&self) -> Vec<BodyState> {
         let t = self.clock_steps as f64 / CLOCK_HZ as f64;
-        self.bodies.as_ref().map_or(Vec::new(), |w| w.states(&self.water(t)))
+        let Some(w) = &self.bodies else { return Vec::new() };
+        let water = self.water(t);
+        // Each body's state against its own water.
+        (0..w.bodies.len()).map(|i| w.states(&|x, z| water(i, x, z))[i]).collect()
     }
 
     /// Pull moving body `i` towards `target` (the viewer's drag).

@@ -308,6 +308,14 @@ impl RipplePass {
         self.pending.clear();
     }
 
+    /// Start from still water shaped by `heights` on the FFT grid (row = z):
+    /// both depth levels hold it, at rest.
+    pub fn set_heights(&self, queue: &wgpu::Queue, heights: &[f64]) {
+        let state: Vec<[f32; 4]> =
+            heights.iter().map(|&h| [h as f32, 0.0, h as f32, 0.0]).collect();
+        queue.write_buffer(&self.spectral, 0, bytemuck::cast_slice(&state));
+    }
+
     /// A drop for the next step (the viewer's click, a thrown ball).
     pub fn disturb(&mut self, drop: Drop) {
         if self.pending.len() < hydrolux_core::scene::MAX_DROPS_PER_STEP {

@@ -125,20 +125,15 @@ fn body_column(shape: vec4<f32>, position: vec3<f32>, rotation: vec4<f32>, xz: v
     return vec2<f32>(top - t.y, top - t.x);
 }
 
-// The body's submerged thickness in a column whose surface is at h.
-fn wet(column: vec2<f32>, h: f32) -> f32 {
-    if (column.x > column.y) {
+// Depth (m) a body reaches below the mean level at world point w after its
+// move: the head of the pressure it holds the surface down with. Twin:
+// BodyMove::depth.
+fn body_depth(m: BodyMove, w: vec2<f32>) -> f32 {
+    let c = body_column(m.shape, m.after_position.xyz, m.after_rotation, w);
+    if (c.x > c.y) {
         return 0.0;
     }
-    return max(min(h, column.y) - column.x, 0.0);
-}
-
-// Δh of a body's move at world point w whose surface is at h: the water
-// its submerged thickness gains or loses there. Twin: BodyMove::height.
-fn body_height(m: BodyMove, w: vec2<f32>, h: f32) -> f32 {
-    let after = body_column(m.shape, m.after_position.xyz, m.after_rotation, w);
-    let before = body_column(m.shape, m.before_position.xyz, m.before_rotation, w);
-    return wet(after, h) - wet(before, h);
+    return max(min(0.0, c.y) - c.x, 0.0);
 }
 
 const EDGES_WALLS: u32 = 0u;
@@ -234,9 +229,9 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     let d = domain_cell(g);
     let w = world_of(d);
     var s = state(g);
-    let h = s.x;
+    // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's worth.
     for (var b = 0; b < params.bodies.y; b++) {
-        s.x += body_height(moves[params.bodies.x + b], w, h);
+        s.y -= params.physics.x * body_depth(moves[params.bodies.x + b], w) * params.space.y;
     }
     let first = params.window.z;
     for (var i = 0; i < params.window.w; i++) {

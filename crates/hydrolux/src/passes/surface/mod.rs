@@ -72,7 +72,7 @@ impl Surface {
                 let ripples = scene
                     .ripple_settings()
                     .map(|settings| RipplePass::new(device, queue, &shared.caps, scene, settings));
-                Dynamics::new(scene, ripples)
+                Dynamics::new(queue, scene, ripples)
             }
         };
         let no_ripples = texture_2d(
