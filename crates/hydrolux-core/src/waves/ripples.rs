@@ -201,6 +201,8 @@ impl BodyMove {
 
 /// The still water around floating bodies: each rests in its hollow,
 /// h = −d (the equilibrium of the pressure heads), over the FFT grid.
+/// Between walls the water the bodies displace raises the whole level
+/// (the volume of water is that of the empty pool); open water keeps its level.
 pub fn resting_heights(grid: &RippleGrid, window: &RippleWindow, bodies: &[BodyMove]) -> Vec<f64> {
     let f = grid.fft_size();
     let mut h = vec![0.0; f * f];
@@ -209,6 +211,10 @@ pub fn resting_heights(grid: &RippleGrid, window: &RippleWindow, bodies: &[BodyM
             let (_, w) = domain_cell(grid, window, [p, q]);
             h[q * f + p] = -bodies.iter().map(|b| b.depth(w[0], w[1])).sum::<f64>();
         }
+    }
+    if grid.boundary == RippleBoundary::Walls {
+        let rise = -h.iter().sum::<f64>() / (f * f) as f64;
+        h.iter_mut().for_each(|v| *v += rise);
     }
     h
 }
@@ -424,6 +430,11 @@ impl RippleSim {
                 let pk = (zk - zm) * Complex64::new(0.0, -0.5);
                 let (kx, kz) = grid.wave_vector(p, q);
                 let k = (kx * kx + kz * kz).sqrt();
+                // Open water has no level of its own: what a window gains or
+                // loses flows away to the ocean around it.
+                if k == 0.0 && grid.boundary == RippleBoundary::Open {
+                    continue;
+                }
                 for (l, out) in levels.iter_mut().enumerate() {
                     let [e, c, sh, sp] = rotation(&self.settings, k, self.settings.depths[l]);
                     let h1 = (hk * c + pk * sh) * e;

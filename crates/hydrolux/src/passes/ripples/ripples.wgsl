@@ -281,6 +281,12 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
     let k = length(signed) * TAU / (f32(f) * params.space.x);
     let norm = 1.0 / (f32(f) * f32(f));
     var out = vec4<f32>(0.0);
+    // Open water has no level of its own: what the window gains or loses
+    // flows away to the ocean around it.
+    if (k == 0.0 && params.grid.z == 1u) {
+        spectral[i] = out;
+        return;
+    }
     for (var l = 0u; l < 2u; l++) {
         let r = rotation(k, params.space[2u + l]);
         let h1 = (hk * r.y + pk * r.z) * r.x;
