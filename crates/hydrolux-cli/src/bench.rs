@@ -39,6 +39,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let info = ctx.adapter.get_info();
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
     let triangles = renderer.scene_triangles();
+    let (quality, requested) = (renderer.quality(), scene.render.quality);
+    let rendered = renderer.rendered_scene().clone();
     renderer.set_timing(true);
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     let camera = scene.camera();
@@ -89,6 +91,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "width": a.size.width,
             "height": a.size.height,
             "frames": a.frames,
+            "quality": hydrolux::core::scene::Choice::name(quality),
+            "render_scale": quality.render_scale(),
             "scene_triangles": triangles,
             "frame_ms": { "median": median, "p95": p95, "source": "wall clock around submit + wait" },
             "passes_ms": pass_medians.iter().map(|(n, v)| serde_json::json!({"pass": n, "median": v})).collect::<Vec<_>>(),
@@ -100,6 +104,18 @@ pub fn run(a: BenchArgs) -> Result<()> {
         println!("adapter   {} ({:?})", info.name, info.backend);
         println!("scene     {} {}", a.scene.scene, a.scene.set.join(" "));
         println!("size      {}×{}, {} frames", a.size.width, a.size.height, a.frames);
+        let scale = quality.render_scale();
+        println!(
+            "quality   {}{} (drawn at {}×{}, filtered up to the output)",
+            hydrolux::core::scene::Choice::name(quality),
+            if requested == hydrolux::core::scene::Quality::Auto {
+                " (render.quality = auto)"
+            } else {
+                ""
+            },
+            (a.size.width as f32 * scale).round(),
+            (a.size.height as f32 * scale).round()
+        );
         let water = if scene.water.model == hydrolux::core::scene::WaterModel::None {
             " (no water)"
         } else {
@@ -107,7 +123,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         };
         println!(
             "geometry  {triangles} scene triangles{water}, shadow map {}², reflection at {}× output",
-            scene.render.shadow_resolution, scene.render.reflection_resolution
+            rendered.render.shadow_resolution, rendered.render.reflection_resolution
         );
         println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
         if let Some((a, b)) = memory {

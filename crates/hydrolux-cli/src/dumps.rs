@@ -80,7 +80,7 @@ pub fn parse(text: &str) -> Result<Dump> {
 
 /// Surface samples on the largest cascade's grid.
 fn surface_grid(renderer: &Renderer) -> (usize, Vec<SurfaceSample>) {
-    let scene = renderer.scene();
+    let scene = renderer.rendered_scene();
     let n = scene.ocean.resolution as usize;
     let l = scene.ocean.patch_size as f64;
     let points: Vec<[f64; 2]> = (0..n)

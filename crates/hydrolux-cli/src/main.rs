@@ -110,6 +110,12 @@ fn info() -> Result<()> {
         }
         Err(e) => println!("techniques: none run: {e}"),
     }
+    let tier = hydrolux::core::scene::Quality::Auto.resolve(caps.cpu);
+    println!(
+        "render.quality = auto means: {} here ({})",
+        hydrolux::core::scene::Choice::name(tier),
+        if caps.cpu { "a software adapter" } else { "a GPU" }
+    );
     println!("adapted to this device:");
     for line in caps.adaptations() {
         println!("  {line}");

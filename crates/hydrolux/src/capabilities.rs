@@ -26,6 +26,8 @@ pub struct Capabilities {
     /// The adapter's name and backend, for messages.
     pub adapter: String,
     pub backend: wgpu::Backend,
+    /// A software adapter (lavapipe, llvmpipe, SwiftShader): `render.quality = "auto"` picks `low`.
+    pub cpu: bool,
     /// Compute shaders (not on WebGL2 / GLES 3.0).
     pub compute: bool,
     /// The main view keeps 32-bit float depth with its stencil.
@@ -61,6 +63,7 @@ impl Capabilities {
         Capabilities {
             adapter: format!("{} ({:?})", info.name, info.backend),
             backend: info.backend,
+            cpu: info.device_type == wgpu::DeviceType::Cpu,
             compute: limits.max_compute_workgroups_per_dimension > 0
                 && limits.max_compute_invocations_per_workgroup >= 64
                 && limits.max_storage_buffers_per_shader_stage > 0,

@@ -48,7 +48,12 @@ pub struct Renderer {
     /// Screen-size targets, keyed by (size, what sizes them); rebuilt in
     /// one place ([`Renderer::render`]) when the key changes.
     pub(crate) targets: Option<Targets>,
+    /// The scene as rendered: the caller's with its quality tier applied.
     pub(crate) scene: Scene,
+    /// The scene as the caller gave it.
+    requested: Scene,
+    /// The resolved quality tier.
+    quality: hydrolux_core::scene::Quality,
     pub(crate) sky_irradiance: glam::Vec3,
     pub(crate) timer: Option<GpuTimer>,
     pub(crate) timing: bool,
@@ -57,6 +62,8 @@ pub struct Renderer {
     pub(crate) last_plan: Option<FramePlan>,
     /// The fixed-step clock stateful simulations advance on.
     clock: SimulationClock,
+    /// Size of the caller's target in the last frame.
+    output_size: (u32, u32),
 }
 
 /// Fixed step of stateful simulations (s): 120 Hz.
@@ -89,6 +96,9 @@ impl Renderer {
     ) -> Result<Self, RenderError> {
         let caps = Capabilities::of(device);
         caps.check_supported()?;
+        let requested = scene.clone();
+        let quality = scene.render.quality.resolve(caps.cpu);
+        let scene = &quality.apply(scene);
         let layouts = Layouts::new(device);
         let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
         let samplers = GlobalSamplers {
@@ -174,6 +184,8 @@ impl Renderer {
             probe,
             targets: None,
             scene: scene.clone(),
+            requested,
+            quality,
             sky_irradiance: glam::Vec3::ZERO,
             timer: GpuTimer::new(device, queue),
             timing: false,
@@ -181,6 +193,7 @@ impl Renderer {
             last_plan: None,
             clock: SimulationClock::new(SIMULATION_STEP_S, SIMULATION_BATCH)
                 .expect("valid clock constants"),
+            output_size: (0, 0),
         };
         r.update_sky();
         Ok(r)
@@ -224,8 +237,20 @@ impl Renderer {
         self.shared.target_format
     }
 
+    /// The scene as given (`new`, `set_scene`).
     pub fn scene(&self) -> &Scene {
+        &self.requested
+    }
+
+    /// The scene as rendered: [`Renderer::scene`] with its quality tier
+    /// applied (`render.quality`; `auto` resolved for this adapter).
+    pub fn rendered_scene(&self) -> &Scene {
         &self.scene
+    }
+
+    /// The quality tier in effect.
+    pub fn quality(&self) -> hydrolux_core::scene::Quality {
+        self.quality
     }
 
     /// Switch to another scene (or an edited one): rebuilds only what changed.
@@ -234,7 +259,13 @@ impl Renderer {
         crate::error::catch_gpu_errors(
             &device,
             || "applying the scene".into(),
-            || self.apply_scene(scene),
+            || {
+                let quality = scene.render.quality.resolve(self.shared.caps.cpu);
+                self.apply_scene(&quality.apply(scene))?;
+                self.quality = quality;
+                self.requested = scene.clone();
+                Ok(())
+            },
         )
     }
 
@@ -346,6 +377,10 @@ impl Renderer {
         stages: &[Stage],
     ) {
         let mut plan = FramePlan::new(&self.scene, &self.world(), input.0, input.1, input.2);
+        if output.is_some() {
+            plan.frame.modes.output_width = self.output_size.0;
+            plan.frame.modes.output_height = self.output_size.1;
+        }
         // Simulations start at t = 0: earlier (or non-finite) times show the
         // initial state.
         let sim_time = if input.2.is_finite() { input.2.max(0.0) } else { 0.0 };
@@ -486,12 +521,18 @@ impl Renderer {
     }
 
     /// Record one frame into `encoder`, drawing into `input.target`.
+    /// The frame is drawn at the quality tier's fraction of the output's
+    /// size (`Quality::render_scale`) and filtered up by the tone map.
     pub fn render(&mut self, encoder: &mut wgpu::CommandEncoder, input: &FrameInput) {
-        let key = (input.size, self.target_settings());
+        let scale = self.quality.render_scale();
+        let inner = |n: u32| ((n as f32 * scale).round() as u32).max(1);
+        let size = (inner(input.size.0), inner(input.size.1));
+        let key = (size, self.target_settings());
         if self.targets.as_ref().map(|t| (t.size, t.settings)) != Some(key) {
             self.targets = Some(Targets::new(&self.shared, &self.techniques, key.0, key.1));
         }
-        let frame = (input.camera, input.size, input.time);
+        self.output_size = input.size;
+        let frame = (input.camera, size, input.time);
         self.run(encoder, frame, Some(input.target), &Stage::ALL);
     }
 }

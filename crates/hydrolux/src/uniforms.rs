@@ -191,8 +191,8 @@ uniform! { FrameModes;
         pub debug_view: u32,
         pub optics: u32,
         pub refraction_lookup: u32,
-        pub _pad0: u32,
-        pub _pad1: u32,
+        pub output_width: u32,
+        pub output_height: u32,
         pub _pad2: u32,
     }
 }

@@ -53,6 +53,7 @@ choice!(DebugView: Final, Reflection, Refraction, Depth, Normals, Shadow, Medium
 choice!(CausticMethod: Photons, Beam, Procedural, Off);
 choice!(GodRayMethod: Lines, March, Off);
 choice!(RippleEdges: Walls, Open);
+choice!(Quality: Auto, Low, Medium, High, Ultra);
 
 /// Each enumerated key (array indices left out: `objects.primitive`) and
 /// its allowed values.
@@ -73,6 +74,7 @@ pub fn enumerated_keys() -> Vec<(&'static str, Vec<String>)> {
         ("caustics.method", CausticMethod::names()),
         ("godrays.method", GodRayMethod::names()),
         ("ripples.edges", RippleEdges::names()),
+        ("render.quality", Quality::names()),
     ]
 }
 

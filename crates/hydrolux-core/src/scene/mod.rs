@@ -540,6 +540,84 @@ pub struct RenderDesc {
     /// Field-of-view widening of the reflection and refraction textures
     /// (0.5 = 50% wider, seed 002 §3).
     pub fov_margin: f32,
+    /// Quality tier (`Quality`): caps on the costly settings and the
+    /// internal rendering resolution; `auto` picks by adapter.
+    pub quality: Quality,
+}
+
+/// What a quality tier keeps; see [`Quality::apply`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Quality {
+    /// `low` on CPU adapters (software rasterisers), `high` on GPUs.
+    Auto,
+    Low,
+    Medium,
+    High,
+    Ultra,
+}
+
+impl Quality {
+    /// The tier for an adapter: `auto` resolved (`cpu`: a software adapter).
+    pub fn resolve(self, cpu: bool) -> Quality {
+        match self {
+            Quality::Auto if cpu => Quality::Low,
+            Quality::Auto => Quality::High,
+            q => q,
+        }
+    }
+
+    /// Fraction of the output's pixels per side the frame is rendered at
+    /// (then filtered up to the output by the tone map).
+    pub fn render_scale(self) -> f32 {
+        match self {
+            Quality::Low => 0.5,
+            Quality::Medium => 0.75,
+            _ => 1.0,
+        }
+    }
+
+    /// `scene` as this (resolved) tier renders it. `high` is the scene as
+    /// written. Lower tiers cap what costs most per frame; `ultra` raises
+    /// the floors of the textures that alias first:
+    /// - low: caustics ≤ 128 photons per side on ≤ 128² maps, ≤ 2 layers;
+    ///   shadow map ≤ 1024²; reflections ≤ 0.25× the output; god rays ≤ ¼
+    ///   resolution; ocean N ≤ 128; interactive water ≤ 64 cells; ½ resolution.
+    /// - medium: caustics ≤ 256 photons on ≤ 256² maps; shadow map ≤ 2048²;
+    ///   interactive water ≤ 128 cells; ¾ resolution.
+    /// - ultra: caustic maps ≥ 512², photons ≥ 1024 per side, shadow map
+    ///   ≥ 4096², reflections at the output's resolution.
+    pub fn apply(self, scene: &Scene) -> Scene {
+        let mut s = scene.clone();
+        let cap_u = |v: &mut u32, max: u32| *v = (*v).min(max);
+        let cap_f = |v: &mut f32, max: f32| *v = v.min(max);
+        match self {
+            Quality::Low => {
+                cap_u(&mut s.caustics.photons, 128);
+                cap_u(&mut s.caustics.map_resolution, 128);
+                cap_u(&mut s.caustics.layers, 2);
+                cap_u(&mut s.render.shadow_resolution, 1024);
+                cap_f(&mut s.render.reflection_resolution, 0.25);
+                cap_f(&mut s.godrays.resolution, 0.25);
+                cap_u(&mut s.ocean.resolution, 128);
+                cap_u(&mut s.ripples.resolution, 64);
+            }
+            Quality::Medium => {
+                cap_u(&mut s.caustics.photons, 256);
+                cap_u(&mut s.caustics.map_resolution, 256);
+                cap_u(&mut s.render.shadow_resolution, 2048);
+                cap_u(&mut s.ripples.resolution, 128);
+            }
+            Quality::Ultra => {
+                s.caustics.map_resolution = s.caustics.map_resolution.max(512);
+                s.caustics.photons = s.caustics.photons.max(1024);
+                s.render.shadow_resolution = s.render.shadow_resolution.max(4096);
+                s.render.reflection_resolution = 1.0;
+            }
+            Quality::High | Quality::Auto => {}
+        }
+        s
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -1011,6 +1089,7 @@ impl Default for RenderDesc {
             shadow_resolution: 2048,
             reflection_resolution: 0.5,
             fov_margin: 0.5,
+            quality: Quality::Auto,
         }
     }
 }

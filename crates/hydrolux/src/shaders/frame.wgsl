@@ -162,8 +162,10 @@ struct FrameModes {
     optics: u32,
     // 0 depth, 1 plane.
     refraction_lookup: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // The caller's target (the tone map's output), when the frame is drawn
+    // at another size (render.quality); 0 when it is the frame's own size.
+    output_width: u32,
+    output_height: u32,
     _pad2: u32,
 }
 

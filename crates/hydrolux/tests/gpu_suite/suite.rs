@@ -30,8 +30,20 @@ fn scene(sets: &[&str]) -> Scene {
     Scene::load("ocean", &sets).expect("test scene")
 }
 
+/// A renderer at the `high` tier (the scene as written) unless the test
+/// asks for another: these tests check the settings they give.
 fn renderer(ctx: &GpuContext, scene: &Scene) -> Renderer {
-    Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, scene).expect("renderer")
+    Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &high(scene))
+        .expect("renderer")
+}
+
+fn high(scene: &Scene) -> Scene {
+    use hydrolux::core::scene::Quality;
+    let mut s = scene.clone();
+    if s.render.quality == Quality::Auto {
+        s.render.quality = Quality::High;
+    }
+    s
 }
 
 const SMALL_OCEAN: &[&str] =
@@ -232,7 +244,7 @@ fn editing_the_scene_live_gives_the_same_image_as_a_fresh_renderer() {
     target.render(&mut live, base.camera(), 3.0).expect("frame");
     for edit in edits {
         let edited = load(edit);
-        live.set_scene(&edited).expect("valid edit");
+        live.set_scene(&high(&edited)).expect("valid edit");
         let a = target.render(&mut live, edited.camera(), 3.0).expect("frame");
         let mut fresh = renderer(&ctx, &edited);
         let b = target.render(&mut fresh, edited.camera(), 3.0).expect("frame");
@@ -449,7 +461,7 @@ fn objects_shadow_the_floor_through_the_water_and_stay_out_of_the_refraction() {
     // The refraction texture (debug view) holds no trace of the red box.
     let mut sr = s.clone();
     sr.render.view = hydrolux::core::scene::DebugView::Refraction;
-    r.set_scene(&sr).expect("same scene");
+    r.set_scene(&high(&sr)).expect("same scene");
     let px = HeadlessTarget::new(&ctx.device, size).render(&mut r, s.camera(), 0.0).expect("frame");
     let reddish = px.chunks_exact(4).filter(|p| p[0] as i32 > 2 * p[1] as i32 + 20).count();
     assert_eq!(reddish, 0, "objects above the water leaked into the refraction texture");
@@ -688,12 +700,12 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
     // on the next frame, and `off` removes the map.
     let mut live = s.clone();
     live.caustics.method = hydrolux::core::scene::CausticMethod::Procedural;
-    r.set_scene(&live).expect("same scene, other method");
+    r.set_scene(&high(&live)).expect("same scene, other method");
     r.simulate(&live.camera(), (16, 16), t);
     let (_, procedural_map) = r.read_caustics().expect("caustics are on");
     assert_ne!(procedural_map, beam_map);
     live.caustics.method = hydrolux::core::scene::CausticMethod::Off;
-    r.set_scene(&live).expect("same scene, caustics off");
+    r.set_scene(&high(&live)).expect("same scene, caustics off");
     assert!(r.read_caustics().is_none());
 }
 

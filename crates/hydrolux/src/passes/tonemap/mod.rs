@@ -15,6 +15,7 @@ pub fn source(srgb_target: bool) -> String {
 pub struct TonemapPass {
     pub layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
+    sampler: wgpu::Sampler,
 }
 
 impl TonemapPass {
@@ -27,17 +28,25 @@ impl TonemapPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tonemap input"),
             entries: &[
-                texture_entry(0, fs, wgpu::TextureViewDimension::D2, false),
+                texture_entry(0, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, false),
                 texture_entry(3, fs, wgpu::TextureViewDimension::D2, false),
                 uint_texture_entry(4, fs),
+                sampler_entry(5, fs),
             ],
+        });
+        // Filters the frame up to the output when it is drawn smaller.
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("tonemap upscale"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
         });
         let module = shader(device, "tonemap", &source(target_format.is_srgb()));
         let pipeline =
             fullscreen_pipeline(device, "tonemap", &module, &[globals, &layout], target_format);
-        TonemapPass { layout, pipeline }
+        TonemapPass { layout, pipeline, sampler }
     }
 
     /// The HDR image and the screen-size textures the debug views show, in
@@ -49,7 +58,7 @@ impl TonemapPass {
         device: &wgpu::Device,
         views: [&wgpu::TextureView; 5],
     ) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry> = views
+        let mut entries: Vec<wgpu::BindGroupEntry> = views
             .iter()
             .enumerate()
             .map(|(i, v)| wgpu::BindGroupEntry {
@@ -57,6 +66,10 @@ impl TonemapPass {
                 resource: wgpu::BindingResource::TextureView(v),
             })
             .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: 5,
+            resource: wgpu::BindingResource::Sampler(&self.sampler),
+        });
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tonemap input"),
             layout: &self.layout,

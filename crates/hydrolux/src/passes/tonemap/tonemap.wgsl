@@ -13,6 +13,8 @@
 @group(1) @binding(2) var refraction_tex: texture_2d<f32>;
 @group(1) @binding(3) var depth_tex: texture_2d<f32>;
 @group(1) @binding(4) var medium_tex: texture_2d<u32>;
+// Bilinear, for filtering a frame drawn smaller than the output.
+@group(1) @binding(5) var hdr_sampler: sampler;
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -26,15 +28,41 @@ fn tone(c: vec3<f32>) -> vec3<f32> {
     return clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
+// The output's size: the caller's target, which the frame (frame.view.size)
+// may be smaller than (render.quality).
+fn output_size() -> vec2<f32> {
+    if (frame.modes.output_width == 0u) {
+        return frame.view.size;
+    }
+    return vec2<f32>(f32(frame.modes.output_width), f32(frame.modes.output_height));
+}
+
 // A square texture letterboxed into the output: its coordinates here.
 fn letterbox(pos: vec2<f32>) -> vec2<f32> {
-    let side = min(frame.view.size.x, frame.view.size.y);
-    return (pos - 0.5 * (frame.view.size - side)) / side;
+    let size = output_size();
+    let side = min(size.x, size.y);
+    return (pos - 0.5 * (size - side)) / side;
 }
 
 // The texel of a texture of another size under this output pixel.
 fn scaled_texel(pos: vec2<f32>, dims: vec2<u32>) -> vec2<i32> {
-    return vec2<i32>(pos * vec2<f32>(dims) * frame.view.inv_size);
+    return vec2<i32>(pos * vec2<f32>(dims) / output_size());
+}
+
+// The frame's HDR colour under this output pixel: bilinear when the frame is
+// smaller than the output (render.quality), else the pixel itself.
+fn hdr_at(pos: vec2<f32>) -> vec3<f32> {
+    let dims = vec2<i32>(textureDimensions(hdr));
+    let out = output_size();
+    if (all(vec2<f32>(dims) == out)) {
+        return textureLoad(hdr, vec2<i32>(pos), 0).rgb;
+    }
+    return textureSampleLevel(hdr, hdr_sampler, pos / out, 0.0).rgb;
+}
+
+// The frame's texel (same size as the HDR image) under this output pixel.
+fn frame_texel(pos: vec2<f32>) -> vec2<i32> {
+    return scaled_texel(pos, textureDimensions(hdr));
 }
 
 @fragment
@@ -48,12 +76,12 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             mapped = tone(textureLoad(refraction_tex, scaled_texel(pos.xy, textureDimensions(refraction_tex)), 0).rgb);
         }
         case VIEW_NORMALS, VIEW_RIPPLES: {
-            mapped = textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb;
+            mapped = hdr_at(pos.xy);
         }
         case VIEW_DEPTH: {
             // Reversed-Z with an infinite far plane: d = near / distance.
             // White at 0.5 m fading logarithmically to black at 2 km; sky black.
-            let d = textureLoad(depth_tex, vec2<i32>(pos.xy), 0).r;
+            let d = textureLoad(depth_tex, frame_texel(pos.xy), 0).r;
             var g = 0.0;
             if (d > 0.0) {
                 g = clamp(1.0 - log2((0.05 / d) / 0.5) / 12.0, 0.0, 1.0);
@@ -82,12 +110,12 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
         case VIEW_MEDIUM: {
             // The final image tinted by the pixel's medium: air warm, water blue.
-            let water = textureLoad(medium_tex, vec2<i32>(pos.xy), 0).r == 1u;
+            let water = textureLoad(medium_tex, frame_texel(pos.xy), 0).r == 1u;
             let tint = select(vec3<f32>(1.0, 0.85, 0.4), vec3<f32>(0.1, 0.4, 1.0), water);
-            mapped = mix(tone(textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb), tint, 0.5);
+            mapped = mix(tone(hdr_at(pos.xy)), tint, 0.5);
         }
         default: {
-            mapped = tone(textureLoad(hdr, vec2<i32>(pos.xy), 0).rgb);
+            mapped = tone(hdr_at(pos.xy));
         }
     }
     if (OUTPUT_SRGB_CURVE) {
