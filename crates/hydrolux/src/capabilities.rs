@@ -160,6 +160,7 @@ mod tests {
     fn caps(pad: bool) -> Capabilities {
         Capabilities {
             adapter: "test".into(),
+            cpu: false,
             backend: if pad { wgpu::Backend::Gl } else { wgpu::Backend::Vulkan },
             compute: true,
             depth32_stencil8: true,

@@ -237,7 +237,9 @@ impl Renderer {
         self.shared.target_format
     }
 
-    /// The scene as given (`new`, `set_scene`).
+    /// The scene as given (`new`, `set_scene`); the renderer's own `scene`
+    /// field is the one it renders ([`Renderer::rendered_scene`]).
+    #[allow(clippy::misnamed_getters)]
     pub fn scene(&self) -> &Scene {
         &self.requested
     }
