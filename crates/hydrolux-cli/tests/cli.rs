@@ -389,6 +389,9 @@ fn god_ray_and_object_caustic_dumps_have_their_shapes() {
             "20",
             "--set",
             "godrays.photons=64",
+            // The buffer is a fraction of the frame, which lower tiers draw smaller.
+            "--set",
+            "render.quality=\"high\"",
             "--dump",
             "godrays=g.npy",
             "--out",

@@ -1248,6 +1248,11 @@ impl Scene {
     pub fn surface_patch(&self) -> [f32; 2] {
         if self.water.model == WaterModel::Heightfield {
             self.water.size
+        } else if self.water.model == WaterModel::Flat && self.water.dynamic {
+            // Flat water's only waves are the interactive water's: the
+            // patch is its domain (around the origin).
+            let c = self.ripples.center;
+            [self.ripples.extent + 2.0 * c[0].abs().max(c[1].abs()); 2]
         } else {
             [self.ocean.patch_size; 2]
         }
