@@ -192,10 +192,12 @@ pub struct BodyMove {
 
 impl BodyMove {
     /// Depth (m) the body reaches below the mean level at world (x, z),
-    /// after the move: its pressure head. Twin of `body_depth` in WGSL.
+    /// after the move, where it pierces the surface: its pressure head. A
+    /// column of the body wholly under water holds nothing down (the water
+    /// closes over it). Twin of `body_depth` in WGSL.
     pub fn depth(&self, x: f64, z: f64) -> f64 {
         crate::bodies::body_column(&self.shape, &self.after, x, z)
-            .map_or(0.0, |(y0, y1)| (0.0f64.min(y1) - y0).max(0.0))
+            .map_or(0.0, |(y0, y1)| if y1 > 0.0 { (-y0).max(0.0) } else { 0.0 })
     }
 }
 

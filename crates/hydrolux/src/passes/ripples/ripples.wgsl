@@ -126,14 +126,15 @@ fn body_column(shape: vec4<f32>, position: vec3<f32>, rotation: vec4<f32>, xz: v
 }
 
 // Depth (m) a body reaches below the mean level at world point w after its
-// move: the head of the pressure it holds the surface down with. Twin:
+// move, where it pierces the surface: the head of the pressure it holds the
+// surface down with (a column wholly under water holds nothing down). Twin:
 // BodyMove::depth.
 fn body_depth(m: BodyMove, w: vec2<f32>) -> f32 {
     let c = body_column(m.shape, m.after_position.xyz, m.after_rotation, w);
-    if (c.x > c.y) {
+    if (c.x > c.y || c.y <= 0.0) {
         return 0.0;
     }
-    return max(min(0.0, c.y) - c.x, 0.0);
+    return max(-c.x, 0.0);
 }
 
 const EDGES_WALLS: u32 = 0u;
