@@ -60,6 +60,19 @@ impl Shape {
         }
     }
 
+    /// Half-sides [x, z] of the shape's footprint box at `pose` (the box
+    /// around it, turned; a cylinder as its box).
+    pub fn horizontal_half_extent(&self, pose: &Pose) -> [f64; 2] {
+        let local = match *self {
+            Shape::Sphere { radius } => return [radius, radius],
+            Shape::Box { half } => half,
+            Shape::Cylinder { radius, half_height } => DVec3::new(radius, half_height, radius),
+        };
+        let m = glam::DMat3::from_quat(pose.rotation);
+        let reach = |row: usize| (0..3).map(|c| (m.col(c)[row] * local[c]).abs()).sum::<f64>();
+        [reach(0), reach(2)]
+    }
+
     /// Radius of a sphere around the shape.
     pub fn bounding_radius(&self) -> f64 {
         match *self {
@@ -190,26 +203,27 @@ pub const BUOYANCY_COLUMNS: usize = 32;
 /// surface `water(x, z)` (height, m): the midpoint rule over a grid of
 /// columns across the body's footprint, each column exact.
 pub fn submerged(shape: &Shape, pose: &Pose, water: &dyn Fn(f64, f64) -> f64) -> Submerged {
-    let r = shape.bounding_radius();
+    let half = shape.horizontal_half_extent(pose);
     let n = BUOYANCY_COLUMNS;
-    let cell = 2.0 * r / n as f64;
+    let cell = [2.0 * half[0] / n as f64, 2.0 * half[1] / n as f64];
+    let area = cell[0] * cell[1];
     let mut s = Submerged::default();
     let mut moment = DVec3::ZERO;
     for j in 0..n {
         for i in 0..n {
-            let x = pose.position.x - r + (i as f64 + 0.5) * cell;
-            let z = pose.position.z - r + (j as f64 + 0.5) * cell;
+            let x = pose.position.x - half[0] + (i as f64 + 0.5) * cell[0];
+            let z = pose.position.z - half[1] + (j as f64 + 0.5) * cell[1];
             let Some((y0, y1)) = body_column(shape, pose, x, z) else { continue };
             let h = water(x, z);
             let top = h.min(y1);
             if top <= y0 {
                 continue;
             }
-            let v = (top - y0) * cell * cell;
+            let v = (top - y0) * area;
             s.volume += v;
             moment += DVec3::new(x, 0.5 * (y0 + top), z) * v;
             if h > y0 && h < y1 {
-                s.waterplane += cell * cell;
+                s.waterplane += area;
             }
         }
     }
@@ -566,6 +580,27 @@ mod tests {
                 - last_second.iter().cloned().fold(f64::MAX, f64::min);
             assert!(spread < 1e-3, "density {density}: still bobbing by {spread} m");
         }
+    }
+
+    #[test]
+    fn an_upright_buoy_floats_at_its_density_fraction_of_its_height() {
+        // A cylinder 1.2 m tall, 0.5 m across, 300 kg/m³: draft 0.36 m.
+        let scene = Scene::from_toml(
+            "[water]\nmodel = \"flat\"\n[floor]\ndepth = 3.0\n[[objects]]\nprimitive = \"cylinder\"\n\
+             position = [0.0, 0.5, 0.0]\nscale = [0.5, 1.2, 0.5]\ndynamic = true\ndensity = 300.0\n",
+            "test",
+            &[],
+        )
+        .unwrap();
+        let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+        for _ in 0..60 * 20 {
+            world.step(&|_, x, z| flat(x, z));
+        }
+        let p = world.poses()[0];
+        let draft = 0.6 - p.position.y;
+        assert!((draft - 0.36).abs() < 0.012, "draft {draft:.4} m, Archimedes 0.36 m");
+        let tilt = (p.rotation * DVec3::Y).angle_between(DVec3::Y);
+        assert!(tilt < 0.05, "it stays upright: tilted {tilt} rad");
     }
 
     #[test]
