@@ -1337,7 +1337,6 @@ fn bodies_moving_through_the_water_match_the_cpu_twin() {
     use hydrolux::core::bodies::BodyWorld;
     use hydrolux::core::scene::ObjectDesc;
     use hydrolux::core::waves::ripples::{BodyMove, RippleSim, RippleWindow};
-    #[allow(unused_mut)]
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let mut s = ripple_scene("walls");
     s.drops.clear();
