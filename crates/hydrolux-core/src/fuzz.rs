@@ -149,19 +149,15 @@ fn tiny_png() -> Vec<u8> {
 }
 
 /// A small, fast, deterministic generator (SplitMix64) for the mutations.
-pub struct Mutator(u64);
+pub struct Mutator(crate::rng::SplitMix64);
 
 impl Mutator {
     pub fn new(seed: u64) -> Self {
-        Mutator(seed)
+        Mutator(crate::rng::SplitMix64::new(seed))
     }
 
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     fn below(&mut self, n: usize) -> usize {

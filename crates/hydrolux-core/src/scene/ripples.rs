@@ -301,7 +301,7 @@ impl Scene {
             if t0 < e.start as f64 || (e.end > 0.0 && t0 >= e.end as f64) {
                 continue;
             }
-            let mut rng = SplitMix(
+            let mut rng = crate::rng::SplitMix64::new(
                 e.seed
                     ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
                     ^ step.wrapping_mul(0xD1B5_4A32_D192_ED03),
@@ -320,24 +320,6 @@ impl Scene {
         }
         out.truncate(MAX_DROPS_PER_STEP);
         out
-    }
-}
-
-/// SplitMix64 (Steele, Lea, Flood 2014): a tiny deterministic generator.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
     }
 }
 

@@ -9,6 +9,26 @@ pub mod sines;
 pub mod spectrum;
 
 use glam::Vec3;
+use rustfft::{Fft, FftNum, num_complex::Complex};
+
+/// 2-D FFT of an n×n grid (row = z) in place with `fft`, a 1-D plan of
+/// size n: rows, then columns. The ocean's and the interactive water's CPU
+/// twins share it.
+pub fn fft2<T: FftNum>(fft: &dyn Fft<T>, data: &mut [Complex<T>], n: usize) {
+    for row in data.chunks_exact_mut(n) {
+        fft.process(row);
+    }
+    let mut column = vec![Complex::new(T::zero(), T::zero()); n];
+    for x in 0..n {
+        for z in 0..n {
+            column[z] = data[z * n + x];
+        }
+        fft.process(&mut column);
+        for z in 0..n {
+            data[z * n + x] = column[z];
+        }
+    }
+}
 
 /// The surface at one undisplaced point: displacement (Dx, h, Dz) and the
 /// partial derivatives needed for normals and the Jacobian.

@@ -266,7 +266,6 @@ impl OceanFields {
         let fft = planner.plan_fft_inverse(n);
         let mut texels = vec![[0.0f32; 8]; spectrum.cascades.len() * n * n];
         let mut fields = vec![vec![Complex::new(0.0f32, 0.0); n * n]; 4];
-        let mut column = vec![Complex::new(0.0f32, 0.0); n];
         for c in 0..spectrum.cascades.len() {
             for i in 0..n * n {
                 let packed = evolve_mode(&spectrum.modes[c * n * n + i], tau, lambda);
@@ -275,18 +274,7 @@ impl OceanFields {
                 }
             }
             for field in fields.iter_mut() {
-                for row in field.chunks_exact_mut(n) {
-                    fft.process(row);
-                }
-                for x in 0..n {
-                    for z in 0..n {
-                        column[z] = field[z * n + x];
-                    }
-                    fft.process(&mut column);
-                    for z in 0..n {
-                        field[z * n + x] = column[z];
-                    }
-                }
+                super::fft2(&*fft, field, n);
             }
             for i in 0..n * n {
                 let t = &mut texels[c * n * n + i];

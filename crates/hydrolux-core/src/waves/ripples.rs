@@ -489,22 +489,10 @@ impl RippleSim {
     }
 }
 
-/// 2-D FFT in place (rows then columns); `inverse` is unnormalised e^(+i).
-pub fn fft2(planner: &mut FftPlanner<f64>, data: &mut [Complex64], n: usize, inverse: bool) {
+/// 2-D FFT in place; `inverse` is unnormalised e^(+i).
+fn fft2(planner: &mut FftPlanner<f64>, data: &mut [Complex64], n: usize, inverse: bool) {
     let fft = if inverse { planner.plan_fft_inverse(n) } else { planner.plan_fft_forward(n) };
-    for row in data.chunks_mut(n) {
-        fft.process(row);
-    }
-    let mut col = vec![Complex64::default(); n];
-    for x in 0..n {
-        for z in 0..n {
-            col[z] = data[z * n + x];
-        }
-        fft.process(&mut col);
-        for z in 0..n {
-            data[z * n + x] = col[z];
-        }
-    }
+    super::fft2(&*fft, data, n);
 }
 
 #[cfg(test)]
