@@ -409,6 +409,20 @@ impl BodyWorld {
         self.bodies.iter().map(|b| self.pose_of(b)).collect()
     }
 
+    /// The bodies' moves from `before` (poses in body order) to where
+    /// they are now, as the water takes them (`before` = now: at rest).
+    pub fn moves_since(&self, before: &[Pose]) -> Vec<crate::waves::ripples::BodyMove> {
+        self.bodies
+            .iter()
+            .zip(before.iter().zip(self.poses()))
+            .map(|(b, (p0, p1))| crate::waves::ripples::BodyMove {
+                shape: b.shape,
+                before: *p0,
+                after: p1,
+            })
+            .collect()
+    }
+
     /// One step: buoyancy and drag from the water surface each body is in,
     /// `water(body, x, z)`, then rapier's step (gravity, contacts).
     pub fn step(&mut self, water: &dyn Fn(usize, f64, f64) -> f64) {

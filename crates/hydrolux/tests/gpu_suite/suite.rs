@@ -1336,7 +1336,7 @@ fn interactive_water_is_the_same_at_a_time_whatever_the_frame_rate() {
 fn bodies_moving_through_the_water_match_the_cpu_twin() {
     use hydrolux::core::bodies::BodyWorld;
     use hydrolux::core::scene::ObjectDesc;
-    use hydrolux::core::waves::ripples::{BodyMove, RippleSim, RippleWindow};
+    use hydrolux::core::waves::ripples::{RippleSim, RippleWindow};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let mut s = ripple_scene("walls");
     s.drops.clear();
@@ -1358,22 +1358,12 @@ fn bodies_moving_through_the_water_match_the_cpu_twin() {
     let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
     let mut world = BodyWorld::new(&s, settings.dt).unwrap();
     // The water starts at rest around the hull: in its hollow.
-    let start: Vec<BodyMove> = world
-        .bodies
-        .iter()
-        .zip(world.poses())
-        .map(|(b, p)| BodyMove { shape: b.shape, before: p, after: p })
-        .collect();
+    let start = world.moves_since(&world.poses());
     sim.h = hydrolux::core::waves::ripples::resting_heights(&settings.grid, &sim.window, &start);
     for _ in 0..(t * 60.0).round() as u64 {
         let before = world.poses();
         world.step(&|_, _, _| 0.0);
-        let moves: Vec<BodyMove> = world
-            .bodies
-            .iter()
-            .zip(before.iter().zip(world.poses()))
-            .map(|(b, (p0, p1))| BodyMove { shape: b.shape, before: *p0, after: p1 })
-            .collect();
+        let moves = world.moves_since(&before);
         sim.step_with(&[], &moves);
     }
     let cpu = sim.heights();

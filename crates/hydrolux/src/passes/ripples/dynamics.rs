@@ -117,12 +117,7 @@ impl Dynamics {
     /// bodies appearing at t = 0).
     fn settle_water(&self, queue: &wgpu::Queue) {
         let (Some(r), Some(world)) = (&self.ripples, &self.bodies) else { return };
-        let moves: Vec<BodyMove> = world
-            .bodies
-            .iter()
-            .zip(world.poses())
-            .map(|(b, p)| BodyMove { shape: b.shape, before: p, after: p })
-            .collect();
+        let moves = world.moves_since(&world.poses());
         let g = r.settings.grid;
         r.set_heights(queue, &resting_heights(&g, &r.window, &moves));
     }
@@ -272,13 +267,7 @@ impl Dynamics {
         let Some(mut world) = self.bodies.take() else { return Vec::new() };
         let before = world.poses();
         world.step(&self.water(s as f64 * self.dt));
-        let after = world.poses();
-        let moves = world
-            .bodies
-            .iter()
-            .zip(before.iter().zip(&after))
-            .map(|(b, (p0, p1))| BodyMove { shape: b.shape, before: *p0, after: *p1 })
-            .collect();
+        let moves = world.moves_since(&before);
         self.bodies = Some(world);
         moves
     }
