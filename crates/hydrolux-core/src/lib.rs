@@ -20,5 +20,6 @@ pub mod sky;
 pub mod tonemap;
 pub mod water_object;
 pub mod waves;
+pub mod whitewater;
 
 pub use glam;

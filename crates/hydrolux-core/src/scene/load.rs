@@ -478,6 +478,7 @@ impl Scene {
         self.air.validate()?;
         self.godrays.validate()?;
         self.validate_ripples()?;
+        self.whitewater.validate()?;
         if self.water.model == WaterModel::Sines && !(1..=64).contains(&self.sines.count) {
             return Err(SceneError::OutOfRange {
                 key: "sines.count".into(),

@@ -7,6 +7,7 @@ mod choices;
 mod geometry;
 mod load;
 mod ripples;
+mod whitewater;
 
 pub use builtin::{BUILTIN_SCENES, BuiltinScene};
 pub use choices::{Choice, enumerated_keys};
@@ -14,6 +15,7 @@ pub use geometry::{FLOOR_EXTENT, SceneObject};
 pub use load::{SceneError, WORLD_EXTENT_M, apply_override, parse_override};
 use load::{range, validate_material, vec3_range};
 pub use ripples::{CLOCK_HZ, DropDesc, EmitterDesc, MAX_DROPS_PER_STEP, RippleEdges, RipplesDesc};
+pub use whitewater::WhitewaterDesc;
 
 use crate::camera::Camera;
 use crate::medium::Medium;
@@ -40,6 +42,8 @@ pub struct Scene {
     pub air: AirDesc,
     /// The interactive water's simulation (with `water.dynamic = true`).
     pub ripples: RipplesDesc,
+    /// Foam, bubbles and spray (`[whitewater]`).
+    pub whitewater: WhitewaterDesc,
     /// `[[objects]]` entries: meshes and primitives with a transform and material.
     pub objects: Vec<ObjectDesc>,
     /// `[[drops]]`: scripted disturbances of the interactive water.
@@ -209,6 +213,8 @@ pub struct WaterDesc {
     /// Interactive water: a simulated surface (`[ripples]`) that drops,
     /// rain and the viewer disturb, added to the model's waves.
     pub dynamic: bool,
+    /// Salinity (PSU: 35 the open sea, 0 fresh water): how long foam lives.
+    pub salinity: f32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -582,11 +588,13 @@ impl Quality {
     /// the floors of the textures that alias first:
     /// - low: caustics ≤ 128 photons per side on ≤ 128² maps, ≤ 2 layers;
     ///   shadow map ≤ 1024²; reflections ≤ 0.25× the output; god rays ≤ ¼
-    ///   resolution; ocean N ≤ 128; interactive water ≤ 64 cells; ½ resolution.
+    ///   resolution; ocean N ≤ 128; interactive water ≤ 64 cells; foam ≤ 128
+    ///   cells, ≤ 16k particles, ≤ 10 steps/s over ≤ 6 s of memory; ½ resolution.
     /// - medium: caustics ≤ 256 photons on ≤ 256² maps; shadow map ≤ 2048²;
-    ///   interactive water ≤ 128 cells; ¾ resolution.
+    ///   interactive water ≤ 128 cells; ≤ 64k particles; ¾ resolution.
     /// - ultra: caustic maps ≥ 512², photons ≥ 1024 per side, shadow map
-    ///   ≥ 4096², reflections at the output's resolution.
+    ///   ≥ 4096², reflections at the output's resolution, ≥ 1M particles,
+    ///   foam ≥ 512 cells.
     pub fn apply(self, scene: &Scene) -> Scene {
         let mut s = scene.clone();
         let cap_u = |v: &mut u32, max: u32| *v = (*v).min(max);
@@ -601,18 +609,27 @@ impl Quality {
                 cap_f(&mut s.godrays.resolution, 0.25);
                 cap_u(&mut s.ocean.resolution, 128);
                 cap_u(&mut s.ripples.resolution, 64);
+                cap_u(&mut s.whitewater.resolution, 128);
+                cap_u(&mut s.whitewater.budget, 16_384);
+                cap_f(&mut s.whitewater.memory, 6.0);
+                if s.whitewater.rate > 10 {
+                    s.whitewater.rate = 10;
+                }
             }
             Quality::Medium => {
                 cap_u(&mut s.caustics.photons, 256);
                 cap_u(&mut s.caustics.map_resolution, 256);
                 cap_u(&mut s.render.shadow_resolution, 2048);
                 cap_u(&mut s.ripples.resolution, 128);
+                cap_u(&mut s.whitewater.budget, 65_536);
             }
             Quality::Ultra => {
                 s.caustics.map_resolution = s.caustics.map_resolution.max(512);
                 s.caustics.photons = s.caustics.photons.max(1024);
                 s.render.shadow_resolution = s.render.shadow_resolution.max(4096);
                 s.render.reflection_resolution = 1.0;
+                s.whitewater.budget = s.whitewater.budget.max(1 << 20);
+                s.whitewater.resolution = s.whitewater.resolution.max(512);
             }
             Quality::High | Quality::Auto => {}
         }
@@ -636,6 +653,8 @@ pub enum DebugView {
     /// The interactive water's height on the surface (red up, blue down,
     /// saturating at ±5 mm), shaded by its slopes; the rest in grey.
     Ripples,
+    /// The foam's cover on the surface (white), over the water in grey.
+    Foam,
 }
 
 impl Default for Scene {
@@ -654,6 +673,7 @@ impl Default for Scene {
             godrays: GodRaysDesc::default(),
             air: AirDesc::default(),
             ripples: RipplesDesc::default(),
+            whitewater: WhitewaterDesc::default(),
             objects: Vec::new(),
             drops: Vec::new(),
             emitters: Vec::new(),
@@ -859,6 +879,7 @@ impl Default for WaterDesc {
             reflection_height: 1.5,
             roughness_scale: 1.0,
             dynamic: false,
+            salinity: 35.0,
         }
     }
 }
@@ -943,6 +964,12 @@ impl WaterDesc {
             w.reflection_height,
             (0.0..=1000.0).contains(&w.reflection_height),
             "must be in [0, 1000] m",
+        )?;
+        range(
+            "water.salinity",
+            w.salinity,
+            (0.0..=45.0).contains(&w.salinity),
+            "must be 0 (fresh) to 45 PSU",
         )?;
         Ok(())
     }

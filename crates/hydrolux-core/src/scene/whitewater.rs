@@ -1,0 +1,146 @@
+//! White water's settings (`[whitewater]`, seed 003 §4.4–4.6): the foam
+//! field, and the particle pool shared by bubbles and spray. The physics is
+//! `crate::whitewater`.
+
+use super::load::range;
+use super::{CLOCK_HZ, Scene, SceneError, WaterModel};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WhitewaterDesc {
+    /// Foam that lives on the surface (breaking crests, wakes, splashes).
+    pub foam: bool,
+    /// Bubbles and spray.
+    pub particles: bool,
+    /// Foam cells per side (a power of two, 32 to 1024).
+    pub resolution: u32,
+    /// Side (m) of the foam's square window around the camera; 0 = the
+    /// interactive water's domain over flat water, else 256 m.
+    pub extent: f32,
+    /// Foam lifetime τ (s); 0 = from `water.salinity` (Monahan: 3.85 s in
+    /// sea water, 2.54 s in fresh water).
+    pub life: f32,
+    /// Most particles alive at once (1024 to 4194304; the quality tier caps it).
+    pub budget: u32,
+    /// Simulation steps per second (a divisor of the clock's 120 Hz).
+    pub rate: u32,
+    /// How far back (s) a jump in time is simulated from: older foam has
+    /// decayed (e^(−memory/τ)) and older particles have landed.
+    pub memory: f32,
+    /// Spray and bubble particles per second born from a fully breaking
+    /// square metre of sea.
+    pub spray_rate: f32,
+    pub bubble_rate: f32,
+    /// Drawn size (m) of a spray parcel and of a bubble cloud particle.
+    pub spray_size: f32,
+    pub bubble_size: f32,
+}
+
+impl Default for WhitewaterDesc {
+    fn default() -> Self {
+        WhitewaterDesc {
+            foam: true,
+            particles: true,
+            resolution: 256,
+            extent: 0.0,
+            life: 0.0,
+            budget: 262_144,
+            rate: 20,
+            memory: 12.0,
+            spray_rate: 2.0,
+            bubble_rate: 2.0,
+            spray_size: 0.06,
+            bubble_size: 0.012,
+        }
+    }
+}
+
+impl WhitewaterDesc {
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let w = self;
+        if !(32..=1024).contains(&w.resolution) || !w.resolution.is_power_of_two() {
+            return Err(SceneError::OutOfRange {
+                key: "whitewater.resolution".into(),
+                value: w.resolution.to_string(),
+                allowed: "must be a power of two from 32 to 1024".into(),
+            });
+        }
+        range(
+            "whitewater.extent",
+            w.extent,
+            (0.0..=10_000.0).contains(&w.extent),
+            "must be 0 (automatic) to 10000 m",
+        )?;
+        range(
+            "whitewater.life",
+            w.life,
+            (0.0..=600.0).contains(&w.life),
+            "must be 0 (from water.salinity) to 600 s",
+        )?;
+        if !(1024..=4_194_304).contains(&w.budget) {
+            return Err(SceneError::OutOfRange {
+                key: "whitewater.budget".into(),
+                value: w.budget.to_string(),
+                allowed: "must be 1024 to 4194304 particles".into(),
+            });
+        }
+        if w.rate == 0 || CLOCK_HZ % w.rate != 0 {
+            return Err(SceneError::OutOfRange {
+                key: "whitewater.rate".into(),
+                value: w.rate.to_string(),
+                allowed:
+                    "must divide 120 (1, 2, 3, 4, 5, 6, 8, 10, 12, 15, 20, 24, 30, 40, 60, 120)"
+                        .into(),
+            });
+        }
+        range(
+            "whitewater.memory",
+            w.memory,
+            (0.0..=120.0).contains(&w.memory),
+            "must be 0 to 120 s",
+        )?;
+        for (key, v) in
+            [("whitewater.spray_rate", w.spray_rate), ("whitewater.bubble_rate", w.bubble_rate)]
+        {
+            range(key, v, (0.0..=1000.0).contains(&v), "must be 0 to 1000 per m² per s")?;
+        }
+        for (key, v) in
+            [("whitewater.spray_size", w.spray_size), ("whitewater.bubble_size", w.bubble_size)]
+        {
+            range(key, v, v > 0.0 && v <= 10.0, "must be in (0, 10] m")?;
+        }
+        Ok(())
+    }
+}
+
+impl Scene {
+    /// Whether the scene has white water to simulate: foam or particles on
+    /// water that moves (waves, the interactive water or moving bodies).
+    pub fn has_whitewater(&self) -> bool {
+        let w = &self.whitewater;
+        let moving = matches!(self.water.model, WaterModel::Fft | WaterModel::Sines)
+            || self.water.dynamic
+            || self.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
+        self.has_water() && (w.foam || w.particles) && moving
+    }
+
+    /// Foam lifetime τ (s): `whitewater.life`, or Monahan's by salinity.
+    pub fn foam_life(&self) -> f32 {
+        match self.whitewater.life {
+            0.0 => crate::whitewater::foam_life(self.water.salinity as f64) as f32,
+            l => l,
+        }
+    }
+
+    /// Side (m) of the foam's window.
+    pub fn foam_extent(&self) -> f32 {
+        match self.whitewater.extent {
+            0.0 if self.water.model == WaterModel::Flat && self.water.dynamic => {
+                self.ripples.extent
+            }
+            0.0 => 256.0,
+            e => e,
+        }
+    }
+}
