@@ -9,6 +9,7 @@ use hydrolux::Renderer;
 use hydrolux::core::scene::WaterModel;
 use hydrolux::core::waves::SurfaceSample;
 use hydrolux::core::waves::ocean::OceanFields;
+use hydrolux::core::whitewater::BUBBLE;
 use std::path::PathBuf;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,9 +28,13 @@ pub enum DumpKind {
     Ripples,
     /// The moving bodies' state (JSON).
     Bodies,
+    /// The foam field over its window.
+    Foam,
+    /// The bubbles and spray alive: position, velocity, radius, kind.
+    Particles,
 }
 
-pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics, ripples, bodies";
+pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics, ripples, bodies, foam, particles";
 
 #[derive(Clone, Debug)]
 pub struct Dump {
@@ -51,6 +56,8 @@ pub fn dump_name(kind: DumpKind) -> &'static str {
         DumpKind::ObjectCaustics => "object_caustics",
         DumpKind::Ripples => "ripples",
         DumpKind::Bodies => "bodies",
+        DumpKind::Foam => "foam",
+        DumpKind::Particles => "particles",
     }
 }
 
@@ -69,6 +76,8 @@ pub fn parse(text: &str) -> Result<Dump> {
         "object_caustics" => DumpKind::ObjectCaustics,
         "ripples" => DumpKind::Ripples,
         "bodies" => DumpKind::Bodies,
+        "foam" => DumpKind::Foam,
+        "particles" => DumpKind::Particles,
         other => bail!("--dump `{other}`: unknown buffer; choose one of {KINDS}"),
     };
     let path = PathBuf::from(file);
@@ -141,6 +150,17 @@ pub fn check(dump: &Dump, scene: &hydrolux::core::scene::Scene) -> Result<()> {
             "--dump ripples: the scene has no interactive water (set water.dynamic = true, with water.model other than \"none\")"
         );
     }
+    let whitewater = |on: bool| scene.has_whitewater() && on;
+    if dump.kind == DumpKind::Foam && !whitewater(scene.whitewater.foam) {
+        bail!(
+            "--dump foam: the scene has no foam (it needs whitewater.foam = true and water that moves: water.model \"fft\" or \"sines\", water.dynamic = true or a moving object)"
+        );
+    }
+    if dump.kind == DumpKind::Particles && !whitewater(scene.whitewater.particles) {
+        bail!(
+            "--dump particles: the scene has no bubbles or spray (it needs whitewater.particles = true and water that moves: water.model \"fft\" or \"sines\", water.dynamic = true or a moving object)"
+        );
+    }
     let moving = scene.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
     if dump.kind == DumpKind::Bodies && !moving {
         bail!(
@@ -193,6 +213,36 @@ pub fn write(dump: &Dump, renderer: &Renderer, staged: &mut output::Staged) -> R
             z = f.origin[1] + 0.5 * f.cell_size
         );
         (f.cells as usize, f.cells as usize, 1, f.heights)
+    } else if dump.kind == DumpKind::Foam {
+        let Some(f) = renderer.read_foam() else { bail!("--dump foam: the scene has no foam") };
+        println!(
+            "foam: {n}×{n} cells of {c} m, cell (0, 0) centred at x = {x}, z = {z} m; whitecap cover {w:.2}%",
+            n = f.cells,
+            c = f.cell_size,
+            x = f.origin[0] + 0.5 * f.cell_size,
+            z = f.origin[1] + 0.5 * f.cell_size,
+            w = 100.0 * f.coverage()
+        );
+        (f.cells as usize, f.cells as usize, 1, f.amount)
+    } else if dump.kind == DumpKind::Particles {
+        let Some(ps) = renderer.read_particles() else {
+            bail!("--dump particles: the scene has no bubbles or spray")
+        };
+        let bubbles = ps.iter().filter(|p| p.kind == BUBBLE).count();
+        println!(
+            "particles: {} alive ({bubbles} bubbles, {} spray); columns x y z vx vy vz radius kind (1 bubble, 2 spray)",
+            ps.len(),
+            ps.len() - bubbles
+        );
+        let data: Vec<f32> = ps
+            .iter()
+            .flat_map(|p| {
+                let [x, y, z] = p.position;
+                let [vx, vy, vz] = p.velocity;
+                [x, y, z, vx, vy, vz, p.radius, p.kind as f32]
+            })
+            .collect();
+        (8, ps.len(), 1, data)
     } else if dump.kind == DumpKind::Hdr {
         let Some((w, h, px)) = renderer.read_hdr() else {
             bail!("no frame has been rendered to dump")
@@ -227,7 +277,9 @@ pub fn write(dump: &Dump, renderer: &Renderer, staged: &mut output::Staged) -> R
             | DumpKind::Godrays
             | DumpKind::ObjectCaustics
             | DumpKind::Ripples
-            | DumpKind::Bodies => unreachable!("handled above"),
+            | DumpKind::Bodies
+            | DumpKind::Foam
+            | DumpKind::Particles => unreachable!("handled above"),
         };
         (n, n, c, data)
     };

@@ -191,6 +191,9 @@ pub struct FoamGrid {
     pub cells: u32,
     pub cell: f32,
     pub low: [i32; 2],
+    /// The window tiles the plane (an FFT ocean's patch: its sources are
+    /// periodic), instead of ending at its edges.
+    pub periodic: bool,
 }
 
 impl FoamGrid {
@@ -199,7 +202,12 @@ impl FoamGrid {
     pub fn centred(cells: u32, extent: f32, centre: [f32; 2]) -> Self {
         let cell = extent / cells as f32;
         let low = centre.map(|c| (c / cell).floor() as i32 - cells as i32 / 2);
-        FoamGrid { cells, cell, low }
+        FoamGrid { cells, cell, low, periodic: false }
+    }
+
+    /// A window that tiles the plane with period `extent` (m).
+    pub fn periodic(cells: u32, extent: f32) -> Self {
+        FoamGrid { cells, cell: extent / cells as f32, low: [0, 0], periodic: true }
     }
 
     /// The storage index of world cell (i, j) (toroidal).
@@ -219,7 +227,9 @@ impl FoamGrid {
     /// Whether world cell (i, j) is inside the window.
     pub fn contains(&self, i: i32, j: i32) -> bool {
         let n = self.cells as i32;
-        (self.low[0]..self.low[0] + n).contains(&i) && (self.low[1]..self.low[1] + n).contains(&j)
+        self.periodic
+            || (self.low[0]..self.low[0] + n).contains(&i)
+                && (self.low[1]..self.low[1] + n).contains(&j)
     }
 }
 
@@ -228,7 +238,13 @@ impl FoamGrid {
 pub struct FoamField {
     pub grid: FoamGrid,
     pub amount: Vec<f32>,
+    /// Foam left by particles since the last step, per cell, in
+    /// 1/[`DEPOSIT_SCALE`] of F (integers, as the GPU adds them atomically).
+    pub deposits: Vec<u32>,
 }
+
+/// Fixed-point scale of foam deposits (F).
+pub const DEPOSIT_SCALE: f32 = 65536.0;
 
 /// What one foam step is given.
 #[derive(Clone, Copy, Debug)]
@@ -242,7 +258,19 @@ pub struct FoamStep {
 
 impl FoamField {
     pub fn new(grid: FoamGrid) -> Self {
-        FoamField { grid, amount: vec![0.0; (grid.cells * grid.cells) as usize] }
+        let n = (grid.cells * grid.cells) as usize;
+        FoamField { grid, amount: vec![0.0; n], deposits: vec![0; n] }
+    }
+
+    /// Leave `foam` (F·m²) in the cell holding world (x, z) for the next step.
+    pub fn deposit(&mut self, x: f32, z: f32, foam: f32) {
+        let c = self.grid.cell;
+        let (i, j) = ((x / c).floor() as i32, (z / c).floor() as i32);
+        if self.grid.contains(i, j) {
+            let units = (foam / (c * c) * DEPOSIT_SCALE).round() as u32;
+            let k = self.grid.index(i, j);
+            self.deposits[k] = self.deposits[k].wrapping_add(units);
+        }
     }
 
     /// Foam at world cell (i, j): 0 outside the window.
@@ -266,6 +294,9 @@ impl FoamField {
     /// forgotten, cells that enter start without foam.
     pub fn follow(&mut self, grid: FoamGrid) {
         let old = self.grid;
+        if old == grid {
+            return;
+        }
         let mut next = FoamField::new(grid);
         for k in 0..next.amount.len() {
             let [i, j] = grid.world_cell(k);
@@ -277,8 +308,9 @@ impl FoamField {
     }
 
     /// One step: advect by the drift, decay, add `source(x, z)` (F per
-    /// second at each cell centre) times dt.
-    pub fn step(&mut self, s: &FoamStep, source: impl Fn(f32, f32) -> f32) {
+    /// second at each cell centre) times dt, the splashes' foam and what
+    /// was deposited.
+    pub fn step(&mut self, s: &FoamStep, splashes: &[Splash], source: impl Fn(f32, f32) -> f32) {
         let c = self.grid.cell;
         let keep = (-s.dt / s.life).exp();
         let mut next = vec![0.0f32; self.amount.len()];
@@ -286,8 +318,16 @@ impl FoamField {
             let [i, j] = self.grid.world_cell(k);
             let (x, z) = ((i as f32 + 0.5) * c, (j as f32 + 0.5) * c);
             let carried = self.sample(x - s.drift[0] * s.dt, z - s.drift[1] * s.dt);
-            *out = carried * keep + source(x, z) * s.dt;
+            let mut rate = source(x, z);
+            for sp in splashes {
+                let (dx, dz) = (x - sp.position[0], z - sp.position[2]);
+                let u = (dx * dx + dz * dz) / (sp.radius * sp.radius);
+                rate += sp.foam * (1.0 - u).max(0.0) / s.dt;
+            }
+            let landed = self.deposits[k] as f32 / DEPOSIT_SCALE;
+            *out = carried * keep + rate * s.dt + landed;
         }
+        self.deposits.fill(0);
         self.amount = next;
     }
 
@@ -342,7 +382,8 @@ pub struct Splash {
     pub bubbles: u32,
     /// Foam (F) it leaves on the surface under it.
     pub foam: f32,
-    pub _pad: u32,
+    /// Its first particle among the step's emissions (set on upload).
+    pub first: u32,
 }
 
 /// The constants of one particle step (`ParticleStep` in `particles.wgsl`).
@@ -394,6 +435,65 @@ pub fn splash_particle(s: &Splash, k: u32, step: u32, id: u32, drop_radius: f32)
         p.velocity = [s.velocity[0] * 0.3, 0.0, s.velocity[2] * 0.3];
     }
     p
+}
+
+/// Spray (and twice as many bubbles) per square metre of water a body
+/// sweeps through at 2 m/s: one particle stands for a parcel of drops or
+/// a cloud of bubbles. Grows as the speed squared (the splash's energy),
+/// capped at four times.
+pub const SPLASH_SPRAY_PER_M2: f32 = 1500.0;
+/// Most particles one splash makes.
+pub const SPLASH_MAX: u32 = 1024;
+
+/// The splash of a body moving through the water surface over one step
+/// of `dt` s (seed 003 §4.6): its waterline sweeps an area 2R·|v|·dt,
+/// throws spray at up to 0.7·|v| and entrains bubbles, and leaves foam
+/// (a hull cutting through the water draws a wake of it). `None` when it
+/// does not touch the surface (flat, y = 0) or moves slower than 0.3 m/s.
+pub fn body_splash(m: &crate::waves::ripples::BodyMove, dt: f64) -> Option<Splash> {
+    let r = m.shape.bounding_radius() as f32;
+    let (a, b) = (m.before.position.as_vec3(), m.after.position.as_vec3());
+    let v = (b - a) / dt as f32;
+    let speed = v.length();
+    let touching = a.y.min(b.y) - r < 0.0 && a.y.max(b.y) + r > 0.0;
+    if !touching || speed < 0.3 || !speed.is_finite() {
+        return None;
+    }
+    let swept = 2.0 * r * speed * dt as f32;
+    let vigour = (speed / 2.0).powi(2).min(4.0);
+    let spray = (SPLASH_SPRAY_PER_M2 * swept * vigour).round() as u32;
+    Some(Splash {
+        position: [b.x, 0.0, b.z],
+        radius: 1.1 * r,
+        velocity: v.to_array(),
+        speed: 0.7 * speed,
+        spray: spray.min(SPLASH_MAX / 3),
+        bubbles: (2 * spray).min(2 * SPLASH_MAX / 3),
+        foam: 0.15 * speed.min(4.0),
+        first: 0,
+    })
+}
+
+/// The splash of a drop (a crater `radius` wide and `strength` deep, as
+/// the interactive water takes it): a crown thrown at about
+/// 4·√(g·depth), bubbles, foam. Rain's small drops make none.
+pub fn drop_splash(d: &crate::waves::ripples::Drop) -> Option<Splash> {
+    let (r, s) = (d.radius as f32, d.strength.abs() as f32);
+    let swept = std::f32::consts::PI * r * r;
+    let spray = (0.3 * SPLASH_SPRAY_PER_M2 * swept * (s / 0.05).min(4.0)).round() as u32;
+    if spray == 0 || !(r.is_finite() && s.is_finite()) {
+        return None;
+    }
+    Some(Splash {
+        position: [d.x as f32, 0.0, d.z as f32],
+        radius: r,
+        velocity: [0.0; 3],
+        speed: 4.0 * (G * s).sqrt(),
+        spray: spray.min(SPLASH_MAX / 3),
+        bubbles: (2 * spray).min(2 * SPLASH_MAX / 3),
+        foam: (10.0 * s).min(1.0),
+        first: 0,
+    })
 }
 
 /// Where a particle stops: what it leaves on the water.
@@ -588,7 +688,7 @@ mod tests {
             let step = FoamStep { dt: 1.0 / 30.0, life: tau as f32, drift: [0.0, 0.0] };
             let mut t = 0.0f64;
             while f.amount[27] > 0.5 {
-                f.step(&step, |_, _| 0.0);
+                f.step(&step, &[], |_, _| 0.0);
                 t += step.dt as f64;
             }
             // The crossing lies within the last step.
@@ -604,7 +704,7 @@ mod tests {
         f.amount[k] = 1.0;
         let step = FoamStep { dt: 0.1, life: 1e9, drift: [1.0, 0.5] };
         for _ in 0..100 {
-            f.step(&step, |_, _| 0.0);
+            f.step(&step, &[], |_, _| 0.0);
         }
         let total: f32 = f.amount.iter().sum();
         assert!((total - 1.0).abs() < 1e-3, "foam kept: {total}");
@@ -834,8 +934,7 @@ mod tests {
             };
             let spectrum = OceanSpectrum::new(&settings);
             let cells = 128u32;
-            let grid =
-                FoamGrid { cells, cell: settings.patch_size as f32 / cells as f32, low: [0, 0] };
+            let grid = FoamGrid::periodic(cells, settings.patch_size as f32);
             let sample = |fields: &OceanFields, k: usize| {
                 let [i, j] = grid.world_cell(k);
                 let (x, z) = ((i as f32 + 0.5) * grid.cell, (j as f32 + 0.5) * grid.cell);
@@ -855,7 +954,7 @@ mod tests {
                     .map(|k| FOLD_GAIN * fold_source(sample(&fields, k), threshold))
                     .collect();
                 let g = foam.grid;
-                foam.step(&step, |x, z| {
+                foam.step(&step, &[], |x, z| {
                     source[g.index((x / g.cell).floor() as i32, (z / g.cell).floor() as i32)]
                 });
                 if i >= 150 {

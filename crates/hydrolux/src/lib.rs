@@ -34,7 +34,7 @@ pub use capabilities::Capabilities;
 pub use context::{ContextError, GpuContext};
 pub use error::{OceanTooLarge, RenderError, catch_gpu_errors, gpu_error_line};
 pub use hydrolux_core as core;
-pub use readback::RippleField;
+pub use readback::{FoamDump, ParticleCounts, RippleField};
 pub use registry::technique_names;
 pub use renderer::{FrameInput, Renderer, largest_ocean_resolution};
 pub use wgpu;

@@ -325,6 +325,7 @@ fn debug_view_index(view: DebugView) -> u32 {
         DebugView::Medium => 6,
         DebugView::Caustics => 7,
         DebugView::Ripples => 8,
+        DebugView::Foam => 9,
     }
 }
 

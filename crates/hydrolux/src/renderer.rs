@@ -175,6 +175,7 @@ impl Renderer {
         let bound = Bound {
             globals: Self::globals(&shared, &techniques, &samplers),
             surface: techniques.surface.group.clone(),
+            shadow_values: Self::shadow_values(&shared, &techniques),
         };
         let mut r = Renderer {
             shared,
@@ -220,8 +221,19 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 6, resource: tv(&t.caustics.map.view) },
                 wgpu::BindGroupEntry { binding: 7, resource: sampler(&samplers.caustics) },
                 wgpu::BindGroupEntry { binding: 8, resource: tv(&t.water_objects.light.map_view) },
-                wgpu::BindGroupEntry { binding: 9, resource: tv(&t.geometry.shadow.view) },
             ],
+        })
+    }
+
+    /// The shadow map's values, for its debug view.
+    fn shadow_values(shared: &Shared, t: &Techniques) -> wgpu::BindGroup {
+        shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow values"),
+            layout: &shared.layouts.shadow_values,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&t.geometry.shadow.view),
+            }],
         })
     }
 
@@ -291,6 +303,7 @@ impl Renderer {
         }
         if self.techniques.set_scene(&self.shared, &self.scene, scene)? {
             self.bound.globals = Self::globals(&self.shared, &self.techniques, &self.samplers);
+            self.bound.shadow_values = Self::shadow_values(&self.shared, &self.techniques);
         }
         self.bound.surface = self.techniques.surface.group.clone();
         let (device, l) = (&self.shared.device, &self.shared.layouts);

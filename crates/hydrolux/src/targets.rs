@@ -77,6 +77,8 @@ pub struct Targets {
     /// The main view's depth + stencil (the pixel's medium).
     pub depth_stencil: wgpu::Texture,
     pub depth_stencil_view: wgpu::TextureView,
+    /// The main view's depth alone, for sampling (the particles' test).
+    pub depth_view: wgpu::TextureView,
     /// For viewers in air: the scene above the water mirrored, and below it.
     pub reflection: ColorDepth,
     pub refraction: ColorDepth,
@@ -347,6 +349,7 @@ impl Targets {
             hdr_view,
             depth_stencil,
             depth_stencil_view,
+            depth_view,
             reflection,
             refraction,
             reflection_under,

@@ -72,6 +72,8 @@ pub(crate) struct Layouts {
     pub frame_only: wgpu::BindGroupLayout,
     /// The water surface (whichever model makes it).
     pub surface: wgpu::BindGroupLayout,
+    /// The shadow map's values (the tone map's debug view).
+    pub shadow_values: wgpu::BindGroupLayout,
 }
 
 impl Layouts {
@@ -95,10 +97,14 @@ impl Layouts {
                 texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(7, all),
                 texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
-                // The shadow map again, for reading its values (the debug
-                // view): GLSL cannot `textureLoad` a comparison texture.
-                texture_entry(9, fs, wgpu::TextureViewDimension::D2, false),
             ],
+        });
+        // The shadow map again, for reading its values (the debug view):
+        // GLSL cannot `textureLoad` a comparison texture. A group of its
+        // own, so that it does not count against every pass's textures.
+        let shadow_values = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shadow values"),
+            entries: &[texture_entry(0, fs, wgpu::TextureViewDimension::D2, false)],
         });
         let frame_only = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame only"),
@@ -115,9 +121,10 @@ impl Layouts {
                 sampler_entry(5, all),
                 texture_entry(6, all, wgpu::TextureViewDimension::D2, false),
                 texture_entry(7, all, wgpu::TextureViewDimension::D2, true),
+                texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
             ],
         });
-        Layouts { globals, frame_only, surface }
+        Layouts { globals, frame_only, surface, shadow_values }
     }
 }
 
@@ -152,6 +159,8 @@ pub(crate) struct Bound {
     pub globals: wgpu::BindGroup,
     /// The surface's group (surface).
     pub surface: wgpu::BindGroup,
+    /// The shadow map's values (geometry), for the shadow debug view.
+    pub shadow_values: wgpu::BindGroup,
 }
 
 /// Everything a technique sees while recording one frame.

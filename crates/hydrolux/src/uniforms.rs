@@ -289,6 +289,7 @@ uniform! { SurfaceParams;
         pub wave_q: [[f32; 4]; 16],
         pub ripple_area: [f32; 4],
         pub ripple_window: [f32; 4],
+        pub foam_area: [f32; 4],
     }
 }
 

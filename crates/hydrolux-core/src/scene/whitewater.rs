@@ -85,7 +85,7 @@ impl WhitewaterDesc {
                 allowed: "must be 1024 to 4194304 particles".into(),
             });
         }
-        if w.rate == 0 || CLOCK_HZ % w.rate != 0 {
+        if w.rate == 0 || !CLOCK_HZ.is_multiple_of(w.rate) {
             return Err(SceneError::OutOfRange {
                 key: "whitewater.rate".into(),
                 value: w.rate.to_string(),

@@ -1,6 +1,7 @@
 //! One folder per technique (see `registry.rs` for their frame order and
 //! `technique.rs` for what each implements): sky (bake, background) →
-//! surface (the FFT ocean in `ocean`, sines, heightfields) → caustics →
+//! surface (the FFT ocean in `ocean`, sines, heightfields, the interactive
+//! water in `ripples`, foam, bubbles and spray in `whitewater`) → caustics →
 //! geometry (shadow map, reflection/refraction views, the scene in the main
 //! view) → water objects (light paths; drawn from the camera after the god
 //! rays) → water (medium classification, surface) → god rays → tonemap (or a
@@ -19,3 +20,4 @@ pub mod surface;
 pub mod tonemap;
 pub mod water;
 pub mod water_object;
+pub mod whitewater;

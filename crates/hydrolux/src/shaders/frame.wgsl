@@ -196,6 +196,7 @@ const VIEW_SHADOW: u32 = 5u;
 const VIEW_MEDIUM: u32 = 6u;
 const VIEW_CAUSTICS: u32 = 7u;
 const VIEW_RIPPLES: u32 = 8u;
+const VIEW_FOAM: u32 = 9u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 

@@ -18,6 +18,9 @@ struct SurfaceParams {
     ripple_area: vec4<f32>,
     // The simulated domain: x min, z min, x max, z max (m).
     ripple_window: vec4<f32>,
+    // White water's foam: xy world point of its window's low corner, z its
+    // side (m; 0: no foam), w 1 if it tiles the plane (passes/whitewater).
+    foam_area: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> surface: SurfaceParams;
@@ -36,6 +39,10 @@ struct SurfaceParams {
 @group(1) @binding(6) var heightfield_tex: texture_2d<f32>;
 // Interactive water: h, ∂h/∂x, ∂h/∂z per cell (passes/ripples).
 @group(1) @binding(7) var ripple_tex: texture_2d<f32>;
+// Foam cover (0–1) per cell, stored modulo the window (mipmapped:
+// the mips average cover, so a pixel sees the fraction of its footprint
+// that is foam, whatever the distance).
+@group(1) @binding(8) var foam_tex: texture_2d<f32>;
 
 struct SurfaceSample {
     disp: vec3<f32>,
@@ -179,15 +186,14 @@ fn surface_model() -> u32 {
 // like SURFACE_MODEL, so surfaces without it pay nothing.
 override RIPPLES: u32 = 0u;
 
-// The ripples' height and slopes at p, faded out where the footprint
-// (m) spans several cells (their slopes then go into the roughness).
-fn add_ripples(s: ptr<function, SurfaceSample>, p: vec2<f32>, footprint: f32) {
+// The interactive water alone at p: h, ∂h/∂x, ∂h/∂z (0 outside its domain).
+fn ripples_at(p: vec2<f32>) -> vec3<f32> {
     if (RIPPLES == 0u) {
-        return;
+        return vec3<f32>(0.0);
     }
     let w = surface.ripple_window;
     if (any(p < w.xy) || any(p > w.zw)) {
-        return;
+        return vec3<f32>(0.0);
     }
     let side = surface.ripple_area.z;
     var uv = (p - surface.ripple_area.xy) / side;
@@ -195,7 +201,16 @@ fn add_ripples(s: ptr<function, SurfaceSample>, p: vec2<f32>, footprint: f32) {
         let half_texel = surface.ripple_area.w / (2.0 * side);
         uv = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
     }
-    let r = textureSampleLevel(ripple_tex, surface_sampler, uv, 0.0);
+    return textureSampleLevel(ripple_tex, surface_sampler, uv, 0.0).xyz;
+}
+
+// The ripples' height and slopes at p, faded out where the footprint
+// (m) spans several cells (their slopes then go into the roughness).
+fn add_ripples(s: ptr<function, SurfaceSample>, p: vec2<f32>, footprint: f32) {
+    if (RIPPLES == 0u) {
+        return;
+    }
+    let r = ripples_at(p);
     let keep = 1.0 - smoothstep(1.0, 4.0, footprint / surface.ripple_area.w);
     (*s).disp.y += r.x;
     (*s).slope += r.yz * keep;
@@ -236,4 +251,26 @@ fn surface_normal(s: SurfaceSample) -> vec3<f32> {
 
 fn surface_jacobian(s: SurfaceSample) -> f32 {
     return (1.0 + s.dxx) * (1.0 + s.dzz) - s.dxz * s.dxz;
+}
+
+// The foam's cover at p, filtered over the footprint given by the screen
+// derivatives of p (fragment stage); 0 where there is no foam.
+fn foam_cover_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> f32 {
+    let a = surface.foam_area;
+    if (a.z <= 0.0) {
+        return 0.0;
+    }
+    let uv = (p - a.xy) / a.z;
+    var inside = 1.0;
+    if (a.w < 0.5) {
+        // A window: faded out over its last 5% (not cut at its edge).
+        let edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
+        inside = clamp(edge / 0.05, 0.0, 1.0);
+        if (inside <= 0.0) {
+            return 0.0;
+        }
+    }
+    // The texture holds world cells modulo the window: sample at p / side.
+    let st = p / a.z;
+    return inside * textureSampleGrad(foam_tex, surface_sampler_aniso, st, dpdx / a.z, dpdy / a.z).x;
 }

@@ -60,7 +60,7 @@ fn pattern_mix(world: vec3<f32>, n: vec3<f32>) -> f32 {
 @fragment
 fn fs_underwater(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let c = shade(in, front);
-    if (frame.modes.debug_view == VIEW_NORMALS || frame.modes.debug_view == VIEW_RIPPLES) {
+    if (frame.modes.debug_view == VIEW_NORMALS || frame.modes.debug_view >= VIEW_RIPPLES) {
         return c;
     }
     return vec4<f32>(through_water(frame.view.position, in.world, c.rgb), 1.0);
@@ -75,7 +75,7 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
 @fragment
 fn fs_air(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let c = shade(in, front);
-    if (frame.modes.debug_view == VIEW_NORMALS || frame.modes.debug_view == VIEW_RIPPLES) {
+    if (frame.modes.debug_view == VIEW_NORMALS || frame.modes.debug_view >= VIEW_RIPPLES) {
         return c;
     }
     return vec4<f32>(through_fog(frame.view.position, in.world, c.rgb), 1.0);
@@ -94,7 +94,7 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     if (frame.modes.debug_view == VIEW_NORMALS) {
         return vec4<f32>(n * 0.5 + 0.5, 1.0);
     }
-    if (frame.modes.debug_view == VIEW_RIPPLES) {
+    if (frame.modes.debug_view >= VIEW_RIPPLES) {
         return vec4<f32>(vec3<f32>(0.12 + 0.1 * n.y), 1.0);
     }
     var albedo = object.albedo.rgb * textureSample(albedo_tex, albedo_sampler, in.uv).rgb;

@@ -214,9 +214,15 @@ impl Dynamics {
         }
     }
 
+    /// One step of the water and the bodies (s).
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
     /// Follow `clock_steps` more steps of the clock: the bodies step on the
     /// CPU, the water records its steps (earlier batches are submitted at
-    /// once; the last goes into `encoder`).
+    /// once; the last goes into `encoder`). Returns what disturbed the
+    /// water in each step (white water splashes from it).
     pub fn step(
         &mut self,
         device: &wgpu::Device,
@@ -224,7 +230,8 @@ impl Dynamics {
         encoder: &mut wgpu::CommandEncoder,
         camera: &hydrolux_core::camera::Camera,
         clock_steps: u32,
-    ) {
+    ) -> Vec<StepInput> {
+        let mut taken = Vec::new();
         let first = self.clock_steps / self.stride;
         self.clock_steps += clock_steps as u64;
         let count = self.clock_steps / self.stride - first;
@@ -258,8 +265,10 @@ impl Dynamics {
                     r.record(device, queue, encoder, &inputs, None);
                 }
             }
+            taken.extend(inputs);
             k = end;
         }
+        taken
     }
 
     /// Step the bodies once (simulation step `s`); their moves for the water.

@@ -10,6 +10,7 @@ use crate::gpu_util::*;
 use crate::passes::ocean::OceanPass;
 use crate::passes::ripples::RipplePass;
 use crate::passes::ripples::dynamics::Dynamics;
+use crate::passes::whitewater::{StepInput as WhitewaterStep, Whitewater};
 use crate::technique::{FrameContext, Shared, Stage, Technique};
 use crate::timing::GpuTimer;
 use crate::uniforms::SurfaceUniforms;
@@ -25,6 +26,8 @@ pub(crate) struct Surface {
     pub ocean: OceanPass,
     /// The surface's bind group (group 1 of the passes that read it).
     pub group: wgpu::BindGroup,
+    /// The same without the foam (white water's own step writes it).
+    group_without_foam: wgpu::BindGroup,
     /// Its uniforms (`SurfaceParams`).
     buffer: wgpu::Buffer,
     /// The scene the surface was built for.
@@ -43,6 +46,8 @@ pub(crate) struct Surface {
     heightfield: Option<(wgpu::Texture, u32, u32)>,
     /// The interactive water (with `water.dynamic`) and the bodies in it.
     pub dynamics: Option<Dynamics>,
+    /// Foam, bubbles and spray (`[whitewater]`).
+    pub whitewater: Option<Whitewater>,
 }
 
 /// Crest reach of a surface of significant wave height `hs` (m):
@@ -63,6 +68,7 @@ impl Surface {
         shared: &Shared,
         scene: &Scene,
         keep: Option<Dynamics>,
+        keep_whitewater: Option<Whitewater>,
     ) -> Result<Self, RenderError> {
         let (device, queue) = (&shared.device, &shared.queue);
         // The simulation goes on through edits that do not touch it.
@@ -149,41 +155,65 @@ impl Surface {
             let view = texture.create_view(&Default::default());
             ((texture, w, h), view)
         };
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("surface"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&v1),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&v2),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&v3),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(&samplers[0]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::Sampler(&samplers[1]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: wgpu::BindingResource::TextureView(&heightfield_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 7,
-                    resource: wgpu::BindingResource::TextureView(&ripple_view),
-                },
-            ],
-        });
+        let make_group = |foam_view: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("surface"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(&v1),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&v2),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::TextureView(&v3),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::Sampler(&samplers[0]),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: wgpu::BindingResource::Sampler(&samplers[1]),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 6,
+                        resource: wgpu::BindingResource::TextureView(&heightfield_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 7,
+                        resource: wgpu::BindingResource::TextureView(&ripple_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 8,
+                        resource: wgpu::BindingResource::TextureView(foam_view),
+                    },
+                ],
+            })
+        };
+        let no_foam = texture_2d(
+            device,
+            "no foam",
+            (1, 1),
+            crate::passes::mips::FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        )
+        .create_view(&Default::default());
+        let group_without_foam = make_group(&no_foam);
+        let whitewater = match keep_whitewater {
+            Some(w) if w.fits(scene) => Some(w),
+            _ => Whitewater::new(shared, scene, &spectrum),
+        };
+        let group = match &whitewater {
+            Some(w) => make_group(&w.cover.create_view(&Default::default())),
+            None => make_group(&no_foam),
+        };
+
         let sea = scene.sea_state();
         let sines = SineWaves::from_sea_state(
             &sea,
@@ -248,9 +278,12 @@ impl Surface {
             bounds_margin,
             vertical_reach,
             moving: matches!(scene.water.model, WaterModel::Fft | WaterModel::Sines)
-                || dynamics.is_some(),
+                || dynamics.is_some()
+                || whitewater.is_some(),
             heightfield: heightfield.is_some().then_some(heightfield_texture),
             dynamics,
+            whitewater,
+            group_without_foam,
         })
     }
 
@@ -319,6 +352,9 @@ impl Surface {
             };
             u.ripple_area = [origin[0], origin[1], side, g.cell_size as f32];
             u.ripple_window = [lo[0], lo[1], lo[0] + side, lo[1] + side];
+        }
+        if let Some(w) = &self.whitewater {
+            u.foam_area = w.foam_area();
         }
         let model = model_index(s.water.model);
         let waves = &self.sines.waves;
@@ -401,7 +437,7 @@ pub fn specialised_to(kind: SurfaceKind) -> [(&'static str, f64); 2] {
 
 impl Technique for Surface {
     fn create(shared: &Shared, scene: &Scene) -> Result<Self, RenderError> {
-        Surface::new(shared, scene, None)
+        Surface::new(shared, scene, None, None)
     }
 
     fn set_scene(
@@ -411,11 +447,14 @@ impl Technique for Surface {
         new: &Scene,
     ) -> Result<bool, RenderError> {
         let outdated = self.outdated(new);
-        if outdated {
+        let whitewater_outdated =
+            self.whitewater.as_ref().map_or(new.has_whitewater(), |w| !w.fits(new));
+        if outdated || whitewater_outdated {
             let keep = self.dynamics.take();
-            *self = Surface::new(shared, new, keep)?;
+            let keep_whitewater = self.whitewater.take();
+            *self = Surface::new(shared, new, keep, keep_whitewater)?;
         }
-        Ok(outdated)
+        Ok(outdated || whitewater_outdated)
     }
 
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
@@ -430,18 +469,34 @@ impl Technique for Surface {
         frame: &FrameContext,
         timer: Option<&mut GpuTimer>,
     ) {
-        if stage == Stage::Simulate && frame.plan.ocean {
-            self.ocean.record(encoder, &frame.shared.downsampler, timer);
+        match stage {
+            Stage::Simulate if frame.plan.ocean => {
+                self.ocean.record(encoder, &frame.shared.downsampler, timer);
+                if let Some(w) = &mut self.whitewater {
+                    w.ocean_time = frame.plan.time;
+                }
+            }
+            Stage::Volume => {
+                if let Some(w) = &self.whitewater
+                    && w.has_particles()
+                {
+                    w.draw.record(encoder, frame, &w.args, w.list(), self.vertical_reach, timer);
+                }
+            }
+            _ => {}
         }
     }
 
     fn simulates(&self) -> bool {
-        self.dynamics.is_some()
+        self.dynamics.is_some() || self.whitewater.is_some()
     }
 
     fn reset_state(&mut self, queue: &wgpu::Queue) {
         if let Some(d) = &mut self.dynamics {
             d.reset(queue);
+        }
+        if let Some(w) = &mut self.whitewater {
+            w.reset(queue);
         }
     }
 
@@ -452,10 +507,79 @@ impl Technique for Surface {
         steps: u32,
         _clock_dt: f64,
     ) {
-        if let Some(d) = &mut self.dynamics {
-            let shared = frame.shared;
-            d.step(&shared.device, &shared.queue, encoder, &frame.plan.camera, steps);
+        let shared = frame.shared;
+        let (device, queue) = (&shared.device, &shared.queue);
+        let camera = &frame.plan.camera;
+        let Some(mut whitewater) = self.whitewater.take() else {
+            if let Some(d) = &mut self.dynamics {
+                d.step(device, queue, encoder, camera, steps);
+            }
+            return;
+        };
+        // White water steps between the interactive water's, each seeing
+        // the surface at its own time: an FFT ocean far from the time its
+        // textures hold is evaluated again (in a submission of its own).
+        let fft = self.scene.water.model == WaterModel::Fft;
+        let schedule = whitewater.schedule(steps as u64, queue);
+        let mut followed = 0u64;
+        let mut evaluated = false;
+        let count = schedule.len();
+        for (k, (before, time)) in schedule.into_iter().enumerate() {
+            // (Written so that a NaN ocean time also re-evaluates.)
+            let current = (time - whitewater.ocean_time).abs() < 0.5 * whitewater.dt as f64;
+            let needs_ocean = fft && !current;
+            let own = k + 1 < count || needs_ocean;
+            let mut own_encoder = own.then(|| device.create_command_encoder(&Default::default()));
+            let e = own_encoder.as_mut().unwrap_or(&mut *encoder);
+            let mut splashes = Vec::new();
+            if let Some(d) = &mut self.dynamics {
+                for input in d.step(device, queue, e, camera, before as u32) {
+                    splashes.extend(
+                        input.drops.iter().filter_map(hydrolux_core::whitewater::drop_splash),
+                    );
+                    splashes.extend(
+                        input
+                            .moves
+                            .iter()
+                            .filter_map(|m| hydrolux_core::whitewater::body_splash(m, d.dt())),
+                    );
+                }
+            }
+            followed += before;
+            if needs_ocean {
+                self.ocean.prepare(queue, time);
+                self.ocean.record(e, &shared.downsampler, None);
+                whitewater.ocean_time = time;
+                evaluated = true;
+            }
+            let centre = self.dynamics.as_ref().and_then(|d| d.ripples.as_ref()).map_or(
+                [camera.position.x, camera.position.z],
+                |r| {
+                    let g = r.settings.grid;
+                    let half = 0.5 * g.extent();
+                    [0, 1].map(|a| (r.window.low_edge(&g, a) + half) as f32)
+                },
+            );
+            let input =
+                WhitewaterStep { centre, camera: [camera.position.x, camera.position.z], splashes };
+            whitewater.record_step(queue, e, &self.group_without_foam, input);
+            if let Some(e) = own_encoder {
+                queue.submit([e.finish()]);
+            }
         }
+        // What is left of the clock's steps after our last step.
+        if let Some(d) = &mut self.dynamics {
+            let rest = (steps as u64).saturating_sub(followed);
+            d.step(device, queue, encoder, camera, rest as u32);
+        }
+        if evaluated {
+            // The frame's own ocean, at its time.
+            self.ocean.prepare(queue, frame.plan.time);
+        }
+        whitewater.record_mips(encoder, &shared.downsampler);
+        self.whitewater = Some(whitewater);
+        // The foam window may have moved.
+        self.write_uniforms(queue, frame.plan.time);
     }
 }
 
@@ -465,11 +589,13 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
     shaders: || {
         let mut v = (crate::passes::ocean::INFO.shaders)();
         v.extend((crate::passes::ripples::INFO.shaders)());
+        v.extend((crate::passes::whitewater::INFO.shaders)());
         v
     },
     uniforms: || {
         let mut v = (crate::passes::ocean::INFO.uniforms)();
         v.extend((crate::passes::ripples::INFO.uniforms)());
+        v.extend((crate::passes::whitewater::INFO.uniforms)());
         v
     },
 };

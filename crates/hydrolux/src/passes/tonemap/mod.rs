@@ -22,6 +22,7 @@ impl TonemapPass {
     pub fn new(
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
+        shadow_values: &wgpu::BindGroupLayout,
         target_format: wgpu::TextureFormat,
     ) -> Self {
         let fs = wgpu::ShaderStages::FRAGMENT;
@@ -44,8 +45,13 @@ impl TonemapPass {
             ..Default::default()
         });
         let module = shader(device, "tonemap", &source(target_format.is_srgb()));
-        let pipeline =
-            fullscreen_pipeline(device, "tonemap", &module, &[globals, &layout], target_format);
+        let pipeline = fullscreen_pipeline(
+            device,
+            "tonemap",
+            &module,
+            &[globals, &layout, shadow_values],
+            target_format,
+        );
         TonemapPass { layout, pipeline, sampler }
     }
 
@@ -81,8 +87,7 @@ impl TonemapPass {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         target: &wgpu::TextureView,
-        globals: &wgpu::BindGroup,
-        input: &wgpu::BindGroup,
+        groups: [&wgpu::BindGroup; 3],
         timer: Option<&mut GpuTimer>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -102,8 +107,9 @@ impl TonemapPass {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, globals, &[]);
-        pass.set_bind_group(1, input, &[]);
+        for (i, group) in groups.into_iter().enumerate() {
+            pass.set_bind_group(i as u32, group, &[]);
+        }
         pass.draw(0..3, 0..1);
     }
 }
@@ -124,7 +130,8 @@ impl Technique for TonemapPass {
         shared: &crate::technique::Shared,
         _scene: &hydrolux_core::scene::Scene,
     ) -> Result<Self, crate::error::RenderError> {
-        Ok(TonemapPass::new(&shared.device, &shared.layouts.globals, shared.target_format))
+        let l = &shared.layouts;
+        Ok(TonemapPass::new(&shared.device, &l.globals, &l.shadow_values, shared.target_format))
     }
 
     fn record(
@@ -136,7 +143,8 @@ impl Technique for TonemapPass {
     ) {
         if let (Stage::Output, Some(output)) = (stage, frame.output) {
             let input = &frame.targets().tonemap_input;
-            TonemapPass::record(self, encoder, output, &frame.bound.globals, input, timer);
+            let groups = [&frame.bound.globals, input, &frame.bound.shadow_values];
+            TonemapPass::record(self, encoder, output, groups, timer);
         }
     }
 }

@@ -6,8 +6,8 @@
 // format the transfer curve is applied here (OUTPUT_SRGB_CURVE prepended).
 #import constants, frame, fullscreen, tonemap_curve, caustics_lookup, shadow_lookup
 
-// The sun's shadow map as plain depth (globals binding 9), for its view.
-@group(0) @binding(9) var shadow_depth: texture_2d<f32>;
+// The sun's shadow map as plain depth, for its view.
+@group(2) @binding(0) var shadow_depth: texture_2d<f32>;
 @group(1) @binding(0) var hdr: texture_2d<f32>;
 @group(1) @binding(1) var reflection_tex: texture_2d<f32>;
 @group(1) @binding(2) var refraction_tex: texture_2d<f32>;
@@ -75,7 +75,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         case VIEW_REFRACTION: {
             mapped = tone(textureLoad(refraction_tex, scaled_texel(pos.xy, textureDimensions(refraction_tex)), 0).rgb);
         }
-        case VIEW_NORMALS, VIEW_RIPPLES: {
+        case VIEW_NORMALS, VIEW_RIPPLES, VIEW_FOAM: {
             mapped = hdr_at(pos.xy);
         }
         case VIEW_DEPTH: {

@@ -7,8 +7,8 @@
 // the water body's absorption and single scattering (§3.3, §4.3; or seed
 // 002's simple water colour), a sun glint from a Gaussian slope distribution
 // whose variance comes from the filtered slope moments plus the unresolved
-// Cox–Munk remainder (Bruneton, Neyret & Holzschuch 2010), and foam where the
-// choppy displacement folds (Jacobian < 1; Tessendorf §3.3).
+// Cox–Munk remainder (Bruneton, Neyret & Holzschuch 2010), and the foam
+// that white water leaves (passes/whitewater; seed 003 §4.4).
 // The rings are drawn twice: depth only (`fs_depth`), then shaded with depth
 // test Equal, so each pixel runs the expensive shading once however thin the
 // distant triangles get (grazing views make them sub-pixel).
@@ -229,6 +229,17 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
 
 // `render.view = "ripples"`: the interactive water's height (red up, blue
 // down, saturating at ±5 mm) lit by the surface's normal.
+// Foam's diffuse albedo (sea foam: 0.4–0.8 fresh to dense; Whitlock et al. 1982).
+const FOAM_ALBEDO: f32 = 0.8;
+// What a foam layer lets through from above, seen from below.
+const FOAM_BELOW: f32 = 0.1;
+
+// The foam debug view: its cover as grey over dark water, lit softly.
+fn foam_view(foam: f32, n: vec3<f32>) -> vec4<f32> {
+    let light = 0.6 + 0.4 * max(dot(n, normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0);
+    return vec4<f32>(mix(vec3<f32>(0.02, 0.05, 0.1), vec3<f32>(1.0), foam) * light, 1.0);
+}
+
 fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
     var r = zero_sample();
     add_ripples(&r, p, 0.0);
@@ -236,6 +247,58 @@ fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
     let hue = mix(vec3<f32>(0.85), select(vec3<f32>(0.15, 0.35, 1.0), vec3<f32>(1.0, 0.25, 0.1), t > 0.0), abs(t));
     let light = 0.35 + 0.65 * max(dot(n, normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0);
     return vec4<f32>(hue * light, 1.0);
+}
+
+// Foam as seen in a pixel: its cover filtered over the footprint (the
+// fraction of the pixel that is foam, so it never shimmers), broken up into
+// lacy patches and bubbles by noise at three scales (5.6 m, 1.4 m, 0.35 m): a
+// cell of cover c shows foam where the noise lies below c. Each octave fades
+// into its mean once a pixel's footprint (geometric mean of its two axes, so
+// grazing views keep their detail across the view) nears its size, and with
+// no octave left the pixel shows c itself.
+fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
+    let c = foam_cover_grad(p, dpdx_p, dpdy_p);
+    if (c <= 0.0) {
+        return 0.0;
+    }
+    let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
+    var n = 0.5;
+    var kept = 0.0;
+    var scale = 5.6;
+    var weight = 0.3;
+    for (var k = 0; k < 3; k++) {
+        let d = 1.0 - smoothstep(0.2, 0.7, footprint / scale);
+        let offset = vec2<f32>(17.0, 3.0) * f32(k);
+        n += weight * d * (value_noise(p / scale + offset) - 0.5);
+        kept = max(kept, d);
+        scale *= 0.25;
+        weight *= 1.2;
+    }
+    if (kept <= 0.0) {
+        return c;
+    }
+    let width = 0.08 + 0.4 * (1.0 - kept);
+    let pattern = smoothstep(n - width, n + width, c);
+    return mix(c, pattern, kept);
+}
+
+fn value_noise(x: vec2<f32>) -> f32 {
+    let i = floor(x);
+    let f = x - i;
+    let u = f * f * (3.0 - 2.0 * f);
+    let a = noise_hash(i);
+    let b = noise_hash(i + vec2<f32>(1.0, 0.0));
+    let c = noise_hash(i + vec2<f32>(0.0, 1.0));
+    let d = noise_hash(i + vec2<f32>(1.0, 1.0));
+    return mix(mix(a, b, u.x), mix(c, d, u.x), u.y);
+}
+
+fn noise_hash(i: vec2<f32>) -> f32 {
+    let k = vec2<u32>(vec2<i32>(i));
+    var h = k.x * 0x27d4eb2du ^ (k.y * 0x165667b1u);
+    h = (h ^ (h >> 15u)) * 0x2c1b3c6du;
+    h = h ^ (h >> 12u);
+    return f32(h & 0xffffu) / 65535.0;
 }
 
 @fragment
@@ -268,6 +331,10 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     }
     if (frame.modes.debug_view == VIEW_RIPPLES) {
         return ripple_view(p, n);
+    }
+    let foam = foam_seen(p, dpdx(p), dpdy(p));
+    if (frame.modes.debug_view == VIEW_FOAM) {
+        return foam_view(foam, n);
     }
     let cos_v = max(dot(n, v), 1e-3);
     let ior = frame.water.ior;
@@ -314,11 +381,16 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let t_dir = refract(-v, n, 1.0 / ior);
     var color = f * reflected + (1.0 - f) * transmitted(in.world, t_dir, e_down) + glint;
 
-    // Whitecaps where the choppy surface compresses towards folding (J → 0).
-    // The ramp gives a few per cent cover in a near gale, as Monahan's
-    // whitecap fit W ≈ 3.8e-6·U^3.4 expects, and almost none in a breeze.
-    let foam = smoothstep(0.75, 0.4, surface_jacobian(s)) * 0.9;
-    color = mix(color, vec3<f32>(0.75) * e_down / PI, foam);
+    // Foam: a rough, nearly white layer of bubbles (albedo ~0.8, lit
+    // diffusely by the sky and the unshadowed sun on the wave's slope, so
+    // foam on a crest's lee is darker than on its face) that hides the
+    // water and its glint beneath it.
+    if (foam > 0.0) {
+        let sun_lit = frame.light.sun_illuminance * max(dot(n, l), 0.0) * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
+        let sky_lit = frame.light.sky_ambient * (0.5 + 0.5 * n.y);
+        let foam_color = FOAM_ALBEDO * (sky_lit + sun_lit) / PI;
+        color = mix(color, foam_color, foam);
+    }
 
     // Aerial perspective: distant water melts into the horizon haze.
     let horizon_dir = normalize(vec3<f32>(-v.x, 0.02, -v.z));
@@ -352,6 +424,10 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     if (frame.modes.debug_view == VIEW_RIPPLES) {
         return ripple_view(g, -n);
     }
+    let foam = foam_seen(g, dpdx(g), dpdy(g));
+    if (frame.modes.debug_view == VIEW_FOAM) {
+        return foam_view(foam, n);
+    }
     let ior = frame.water.ior;
     let cos_v = max(dot(n, v), 1e-3);
     let f = fresnel(frame.modes.fresnel, frame.water.fresnel_power, cos_v, ior, 1.0);
@@ -380,6 +456,9 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
         let above = textureSampleLevel(refraction_over_tex, clamp_sampler, found.xy, 0.0);
         through = (above.rgb + (1.0 - above.a) * sky_l) * ior * ior;
     }
-    let l = f * reflected + (1.0 - f) * through;
+    var l = f * reflected + (1.0 - f) * through;
+    // Foam seen from below: a dark, ragged layer, the light that filters
+    // through a few centimetres of bubbles (a tenth of the sky's).
+    l = mix(l, FOAM_BELOW * frame.light.sky_underwater / PI, foam);
     return vec4<f32>(min(through_water(eye, in.world, l), vec3<f32>(60000.0)), 1.0);
 }

@@ -1,0 +1,152 @@
+//! White water's particles drawn over the lit scene (`particles.wgsl`):
+//! one indirect draw of six vertices per alive particle, blended
+//! (premultiplied) into the HDR image after the water.
+
+use crate::gpu_util::*;
+use crate::shaders;
+use crate::uniforms::uniform;
+use hydrolux_core::scene::Scene;
+
+uniform! { DrawParams;
+    /// WGSL `DrawParams` (passes/whitewater/particles.wgsl).
+    pub(crate) struct DrawUniforms {
+        pub list: [u32; 4],
+        pub sizes: [f32; 4],
+    }
+}
+
+pub fn source() -> String {
+    shaders::compose("", include_str!("particles.wgsl"))
+}
+
+/// A 60 Hz camera's shutter (s): how long a streak is.
+const SHUTTER_S: f32 = 1.0 / 60.0;
+
+pub struct ParticleDraw {
+    params: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    depth_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    sizes: [f32; 2],
+    capacity: u32,
+}
+
+impl ParticleDraw {
+    pub fn new(
+        shared: &crate::technique::Shared,
+        scene: &Scene,
+        particles: &wgpu::Buffer,
+        slots: &wgpu::Buffer,
+        capacity: u32,
+    ) -> Self {
+        let device = &shared.device;
+        let (vs, fs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT);
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("particles"),
+            entries: &[
+                uniform_entry(0, vs | fs),
+                storage_entry(1, vs, true),
+                storage_entry(2, vs, true),
+            ],
+        });
+        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("particles depth"),
+            entries: &[texture_entry(0, fs, wgpu::TextureViewDimension::D2, false)],
+        });
+        let params = uniform_buffer(device, "particles draw", &DrawUniforms::default());
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("particles"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: particles.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: slots.as_entire_binding() },
+            ],
+        });
+        let module = shader(device, "particles", &source());
+        let pipeline_layout = pipeline_layout(
+            device,
+            "particles",
+            &[&shared.layouts.globals, &layout, &depth_layout],
+        );
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("particles"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: crate::targets::HDR_FORMAT,
+                    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let w = &scene.whitewater;
+        ParticleDraw {
+            params,
+            group,
+            depth_layout,
+            pipeline,
+            sizes: [w.spray_size, w.bubble_size],
+            capacity,
+        }
+    }
+
+    /// Draw the particles of alive `list` into the frame's HDR image.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &crate::technique::FrameContext,
+        args: &wgpu::Buffer,
+        list: u32,
+        vertical_reach: f32,
+        timer: Option<&mut crate::timing::GpuTimer>,
+    ) {
+        let shared = frame.shared;
+        let targets = frame.targets();
+        let u = DrawUniforms {
+            list: [self.capacity, list, 0, 0],
+            sizes: [self.sizes[0], self.sizes[1], SHUTTER_S, vertical_reach],
+        };
+        shared.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
+        let depth = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("particles depth"),
+            layout: &self.depth_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&targets.depth_view),
+            }],
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("whitewater particles"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &targets.hdr_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timer.and_then(|t| t.render_writes("whitewater particles")),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &frame.bound.globals, &[]);
+        pass.set_bind_group(1, &self.group, &[]);
+        pass.set_bind_group(2, &depth, &[]);
+        pass.draw_indirect(args, 16);
+    }
+}

@@ -1,0 +1,640 @@
+//! White water on the GPU (seed 003 §4.4 foam, §4.5 bubbles after Thürey
+//! et al. 2007, §4.6 splashes, §2.3 particle systems): a foam field that
+//! drifts, decays with Monahan's lifetime and is fed by breaking crests,
+//! steep interactive water, splashes and what the particles leave; and one
+//! pool of particles shared by bubbles and spray, emitted, merged and
+//! integrated without a CPU round trip (atomic counters, a free-slot
+//! stack, indirect dispatch and an indirect draw). The physics and the
+//! order of a step are the CPU twin's, `hydrolux_core::whitewater`.
+//!
+//! The surface technique owns it and steps it with the interactive water
+//! (`Surface::step`); the foam's cover texture is bound with the surface
+//! (binding 8) for the water's shading; `draw.rs` draws the particles.
+
+pub mod draw;
+
+use crate::gpu_util::*;
+use crate::passes::mips::{Downsampler, MipChain};
+use crate::passes::surface::{SurfaceKind, specialised_to};
+use crate::shaders;
+use crate::uniforms::uniform;
+use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
+use hydrolux_core::waves::ocean::{OceanFields, OceanSpectrum};
+use hydrolux_core::whitewater::{
+    FOLD_GAIN, FoamGrid, Particle, Splash, calibrated_fold_threshold, jacobian, surface_drift,
+};
+
+uniform! { WhitewaterParams;
+    /// WGSL `WhitewaterParams` (passes/whitewater/whitewater.wgsl).
+    pub(crate) struct WhitewaterUniforms {
+        pub grid: [i32; 4],
+        pub foam: [f32; 4],
+        pub drift: [f32; 4],
+        pub counts: [u32; 4],
+        pub air: [f32; 4],
+        pub domain: [f32; 4],
+        pub emission: [f32; 4],
+        pub camera: [f32; 4],
+        pub bases: [u32; 4],
+    }
+}
+
+pub fn source() -> String {
+    shaders::compose("", include_str!("whitewater.wgsl"))
+}
+
+/// Counters at the start of the atomics: alive in list 0 and 1, free, emitted, lost.
+const COUNTERS: u32 = 16;
+const COUNT_FREE: usize = 2;
+const COUNT_EMITTED: usize = 3;
+const COUNT_LOST: usize = 4;
+/// Radius (m) of a spray drop, for its drag (splash drops are millimetres).
+pub const DROP_RADIUS: f32 = 1.5e-3;
+/// Particles are born within this distance (m) of the camera, and live
+/// within `PARTICLE_REACH` of it.
+const EMISSION_RADIUS: f32 = 60.0;
+const PARTICLE_REACH: f32 = 120.0;
+/// Particles older than this (s) are retired.
+const MAX_AGE: f32 = 20.0;
+/// Foam per second a cell of interactive water gains where it is steep.
+const RIPPLE_GAIN: f32 = 6.0;
+/// Splashes one step takes at most (more wait for the next step).
+const SPLASH_CAPACITY: u32 = 256;
+/// What runs: bits of `WhitewaterParams.camera.z`.
+const RUN_FOLD: u32 = 1;
+const RUN_RIPPLES: u32 = 2;
+const RUN_PARTICLES: u32 = 4;
+
+/// A snapshot of the particle pool (for `bench` and the viewer).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ParticleCounts {
+    pub alive: u32,
+    pub capacity: u32,
+    /// Born since the start (or the last reset).
+    pub emitted: u32,
+    /// Not born because the pool was full.
+    pub lost: u32,
+}
+
+struct Pipelines {
+    begin: wgpu::ComputePipeline,
+    finish: wgpu::ComputePipeline,
+    hash_clear: wgpu::ComputePipeline,
+    hash_insert: wgpu::ComputePipeline,
+    merge_pick: wgpu::ComputePipeline,
+    merge_apply: wgpu::ComputePipeline,
+    update: wgpu::ComputePipeline,
+    foam_step: wgpu::ComputePipeline,
+    emit: wgpu::ComputePipeline,
+}
+
+pub struct Whitewater {
+    /// The foam window now (it follows the camera unless it tiles).
+    pub grid: FoamGrid,
+    pub capacity: u32,
+    table: u32,
+    /// One step (s), and clock steps per step.
+    pub dt: f32,
+    stride: u64,
+    /// Steps simulated at most to reach a time (`whitewater.memory`).
+    memory_steps: u64,
+    keep: f32,
+    threshold: f32,
+    drift: [f32; 2],
+    wind: [f32; 2],
+    floor_depth: f32,
+    run: u32,
+    spray_rate: f32,
+    bubble_rate: f32,
+    /// Steps taken, and clock steps followed.
+    pub steps: u64,
+    clock_steps: u64,
+    /// Splashes for the next steps (the caller's, bodies', drops').
+    pending: Vec<Splash>,
+    params: wgpu::Buffer,
+    foam: [wgpu::Buffer; 2],
+    splashes: wgpu::Buffer,
+    pub(crate) particles: wgpu::Buffer,
+    atomics: wgpu::Buffer,
+    pub(crate) slots: wgpu::Buffer,
+    pub(crate) args: wgpu::Buffer,
+    /// Cover per cell (mipmapped), bound with the surface.
+    pub cover: wgpu::Texture,
+    cover_chain: MipChain,
+    groups: [wgpu::BindGroup; 2],
+    args_group: wgpu::BindGroup,
+    pipelines: Pipelines,
+    /// Simulated time (s) of the ocean the surface's textures hold, so that
+    /// a step close to it does not evaluate the ocean again.
+    pub ocean_time: f64,
+    /// The cover's mips are behind its level 0.
+    mips_due: bool,
+    pub(crate) draw: draw::ParticleDraw,
+    /// The scene it was made for.
+    scene: Scene,
+}
+
+/// What one step is given (besides the surface).
+pub struct StepInput {
+    /// Centre (m, x z) of the foam window, when it does not tile.
+    pub centre: [f32; 2],
+    /// The camera (m, x z): particles are born and live around it.
+    pub camera: [f32; 2],
+    pub splashes: Vec<Splash>,
+}
+
+impl Whitewater {
+    /// The white water of `scene` (`None` without any). `spectrum` is the
+    /// FFT ocean's, for calibrating the breaking threshold.
+    pub fn new(
+        shared: &crate::technique::Shared,
+        scene: &Scene,
+        spectrum: &OceanSpectrum,
+    ) -> Option<Self> {
+        if !scene.has_whitewater() {
+            return None;
+        }
+        let device = &shared.device;
+        let w = &scene.whitewater;
+        let cells = w.resolution;
+        let fft = scene.water.model == WaterModel::Fft;
+        let grid = if fft {
+            FoamGrid::periodic(cells, spectrum.settings.patch_size as f32)
+        } else {
+            FoamGrid::centred(cells, scene.foam_extent(), [0.0, 0.0])
+        };
+        let sea = scene.sea_state();
+        let direction = [sea.wind_direction.cos() as f32, sea.wind_direction.sin() as f32];
+        let waves = matches!(scene.water.model, WaterModel::Fft | WaterModel::Sines);
+        let u10 = if waves { sea.wind_speed as f32 } else { 0.0 };
+        let threshold =
+            if fft && w.foam { fold_threshold(spectrum, &grid, sea.wind_speed) } else { 0.0 };
+        let mut run = 0;
+        if fft && w.foam {
+            run |= RUN_FOLD;
+        }
+        if scene.ripple_settings().is_some() && w.foam {
+            run |= RUN_RIPPLES;
+        }
+        if w.particles {
+            run |= RUN_PARTICLES;
+        }
+        let rate = w.rate.max(1);
+        let dt = 1.0 / rate as f32;
+        // A storage binding holds at most the device's limit.
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let per_slot = std::mem::size_of::<Particle>() as u64;
+        let capacity = if w.particles {
+            (w.budget as u64).min(limit / per_slot).min(limit / 20) as u32
+        } else {
+            1
+        };
+        let table = capacity.next_power_of_two();
+        let n2 = cells * cells;
+        let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC
+                    | extra,
+                mapped_at_creation: false,
+            })
+        };
+        let none = wgpu::BufferUsages::empty();
+        let foam = [0, 1].map(|_| storage("foam", 4 * n2 as u64, none));
+        let splashes = storage(
+            "splashes",
+            SPLASH_CAPACITY as u64 * std::mem::size_of::<Splash>() as u64,
+            none,
+        );
+        let particles = storage("particles", capacity as u64 * per_slot, none);
+        let atomics =
+            storage("whitewater atomics", 4 * (COUNTERS + n2 + capacity + table) as u64, none);
+        let slots = storage("particle slots", 4 * 5 * capacity as u64, none);
+        let args = storage("particle arguments", 32, wgpu::BufferUsages::INDIRECT);
+        let params = uniform_buffer(device, "whitewater", &WhitewaterUniforms::default());
+        let cover = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("foam cover"),
+            size: wgpu::Extent3d { width: cells, height: cells, depth_or_array_layers: 1 },
+            mip_level_count: cells.ilog2() + 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: crate::passes::mips::FORMAT,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let cover_chain = shared.downsampler.chain(device, &cover);
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("whitewater"),
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, true),
+                storage_entry(2, cs, false),
+                storage_texture_entry(
+                    3,
+                    crate::passes::mips::FORMAT,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+                storage_entry(4, cs, true),
+                storage_entry(5, cs, false),
+                storage_entry(6, cs, false),
+                storage_entry(7, cs, false),
+            ],
+        });
+        let args_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("particle arguments"),
+            entries: &[storage_entry(0, cs, false)],
+        });
+        let cover_view = cover.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            base_mip_level: 0,
+            mip_level_count: Some(1),
+            ..Default::default()
+        });
+        let group = |p: usize| {
+            fn b(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+            }
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("whitewater"),
+                layout: &layout,
+                entries: &[
+                    b(0, &params),
+                    b(1, &foam[p]),
+                    b(2, &foam[1 - p]),
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::TextureView(&cover_view),
+                    },
+                    b(4, &splashes),
+                    b(5, &particles),
+                    b(6, &atomics),
+                    b(7, &slots),
+                ],
+            })
+        };
+        let groups = [group(0), group(1)];
+        let args_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("particle arguments"),
+            layout: &args_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: args.as_entire_binding() }],
+        });
+        let module = shader(device, "whitewater", &source());
+        let constants = specialised_to(SurfaceKind::of(scene));
+        let surface = &shared.layouts.surface;
+        let pipeline = |entry: &str| {
+            compute_pipeline_with(device, entry, &module, entry, &[&layout, surface], &constants)
+        };
+        let with_args = |entry: &str| {
+            compute_pipeline_with(
+                device,
+                entry,
+                &module,
+                entry,
+                &[&layout, surface, &args_layout],
+                &constants,
+            )
+        };
+        let pipelines = Pipelines {
+            begin: with_args("begin"),
+            finish: with_args("finish"),
+            hash_clear: pipeline("hash_clear"),
+            hash_insert: pipeline("hash_insert"),
+            merge_pick: pipeline("merge_pick"),
+            merge_apply: pipeline("merge_apply"),
+            update: pipeline("update"),
+            foam_step: pipeline("foam_step"),
+            emit: pipeline("emit"),
+        };
+        let draw = draw::ParticleDraw::new(shared, scene, &particles, &slots, capacity);
+        let whitewater = Whitewater {
+            grid,
+            capacity,
+            table,
+            dt,
+            stride: (CLOCK_HZ / rate) as u64,
+            memory_steps: (w.memory * rate as f32).ceil() as u64,
+            keep: (-dt / scene.foam_life()).exp(),
+            threshold,
+            drift: surface_drift(u10, direction),
+            wind: [0.8 * u10 * direction[0], 0.8 * u10 * direction[1]],
+            floor_depth: if scene.floor.depth > 0.0 { scene.floor.depth } else { 1.0e4 },
+            run,
+            spray_rate: if w.particles { w.spray_rate } else { 0.0 },
+            bubble_rate: if w.particles { w.bubble_rate } else { 0.0 },
+            steps: 0,
+            clock_steps: 0,
+            pending: Vec::new(),
+            params,
+            foam,
+            splashes,
+            particles,
+            atomics,
+            slots,
+            args,
+            cover,
+            cover_chain,
+            groups,
+            args_group,
+            pipelines,
+            ocean_time: f64::NAN,
+            mips_due: true,
+            draw,
+            scene: scene.clone(),
+        };
+        whitewater.reset_buffers(&shared.queue);
+        Some(whitewater)
+    }
+
+    /// Whether `scene` keeps this state.
+    pub fn fits(&self, scene: &Scene) -> bool {
+        scene.whitewater == self.scene.whitewater
+            && scene.water == self.scene.water
+            && scene.ocean == self.scene.ocean
+            && scene.floor.depth == self.scene.floor.depth
+    }
+
+    fn reset_buffers(&self, queue: &wgpu::Queue) {
+        let n2 = (self.grid.cells * self.grid.cells) as usize;
+        for f in &self.foam {
+            queue.write_buffer(f, 0, bytemuck::cast_slice(&vec![0.0f32; n2]));
+        }
+        let mut atomics = vec![0u32; (COUNTERS + n2 as u32 + self.capacity + self.table) as usize];
+        atomics[COUNT_FREE] = self.capacity;
+        queue.write_buffer(&self.atomics, 0, bytemuck::cast_slice(&atomics));
+        // The free stack holds every slot, the lowest on top.
+        let c = self.capacity as usize;
+        let mut slots = vec![0u32; 5 * c];
+        for (k, s) in slots[2 * c..3 * c].iter_mut().enumerate() {
+            *s = (c - 1 - k) as u32;
+        }
+        queue.write_buffer(&self.slots, 0, bytemuck::cast_slice(&slots));
+        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&[0u32, 1, 1, 0, 6, 0, 0, 0]));
+    }
+
+    /// Back to no foam and no particles at t = 0.
+    pub fn reset(&mut self, queue: &wgpu::Queue) {
+        self.reset_buffers(queue);
+        self.steps = 0;
+        self.clock_steps = 0;
+        self.pending.clear();
+        self.mips_due = true;
+    }
+
+    /// Follow `clock_steps` more steps of the clock: the steps of ours due
+    /// in them, as (clock steps before it, its time), after a jump past
+    /// `memory` forgets everything and starts that far back.
+    pub fn schedule(&mut self, clock_steps: u64, queue: &wgpu::Queue) -> Vec<(u64, f64)> {
+        let first = self.clock_steps / self.stride;
+        let end = self.clock_steps + clock_steps;
+        let last = end / self.stride;
+        let mut start = first;
+        if last - first > self.memory_steps {
+            start = last - self.memory_steps;
+            self.reset_buffers(queue);
+            self.pending.clear();
+        }
+        let mut out = Vec::new();
+        let mut at = self.clock_steps;
+        for s in start + 1..=last {
+            let boundary = s * self.stride;
+            out.push((boundary.saturating_sub(at), boundary as f64 / CLOCK_HZ as f64));
+            at = boundary.max(at);
+        }
+        self.clock_steps = end;
+        self.steps = self.steps.max(start);
+        out
+    }
+
+    /// Record one step into `encoder` (its uniforms are written now: one
+    /// step per submission).
+    pub fn record_step(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        surface: &wgpu::BindGroup,
+        input: StepInput,
+    ) {
+        if !self.grid.periodic {
+            self.grid = FoamGrid::centred(
+                self.grid.cells,
+                self.grid.cell * self.grid.cells as f32,
+                input.centre,
+            );
+        }
+        let mut splashes = std::mem::take(&mut self.pending);
+        splashes.extend(input.splashes);
+        if splashes.len() > SPLASH_CAPACITY as usize {
+            self.pending = splashes.split_off(SPLASH_CAPACITY as usize);
+        }
+        let mut first = 0;
+        for s in &mut splashes {
+            s.first = first;
+            if self.run & RUN_PARTICLES == 0 {
+                s.spray = 0;
+                s.bubbles = 0;
+            }
+            first += s.spray + s.bubbles;
+        }
+        if !splashes.is_empty() {
+            queue.write_buffer(&self.splashes, 0, bytemuck::cast_slice(&splashes));
+        }
+        let n = self.grid.cells;
+        let (cam, reach) = (input.camera, PARTICLE_REACH);
+        let domain = if self.grid.periodic {
+            [cam[0] - reach, cam[1] - reach, cam[0] + reach, cam[1] + reach]
+        } else {
+            let lo = [0, 1].map(|a| self.grid.low[a] as f32 * self.grid.cell);
+            let side = self.grid.cell * n as f32;
+            [lo[0], lo[1], lo[0] + side, lo[1] + side]
+        };
+        let parity = (self.steps % 2) as usize;
+        let u = WhitewaterUniforms {
+            grid: [self.grid.low[0], self.grid.low[1], n as i32, self.grid.periodic as i32],
+            foam: [self.grid.cell, self.dt, self.keep, self.threshold],
+            drift: [self.drift[0], self.drift[1], FOLD_GAIN, RIPPLE_GAIN],
+            counts: [self.steps as u32, splashes.len() as u32, self.capacity, parity as u32],
+            air: [self.wind[0], self.wind[1], self.floor_depth, MAX_AGE],
+            domain,
+            emission: [DROP_RADIUS, self.spray_rate, self.bubble_rate, EMISSION_RADIUS],
+            camera: [cam[0], cam[1], self.run as f32, 0.0],
+            bases: [COUNTERS, COUNTERS + n * n, COUNTERS + n * n + self.capacity, self.table - 1],
+        };
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
+        let group = &self.groups[parity];
+        let p = &self.pipelines;
+        let particles = self.run & RUN_PARTICLES != 0;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("whitewater begin"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(1, surface, &[]);
+        pass.set_bind_group(2, &self.args_group, &[]);
+        pass.set_pipeline(&p.begin);
+        pass.dispatch_workgroups(1, 1, 1);
+        drop(pass);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("whitewater step"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(1, surface, &[]);
+        if particles {
+            pass.set_pipeline(&p.hash_clear);
+            pass.dispatch_workgroups(self.table.div_ceil(64), 1, 1);
+            for pipeline in [&p.hash_insert, &p.merge_pick, &p.merge_apply, &p.update] {
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups_indirect(&self.args, 0);
+            }
+        }
+        pass.set_pipeline(&p.foam_step);
+        pass.dispatch_workgroups((n * n).div_ceil(64), 1, 1);
+        if particles && first > 0 {
+            pass.set_pipeline(&p.emit);
+            pass.dispatch_workgroups(first.div_ceil(64), 1, 1);
+        }
+        drop(pass);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("whitewater finish"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(1, surface, &[]);
+        pass.set_bind_group(2, &self.args_group, &[]);
+        pass.set_pipeline(&p.finish);
+        pass.dispatch_workgroups(1, 1, 1);
+        drop(pass);
+        self.steps += 1;
+        self.mips_due = true;
+    }
+
+    /// Filter the cover into its mips (once per frame, after the steps).
+    pub fn record_mips(&mut self, encoder: &mut wgpu::CommandEncoder, downsampler: &Downsampler) {
+        if !self.mips_due {
+            return;
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("foam cover mips"),
+            timestamp_writes: None,
+        });
+        downsampler.record(&mut pass, &self.cover_chain);
+        self.mips_due = false;
+    }
+
+    /// The surface's `foam_area`: x, z of the window's low corner (m), its
+    /// side (m), 1 if it tiles the plane (0 if not).
+    pub fn foam_area(&self) -> [f32; 4] {
+        let side = self.grid.cell * self.grid.cells as f32;
+        let lo = [0, 1].map(|a| self.grid.low[a] as f32 * self.grid.cell);
+        [lo[0], lo[1], side, self.grid.periodic as u32 as f32]
+    }
+
+    /// Which alive list holds the particles now.
+    pub fn list(&self) -> u32 {
+        (self.steps % 2) as u32
+    }
+
+    /// The foam now (F per cell), row = z from the window's low corner.
+    pub fn read_foam(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<f32> {
+        let raw: Vec<f32> = bytemuck::cast_slice(&read_buffer(
+            device,
+            queue,
+            &self.foam[(self.steps % 2) as usize],
+            self.foam[0].size(),
+        ))
+        .to_vec();
+        let n = self.grid.cells as usize;
+        (0..n * n)
+            .map(|k| {
+                let (i, j) = (k % n, k / n);
+                raw[self.grid.index(self.grid.low[0] + i as i32, self.grid.low[1] + j as i32)]
+            })
+            .collect()
+    }
+
+    /// The particles alive now (in no particular order).
+    pub fn read_particles(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<Particle> {
+        let counts = self.counters(device, queue);
+        let list = self.list() as usize;
+        let slots: Vec<u32> =
+            bytemuck::cast_slice(&read_buffer(device, queue, &self.slots, self.slots.size()))
+                .to_vec();
+        let pool: Vec<Particle> = bytemuck::cast_slice(&read_buffer(
+            device,
+            queue,
+            &self.particles,
+            self.particles.size(),
+        ))
+        .to_vec();
+        let c = self.capacity as usize;
+        let alive = counts[list] as usize;
+        slots[list * c..list * c + alive.min(c)].iter().map(|&s| pool[s as usize]).collect()
+    }
+
+    fn counters(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("counters readback"),
+            size: 4 * COUNTERS as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut e = device.create_command_encoder(&Default::default());
+        e.copy_buffer_to_buffer(&self.atomics, 0, &staging, 0, 4 * COUNTERS as u64);
+        queue.submit([e.finish()]);
+        bytemuck::cast_slice(&map_and_read(device, &staging)).to_vec()
+    }
+
+    /// The pool's counts now.
+    pub fn counts(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> ParticleCounts {
+        let c = self.counters(device, queue);
+        ParticleCounts {
+            alive: c[self.list() as usize],
+            capacity: self.capacity,
+            emitted: c[COUNT_EMITTED],
+            lost: c[COUNT_LOST],
+        }
+    }
+
+    /// Whether this white water runs the particles.
+    pub fn has_particles(&self) -> bool {
+        self.run & RUN_PARTICLES != 0
+    }
+}
+
+/// The breaking threshold J₀ for the ocean `spectrum` seen at the foam
+/// cells of `grid` (its Jacobians at t = 0 on the CPU twin), calibrated
+/// to Monahan & O'Muircheartaigh's whitecap cover at wind `u10`.
+pub fn fold_threshold(spectrum: &OceanSpectrum, grid: &FoamGrid, u10: f64) -> f32 {
+    let fields = OceanFields::evaluate(spectrum, 0.0);
+    let n = (grid.cells * grid.cells) as usize;
+    // Every cell of a coarse grid, else an even subset: the quantile only.
+    let stride = (n / 65_536).max(1);
+    let mut samples: Vec<f32> = (0..n)
+        .step_by(stride)
+        .map(|k| {
+            let [i, j] = grid.world_cell(k);
+            let (x, z) = ((i as f32 + 0.5) * grid.cell, (j as f32 + 0.5) * grid.cell);
+            jacobian(&fields.sample(x as f64, z as f64))
+        })
+        .collect();
+    calibrated_fold_threshold(&mut samples, u10)
+}
+
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
+    name: "whitewater",
+    shaders: || vec![("whitewater".into(), source()), ("particles".into(), draw::source())],
+    uniforms: || {
+        vec![
+            crate::uniforms::Layout::of::<WhitewaterUniforms>(source()),
+            crate::uniforms::Layout::sized("Particle", source(), std::mem::size_of::<Particle>()),
+            crate::uniforms::Layout::sized("Splash", source(), std::mem::size_of::<Splash>()),
+            crate::uniforms::Layout::of::<draw::DrawUniforms>(draw::source()),
+        ]
+    },
+};

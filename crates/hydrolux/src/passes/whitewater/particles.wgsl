@@ -1,0 +1,139 @@
+// White water's particles drawn (seed 003 §4.5–4.6): instanced quads read
+// from the alive list (an indirect draw: the count never comes back to the
+// CPU). Spray is a soft, lit parcel of drops that scatters the sun forward
+// (Henyey–Greenstein, bright against the light), stretched into a streak
+// along its motion over the shutter; bubbles are spheres of air whose rim
+// is bright by total internal reflection and whose middle lets through
+// what is behind, seen through the water above them. The scene's depth
+// is tested by hand: a bubble under the surface shows through it.
+#import constants, frame, sky_bindings, medium
+
+struct DrawParams {
+    // x capacity C, y alive list (0, 1)
+    list: vec4<u32>,
+    // x spray parcel size (m), y bubble cloud size (m), z shutter (s), w vertical reach of the surface (m)
+    sizes: vec4<f32>,
+}
+
+struct Particle {
+    position: vec3<f32>,
+    radius: f32,
+    velocity: vec3<f32>,
+    kind: u32,
+    id: u32,
+    age: f32,
+    volume: u32,
+    gained: u32,
+}
+
+@group(1) @binding(0) var<uniform> params: DrawParams;
+@group(1) @binding(1) var<storage, read> particles: array<Particle>;
+@group(1) @binding(2) var<storage, read> slots: array<u32>;
+@group(2) @binding(0) var scene_depth: texture_2d<f32>;
+
+const BUBBLE: u32 = 1u;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    // Quad coordinates: x along the streak, y across, in [-1, 1].
+    @location(0) quad: vec2<f32>,
+    @location(1) @interpolate(flat) kind: u32,
+    @location(2) centre: vec3<f32>,
+    // Opacity that keeps a sub-pixel particle's energy (its area over the
+    // pixel's), and how much the streak thins it.
+    @location(3) weight: f32,
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> VertexOut {
+    let slot = slots[params.list.y * params.list.x + i];
+    let p = particles[slot];
+    let corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    let c = corners[v];
+    let is_bubble = p.kind == BUBBLE;
+    let size = select(params.sizes.x, max(params.sizes.y, 2.0 * p.radius), is_bubble);
+    let eye = frame.view.position;
+    let dist = max(distance(p.position, eye), 1e-3);
+    // At least one pixel across; fainter by the area it lacks.
+    let pixel = 2.0 * dist / (frame.view.size.y * frame.view.view_proj[1][1]);
+    let drawn = max(size, 1.5 * pixel);
+    var weight = (size * size) / (drawn * drawn);
+    let forward = (p.position - eye) / dist;
+    var right = normalize(cross(forward, vec3<f32>(0.0, 1.0, 0.0)) + vec3<f32>(1e-6, 0.0, 0.0));
+    var up = cross(right, forward);
+    var half_length = 0.5 * drawn;
+    // A streak along the motion across the view over the shutter.
+    let across = p.velocity - forward * dot(p.velocity, forward);
+    let travel = length(across) * params.sizes.z;
+    if (travel > drawn) {
+        right = across / length(across);
+        up = normalize(cross(right, forward));
+        half_length = 0.5 * (drawn + travel);
+        weight *= drawn / (drawn + travel);
+    }
+    let world = p.position + right * c.x * half_length + up * c.y * 0.5 * drawn;
+    var out: VertexOut;
+    out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
+    out.quad = c;
+    out.kind = p.kind;
+    out.centre = p.position;
+    out.weight = weight;
+    return out;
+}
+
+fn world_at(frag: vec2<f32>, depth: f32) -> vec3<f32> {
+    let ndc = vec2<f32>(frag.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - frag.y * frame.view.inv_size.y * 2.0);
+    let h = frame.view.inv_view_proj * vec4<f32>(ndc, depth, 1.0);
+    return h.xyz / h.w;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    let r2 = dot(in.quad, in.quad);
+    if (r2 > 1.0) {
+        discard;
+    }
+    let eye = frame.view.position;
+    let d = textureLoad(scene_depth, vec2<i32>(in.clip.xy), 0).x;
+    let behind = world_at(in.clip.xy, d);
+    let scene_distance = select(distance(behind, eye), 1e9, d >= 1.0);
+    let particle_distance = distance(in.centre, eye);
+    let view = (in.centre - eye) / max(particle_distance, 1e-4);
+    let sun = frame.light.sun_illuminance;
+    if (in.kind == BUBBLE) {
+        // Under the water the eye looks through: behind a surface point it
+        // still shows, dimmed by the water between.
+        var through = vec3<f32>(1.0);
+        if (particle_distance > scene_distance) {
+            let at_surface = abs(behind.y) < params.sizes.w;
+            if (!at_surface || eye.y < 0.0) {
+                discard;
+            }
+            through = transmittance((particle_distance - scene_distance) * 1.0);
+        }
+        let depth = max(-in.centre.y, 0.0);
+        let light = underwater_irradiance(depth, vec3<f32>(0.0, 1.0, 0.0), 1.0) / PI;
+        // A sphere of air: total internal reflection at its rim (grazing
+        // rays inside the water meet the air beyond the critical angle).
+        let rim = smoothstep(0.55, 0.95, r2) * (1.0 - smoothstep(0.95, 1.0, r2));
+        let glint = pow(max(1.0 - r2, 0.0), 8.0) * 0.5;
+        let alpha = (0.15 + 0.85 * rim) * in.weight;
+        let color = light * (0.6 + 2.5 * rim + glint) * through;
+        return vec4<f32>(color * alpha, alpha);
+    }
+    if (particle_distance > scene_distance + 0.05) {
+        discard;
+    }
+    // Soft where it meets what is behind it (no hard cut at the water).
+    let soft = clamp((scene_distance - particle_distance) / 0.3, 0.0, 1.0);
+    let density = (1.0 - r2) * (1.0 - r2);
+    let alpha = 0.8 * density * soft * in.weight;
+    // Drops scatter mostly forward (g ≈ 0.8 for millimetre drops' halo).
+    let phase = henyey_greenstein(dot(view, frame.light.sun_dir), 0.8);
+    let sky = textureSampleLevel(sky_cube, sky_sampler, vec3<f32>(0.0, 1.0, 0.0), 6.0).rgb;
+    let color = sun * phase * 0.9 + sky * 0.85;
+    return vec4<f32>(color * alpha, alpha);
+}

@@ -1,0 +1,569 @@
+// White water (seed 003 §4.4 foam, §4.5 bubbles after Thürey et al. 2007,
+// §4.6 splashes, §2.3 particle systems): a foam field that drifts and
+// decays, and one particle pool shared by bubbles and spray, stepped
+// entirely on the GPU (atomic counters, a dead-slot stack, indirect
+// dispatch). One step is `begin` (indirect arguments), `hash_clear`,
+// `hash_insert`, `merge_pick`, `merge_apply` (bubbles that touch merge),
+// `update` (integrate; what lands feeds the foam), `foam_step` (drift,
+// decay, sources; breaking crests emit particles), `emit` (the CPU's
+// splashes). Twin: hydrolux_core::whitewater, line by line.
+#import constants, surface
+
+struct WhitewaterParams {
+    // xy world cell of the window's low corner, z cells per side, w 1 if it tiles the plane
+    grid: vec4<i32>,
+    // x cell (m), y step dt (s), z foam kept per step e^(−dt/τ), w fold threshold J₀
+    foam: vec4<f32>,
+    // xy surface drift (m/s), z foam per second of a fully breaking cell, w ripple-slope source gain
+    drift: vec4<f32>,
+    // x step number, y splashes this step, z pool capacity, w which alive list is read (0, 1)
+    counts: vec4<u32>,
+    // xy wind at the surface (m/s), z floor depth (m), w particle age cap (s)
+    air: vec4<f32>,
+    // the particles' domain: x min, z min, x max, z max (m)
+    domain: vec4<f32>,
+    // x spray drop radius (m), y crest spray per m²·s, z crest bubbles per m²·s, w emission radius (m)
+    emission: vec4<f32>,
+    // xy camera (x, z), z what runs (bit 0 fold source, bit 1 ripple source, bit 2 particles)
+    camera: vec4<f32>,
+    // Bases in `atomics`: x deposits, y gained, z hash heads; w the hash's bucket mask
+    bases: vec4<u32>,
+}
+
+struct Particle {
+    position: vec3<f32>,
+    radius: f32,
+    velocity: vec3<f32>,
+    kind: u32,
+    id: u32,
+    age: f32,
+    volume: u32,
+    gained: u32,
+}
+
+struct Splash {
+    position: vec3<f32>,
+    radius: f32,
+    velocity: vec3<f32>,
+    speed: f32,
+    spray: u32,
+    bubbles: u32,
+    foam: f32,
+    // First particle of this splash among the step's emissions.
+    first: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: WhitewaterParams;
+@group(0) @binding(1) var<storage, read> foam_in: array<f32>;
+@group(0) @binding(2) var<storage, read_write> foam_out: array<f32>;
+// Cover per cell (x, `foam_cover`), for the surface's shading (mipmapped:
+// the mips average cover, i.e. filter it statistically).
+@group(0) @binding(3) var cover_out: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(4) var<storage, read> splashes: array<Splash>;
+@group(0) @binding(5) var<storage, read_write> particles: array<Particle>;
+// Every atomic, at the bases in `params.bases`: the counters (alive count
+// of list 0 and list 1, free slots, emitted in total, lost), the foam left
+// by particles this step per cell (in 1/DEPOSIT_SCALE of F), the volume
+// merged into each slot this step, the merge hash's bucket heads.
+@group(0) @binding(6) var<storage, read_write> atomics: array<atomic<u32>>;
+// Every slot list, by capacity C: the two alive lists (0..2C), the free
+// slots' stack (2C..3C), the merge hash's chains (3C..4C) and each
+// bubble's merge pick (4C..5C).
+@group(0) @binding(7) var<storage, read_write> slots: array<u32>;
+
+const DEAD: u32 = 0u;
+const BUBBLE: u32 = 1u;
+const SPRAY: u32 = 2u;
+const NONE: u32 = 0xffffffffu;
+const G: f32 = 9.81;
+const WATER_NU: f32 = 1.0e-6;
+const WATER_SIGMA_RHO: f32 = 7.2e-5;
+const AIR_WATER_RATIO: f32 = 0.0012;
+const DROP_DRAG: f32 = 0.47;
+const VOLUME_UNIT_M3: f32 = 1.0e-12;
+const BURST_FOAM_PER_M3: f32 = 2.0e4;
+const SPRAY_FOAM: f32 = 0.02;
+const FOLD_RAMP: f32 = 0.1;
+const DEPOSIT_SCALE: f32 = 65536.0;
+// Merge buckets: cells of twice the largest entrained bubble radius.
+const MERGE_CELL: f32 = 0.01;
+// Lists in `slots`, in capacities.
+const FREE: u32 = 2u;
+const CHAIN: u32 = 3u;
+const TARGET: u32 = 4u;
+const COUNT_FREE: u32 = 2u;
+const COUNT_EMITTED: u32 = 3u;
+const COUNT_LOST: u32 = 4u;
+
+fn hash_u32(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+fn random(step: u32, index: u32, salt: u32) -> f32 {
+    let h = hash_u32(index ^ hash_u32((step * 0x9E3779B9u) ^ hash_u32(salt)));
+    return f32(h >> 8u) / 16777216.0;
+}
+
+fn bubble_terminal_velocity(r0: f32) -> f32 {
+    let r = max(r0, 1e-6);
+    let stokes = 2.0 * G * r * r / (9.0 * WATER_NU);
+    let d = 2.0 * r;
+    let mendelson = sqrt(2.14 * WATER_SIGMA_RHO / d + 0.505 * G * d);
+    return 1.0 / (1.0 / stokes + 1.0 / mendelson);
+}
+
+fn bubble_relaxation(r: f32) -> f32 {
+    return max(bubble_terminal_velocity(r) / (2.0 * G), 1e-4);
+}
+
+fn drop_drag(r: f32) -> f32 {
+    return 3.0 * AIR_WATER_RATIO * DROP_DRAG / (8.0 * max(r, 1e-6));
+}
+
+fn bubble_radius(volume: u32) -> f32 {
+    return pow(3.0 * f32(volume) * VOLUME_UNIT_M3 / (4.0 * PI), 1.0 / 3.0);
+}
+
+fn bubble_volume(r: f32) -> u32 {
+    let v = 4.0 / 3.0 * PI * r * r * r / VOLUME_UNIT_M3;
+    return u32(clamp(round(v), 1.0, 4294967040.0));
+}
+
+// Deane & Stokes (2002): r^(−3/2) below the Hinze scale, r^(−10/3) above.
+fn sample_bubble_radius(u: f32) -> f32 {
+    let r0 = 1.0e-4;
+    let rh = 1.0e-3;
+    let r1 = 5.0e-3;
+    let a = -1.5;
+    let b = -10.0 / 3.0;
+    let n_small = (pow(rh, a + 1.0) - pow(r0, a + 1.0)) / (a + 1.0);
+    let scale = pow(rh, a - b);
+    let n_large = scale * (pow(r1, b + 1.0) - pow(rh, b + 1.0)) / (b + 1.0);
+    let t = clamp(u, 0.0, 0.999999) * (n_small + n_large);
+    if (t < n_small) {
+        return pow(pow(r0, a + 1.0) + t * (a + 1.0), 1.0 / (a + 1.0));
+    }
+    let t2 = (t - n_small) / scale;
+    return pow(pow(rh, b + 1.0) + t2 * (b + 1.0), 1.0 / (b + 1.0));
+}
+
+// ---------------------------------------------------------------- foam
+
+fn cells() -> i32 {
+    return params.grid.z;
+}
+
+fn storage_index(i: i32, j: i32) -> u32 {
+    let n = cells();
+    return u32(((j % n) + n) % n * n + ((i % n) + n) % n);
+}
+
+fn inside(i: i32, j: i32) -> bool {
+    let lo = params.grid.xy;
+    let n = cells();
+    return params.grid.w == 1 || (i >= lo.x && i < lo.x + n && j >= lo.y && j < lo.y + n);
+}
+
+fn foam_at(i: i32, j: i32) -> f32 {
+    if (!inside(i, j)) {
+        return 0.0;
+    }
+    return foam_in[storage_index(i, j)];
+}
+
+fn foam_sample(x: f32, z: f32) -> f32 {
+    let c = params.foam.x;
+    let u = x / c - 0.5;
+    let v = z / c - 0.5;
+    let fi = floor(u);
+    let fj = floor(v);
+    let a = u - fi;
+    let b = v - fj;
+    let i = i32(fi);
+    let j = i32(fj);
+    let top = foam_at(i, j) * (1.0 - a) + foam_at(i + 1, j) * a;
+    let bottom = foam_at(i, j + 1) * (1.0 - a) + foam_at(i + 1, j + 1) * a;
+    return top * (1.0 - b) + bottom * b;
+}
+
+fn world_cell(k: u32) -> vec2<i32> {
+    let n = cells();
+    let s = vec2<i32>(i32(k) % n, i32(k) / n);
+    let lo = params.grid.xy;
+    return lo + (((s - lo) % n) + n) % n;
+}
+
+fn cell_of(x: f32, z: f32) -> u32 {
+    let c = params.foam.x;
+    return storage_index(i32(floor(x / c)), i32(floor(z / c)));
+}
+
+fn deposit(x: f32, z: f32, foam: f32) {
+    let c = params.foam.x;
+    let i = i32(floor(x / c));
+    let j = i32(floor(z / c));
+    if (!inside(i, j)) {
+        return;
+    }
+    let units = u32(round(foam / (c * c) * DEPOSIT_SCALE));
+    atomicAdd(&atomics[params.bases.x + storage_index(i, j)], units);
+}
+
+// Take a free slot for a new particle, or NONE when the pool is full.
+fn take_slot() -> u32 {
+    let free = atomicSub(&atomics[COUNT_FREE], 1u);
+    if (free == 0u || free > params.counts.z) {
+        atomicAdd(&atomics[COUNT_FREE], 1u);
+        return NONE;
+    }
+    return slots[FREE * params.counts.z + free - 1u];
+}
+
+fn out_list() -> u32 {
+    return 1u - params.counts.w;
+}
+
+fn append_alive(slot: u32) {
+    let o = out_list();
+    let at = atomicAdd(&atomics[o], 1u);
+    slots[o * params.counts.z + at] = slot;
+}
+
+fn release(slot: u32) {
+    particles[slot].kind = DEAD;
+    let at = atomicAdd(&atomics[COUNT_FREE], 1u);
+    slots[FREE * params.counts.z + at] = slot;
+}
+
+fn spawn(p: Particle) {
+    let slot = take_slot();
+    if (slot == NONE) {
+        atomicAdd(&atomics[COUNT_LOST], 1u);
+        return;
+    }
+    particles[slot] = p;
+    atomicStore(&atomics[params.bases.y + slot], 0u);
+    atomicAdd(&atomics[COUNT_EMITTED], 1u);
+    append_alive(slot);
+}
+
+// The foam's sources at a cell centre (F per second), and particles born
+// where crests break.
+fn foam_source(k: u32, x: f32, z: f32) -> f32 {
+    let run = u32(params.camera.z);
+    if ((run & 3u) == 0u) {
+        return 0.0;
+    }
+    let s = surface_sample_footprint(vec2<f32>(x, z), 0.0);
+    var source = 0.0;
+    if ((run & 1u) != 0u) {
+        let fold = clamp((params.foam.w - surface_jacobian(s)) / FOLD_RAMP, 0.0, 1.0);
+        source += params.drift.z * fold;
+        if ((run & 4u) != 0u && fold > 0.0) {
+            emit_crest(k, vec2<f32>(x, z), s, fold);
+        }
+    }
+    if ((run & 2u) != 0u) {
+        // Interactive water steeper than ~0.3 curls and traps air.
+        source += params.drift.w * clamp((length(s.slope) - 0.3) / 0.3, 0.0, 1.0);
+    }
+    return source;
+}
+
+// Spray torn from a breaking crest and bubbles entrained under it, on the
+// tile of the periodic window nearest the camera, within the emission radius.
+fn emit_crest(k: u32, p: vec2<f32>, s: SurfaceSample, fold: f32) {
+    let period = params.foam.x * f32(cells());
+    var w = p + s.disp.xz;
+    if (params.grid.w == 1) {
+        w -= period * round((w - params.camera.xy) / period);
+    }
+    if (distance(w, params.camera.xy) > params.emission.w) {
+        return;
+    }
+    let area = params.foam.x * params.foam.x * params.foam.y * fold;
+    let step = params.counts.x;
+    let spray = u32(params.emission.y * area + random(step, k, 11u));
+    let bubbles = u32(params.emission.z * area + random(step, k, 12u));
+    let wind = params.air.xy;
+    for (var m = 0u; m < min(spray + bubbles, 8u); m++) {
+        let id = hash_u32(step ^ hash_u32(k * 16u + m)) | 0x80000000u;
+        let r1 = random(step, id, 1u);
+        let r2 = random(step, id, 2u);
+        let r3 = random(step, id, 3u);
+        let jitter = (vec2<f32>(r1, r2) - 0.5) * params.foam.x;
+        var q = Particle(vec3<f32>(w.x + jitter.x, s.disp.y, w.y + jitter.y), 0.0, vec3<f32>(0.0), BUBBLE, id, 0.0, 0u, 0u);
+        if (m < spray) {
+            q.kind = SPRAY;
+            q.radius = params.emission.x;
+            q.position.y += 0.05;
+            // Torn off at the crest's speed, mostly with the wind.
+            q.velocity = vec3<f32>(wind.x * (0.3 + 0.4 * r3), 1.0 + 2.5 * r3, wind.y * (0.3 + 0.4 * r3));
+        } else {
+            let r = sample_bubble_radius(r3);
+            q.volume = bubble_volume(r);
+            q.radius = bubble_radius(q.volume);
+            q.position.y -= 0.05 + 0.5 * r1 * r2;
+        }
+        spawn(q);
+    }
+}
+
+// How much of a cell holding foam F is white: a wide ramp about the
+// whitecap level ln 2 at which the cover is calibrated against Monahan
+// (hydrolux-core `WHITECAP_FOAM`): fresh foam (F ≳ 1.3) is a dense white
+// sheet, decaying foam thins into lace (the water shader breaks the cover
+// into patches by noise), and far away the cells' mean cover shows.
+fn foam_cover(f: f32) -> f32 {
+    return smoothstep(0.15, 1.3, f);
+}
+
+@compute @workgroup_size(64)
+fn foam_step(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = u32(cells());
+    let k = id.x;
+    if (k >= n * n) {
+        return;
+    }
+    let ij = world_cell(k);
+    let c = params.foam.x;
+    let dt = params.foam.y;
+    let x = (f32(ij.x) + 0.5) * c;
+    let z = (f32(ij.y) + 0.5) * c;
+    let carried = foam_sample(x - params.drift.x * dt, z - params.drift.y * dt);
+    var source = foam_source(k, x, z);
+    for (var i = 0u; i < params.counts.y; i++) {
+        let sp = splashes[i];
+        let d = vec2<f32>(x, z) - sp.position.xz;
+        let u = dot(d, d) / (sp.radius * sp.radius);
+        source += sp.foam * max(1.0 - u, 0.0) / dt;
+    }
+    let landed = f32(atomicExchange(&atomics[params.bases.x + k], 0u)) / DEPOSIT_SCALE;
+    let f = carried * params.foam.z + source * dt + landed;
+    foam_out[k] = f;
+    let si = vec2<i32>(i32(k % n), i32(k / n));
+    textureStore(cover_out, si, 0, vec4<f32>(foam_cover(f), 0.0, 0.0, 1.0));
+}
+
+// ---------------------------------------------------------------- particles
+
+// The indirect arguments of this step's particle kernels, from the count
+// of the list read; the list written starts empty.
+@group(2) @binding(0) var<storage, read_write> args: array<u32>;
+
+@compute @workgroup_size(1)
+fn begin() {
+    let count = atomicLoad(&atomics[params.counts.w]);
+    atomicStore(&atomics[out_list()], 0u);
+    args[0] = (count + 63u) / 64u;
+    args[1] = 1u;
+    args[2] = 1u;
+}
+
+// After the step: the draw's instance count (six vertices per particle).
+@compute @workgroup_size(1)
+fn finish() {
+    args[4] = 6u;
+    args[5] = atomicLoad(&atomics[out_list()]);
+    args[6] = 0u;
+    args[7] = 0u;
+}
+
+fn alive_slot(i: u32) -> u32 {
+    return slots[params.counts.w * params.counts.z + i];
+}
+
+fn alive_count() -> u32 {
+    return atomicLoad(&atomics[params.counts.w]);
+}
+
+@compute @workgroup_size(64)
+fn hash_clear(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x <= params.bases.w) {
+        atomicStore(&atomics[params.bases.z + id.x], NONE);
+    }
+}
+
+fn bucket(c: vec3<i32>) -> u32 {
+    let h = hash_u32(u32(c.x) ^ hash_u32(u32(c.y) ^ hash_u32(u32(c.z))));
+    return h & params.bases.w;
+}
+
+fn merge_cell(p: vec3<f32>) -> vec3<i32> {
+    return vec3<i32>(floor(p / MERGE_CELL));
+}
+
+@compute @workgroup_size(64)
+fn hash_insert(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= alive_count()) {
+        return;
+    }
+    let slot = alive_slot(id.x);
+    slots[TARGET * params.counts.z + slot] = NONE;
+    if (particles[slot].kind != BUBBLE) {
+        return;
+    }
+    slots[CHAIN * params.counts.z + slot] =
+        atomicExchange(&atomics[params.bases.z + bucket(merge_cell(particles[slot].position))], slot);
+}
+
+// Each bubble picks the touching bubble of smallest id below its own.
+@compute @workgroup_size(64)
+fn merge_pick(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= alive_count()) {
+        return;
+    }
+    let slot = alive_slot(id.x);
+    let a = particles[slot];
+    if (a.kind != BUBBLE) {
+        return;
+    }
+    let home = merge_cell(a.position);
+    var best = NONE;
+    var best_id = a.id;
+    for (var dz = -1; dz <= 1; dz++) {
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                let c = home + vec3<i32>(dx, dy, dz);
+                var j = atomicLoad(&atomics[params.bases.z + bucket(c)]);
+                for (var guard = 0u; j != NONE && guard < 64u; guard++) {
+                    let b = particles[j];
+                    let d = a.position - b.position;
+                    let r = a.radius + b.radius;
+                    if (j != slot && all(merge_cell(b.position) == c) && b.id < best_id && dot(d, d) < r * r) {
+                        best = j;
+                        best_id = b.id;
+                    }
+                    j = slots[CHAIN * params.counts.z + j];
+                }
+            }
+        }
+    }
+    slots[TARGET * params.counts.z + slot] = best;
+}
+
+// A bubble merges into its pick unless that one merges too; volume moves whole.
+@compute @workgroup_size(64)
+fn merge_apply(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= alive_count()) {
+        return;
+    }
+    let slot = alive_slot(id.x);
+    let t = slots[TARGET * params.counts.z + slot];
+    if (t != NONE && slots[TARGET * params.counts.z + t] == NONE) {
+        atomicAdd(&atomics[params.bases.y + t], particles[slot].volume);
+        particles[slot].kind = DEAD;
+    }
+}
+
+// The water's height under world (x, z): the surface at the point whose
+// displacement lands there (one fixed-point step undoes the choppy shift).
+fn water_height(x: f32, z: f32) -> f32 {
+    let w = vec2<f32>(x, z);
+    let s0 = surface_sample_footprint(w, 0.0);
+    return surface_sample_footprint(w - s0.disp.xz, 0.0).disp.y;
+}
+
+@compute @workgroup_size(64)
+fn update(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= alive_count()) {
+        return;
+    }
+    let slot = alive_slot(id.x);
+    var p = particles[slot];
+    if (p.kind == DEAD) {
+        release(slot);
+        return;
+    }
+    let dt = params.foam.y;
+    p.age += dt;
+    if (p.kind == BUBBLE) {
+        let more = atomicExchange(&atomics[params.bases.y + slot], 0u);
+        if (more > 0u) {
+            p.volume = p.volume + min(more, 0xffffffffu - p.volume);
+            p.radius = bubble_radius(p.volume);
+        }
+        let rise = bubble_terminal_velocity(p.radius);
+        let keep = exp(-dt / bubble_relaxation(p.radius));
+        let goal = vec3<f32>(0.0, rise, 0.0);
+        p.velocity = goal + (p.velocity - goal) * keep;
+    } else {
+        let wind = params.air.xy;
+        let k = drop_drag(p.radius);
+        let rel = vec3<f32>(p.velocity.x - wind.x, p.velocity.y, p.velocity.z - wind.y);
+        let speed = sqrt(rel.x * rel.x + rel.y * rel.y + rel.z * rel.z);
+        let damp = 1.0 / (1.0 + k * speed * dt);
+        p.velocity = vec3<f32>(wind.x + rel.x * damp, (rel.y - G * dt) * damp, wind.y + rel.z * damp);
+    }
+    p.position += p.velocity * dt;
+    let finite = all(abs(p.position) < vec3<f32>(1e30)) && all(abs(p.velocity) < vec3<f32>(1e30));
+    let d = params.domain;
+    let inside = finite && p.position.x >= d.x && p.position.x <= d.z && p.position.z >= d.y
+        && p.position.z <= d.w && p.age <= params.air.w;
+    if (!inside) {
+        release(slot);
+        return;
+    }
+    let h = water_height(p.position.x, p.position.z);
+    if (p.kind == BUBBLE) {
+        p.position.y = max(p.position.y, -params.air.z + p.radius);
+        if (p.position.y >= h) {
+            deposit(p.position.x, p.position.z, f32(p.volume) * VOLUME_UNIT_M3 * BURST_FOAM_PER_M3);
+            release(slot);
+            return;
+        }
+    } else if (p.position.y <= h && p.velocity.y < 0.0) {
+        deposit(p.position.x, p.position.z, SPRAY_FOAM);
+        release(slot);
+        return;
+    }
+    particles[slot] = p;
+    append_alive(slot);
+}
+
+// The CPU's splashes: one thread per particle (splash i's particles are
+// `first` to `first + spray + bubbles`).
+@compute @workgroup_size(64)
+fn emit(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = params.counts.y;
+    if (n == 0u) {
+        return;
+    }
+    let last = splashes[n - 1u];
+    if (id.x >= last.first + last.spray + last.bubbles) {
+        return;
+    }
+    var i = 0u;
+    while (i + 1u < n && splashes[i + 1u].first <= id.x) {
+        i++;
+    }
+    let s = splashes[i];
+    let k = id.x - s.first;
+    let step = params.counts.x;
+    let pid = step * 1048576u + i * 1024u + k;
+    let r1 = random(step, pid, 1u);
+    let r2 = random(step, pid, 2u);
+    let r3 = random(step, pid, 3u);
+    let a = r1 * TAU;
+    let d = s.radius * sqrt(r2);
+    let ca = cos(a);
+    let sa = sin(a);
+    var p = Particle(vec3<f32>(s.position.x + d * ca, s.position.y, s.position.z + d * sa), 0.0, vec3<f32>(0.0), BUBBLE, pid, 0.0, 0u, 0u);
+    if (k < s.spray) {
+        let up = s.speed * (0.6 + 0.4 * r3);
+        let out = s.speed * 0.5 * r2;
+        p.kind = SPRAY;
+        p.radius = params.emission.x;
+        p.position.y += 0.01;
+        p.velocity = vec3<f32>(s.velocity.x * 0.5 + out * ca, up, s.velocity.z * 0.5 + out * sa);
+    } else {
+        let r = sample_bubble_radius(r3);
+        p.volume = bubble_volume(r);
+        p.radius = bubble_radius(p.volume);
+        p.position.y -= 0.02 + 0.3 * s.radius * r3;
+        p.velocity = vec3<f32>(s.velocity.x * 0.3, 0.0, s.velocity.z * 0.3);
+    }
+    spawn(p);
+}
