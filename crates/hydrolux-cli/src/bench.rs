@@ -82,6 +82,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         })
         .collect();
     let timestamps = renderer.has_timestamps();
+    let particles = renderer.particle_counts();
     if a.json {
         let j = serde_json::json!({
             "adapter": info.name,
@@ -97,6 +98,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "frame_ms": { "median": median, "p95": p95, "source": "wall clock around submit + wait" },
             "passes_ms": pass_medians.iter().map(|(n, v)| serde_json::json!({"pass": n, "median": v})).collect::<Vec<_>>(),
             "pass_times_source": if timestamps { "GPU timestamp queries" } else { "unavailable (adapter lacks TIMESTAMP_QUERY)" },
+            "particles": particles.map(|p| serde_json::json!({"alive": p.alive, "capacity": p.capacity, "emitted": p.emitted, "lost": p.lost})),
             "resident_mb": memory.map(|(a, b)| serde_json::json!({"after_warm_up": a, "end": b})),
         });
         println!("{}", serde_json::to_string_pretty(&j)?);
@@ -126,6 +128,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
             rendered.render.shadow_resolution, rendered.render.reflection_resolution
         );
         println!("frame     median {median:.2} ms   p95 {p95:.2} ms   (wall clock, submit → done)");
+        if let Some(p) = particles {
+            println!(
+                "particles {} alive of {} (budget), {} born, {} not born for want of room",
+                p.alive, p.capacity, p.emitted, p.lost
+            );
+        }
         if let Some((a, b)) = memory {
             println!(
                 "memory    {a:.0} MB resident after warm-up, {b:.0} MB at the end ({:+.1} MB)",

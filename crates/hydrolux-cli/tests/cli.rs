@@ -848,12 +848,36 @@ fn ripples_and_bodies_dumps_hold_the_water_and_the_ball() {
             "ripples=r.npy",
             "--dump",
             "bodies=b.json",
+            "--dump",
+            "foam=f.npy",
+            "--dump",
+            "particles=q.npy",
             "--out",
             "p.png",
         ],
         &dir,
     );
     assert_eq!(code, 0, "{err}");
+    // The stones' splashes (at 0.2 and 0.8 s): bubbles still rising, foam.
+    let floats = |name: &str| -> (String, Vec<f32>) {
+        let npy = std::fs::read(dir.join(name)).unwrap();
+        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
+        let values = npy[10 + hlen..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        (header, values)
+    };
+    let (header, particles) = floats("q.npy");
+    assert!(header.contains(", 8)"), "{header}");
+    let kinds: Vec<f32> = particles.chunks_exact(8).map(|p| p[7]).collect();
+    assert!(kinds.contains(&1.0), "bubbles: {kinds:?}");
+    assert!(kinds.iter().all(|&k| k == 1.0 || k == 2.0), "kinds: {kinds:?}");
+    assert!(particles.iter().all(|v| v.is_finite()));
+    let (_, foam) = floats("f.npy");
+    let most = foam.iter().fold(0.0f32, |m, &f| m.max(f));
+    assert!(most > 0.5, "foam where the stones fell: most {most}");
     let npy = std::fs::read(dir.join("r.npy")).unwrap();
     let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
     assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (32, 32)"));

@@ -40,6 +40,8 @@ pub const WATER_SIGMA_RHO: f32 = 7.2e-5;
 pub const AIR_WATER_RATIO: f32 = 1.2 / 1000.0;
 /// Drag coefficient of a small sphere in air.
 pub const DROP_DRAG: f32 = 0.47;
+/// Radius (m) of a spray drop, for its drag (splash drops are millimetres).
+pub const SPRAY_DROP_RADIUS: f32 = 1.5e-3;
 /// Bubble volumes are kept in units of this (m³): merges add integers.
 pub const VOLUME_UNIT_M3: f64 = 1.0e-12;
 /// Foam a fully covered cell holds: cover = 1 − e^(−F); whitecap where F > ln 2.
@@ -69,10 +71,16 @@ pub fn monahan_whitecap_fraction(u10: f64) -> f64 {
 /// long runs at 7–20 m/s, where it depends on the active fraction alone
 /// (larger patches of breaking leave longer-lived foam; the smallest
 /// barely pass the whitecap threshold), and fitted:
-/// C = 4.1·a·(1 − e^(−(a/0.0045)^1.5)).
+/// C = 3.0·a·(1 − e^(−(a/0.0045)^1.5)) (with foam capped at [`FOAM_MAX`]).
 pub fn cover_of_active(active: f64) -> f64 {
-    4.1 * active * (1.0 - (-(active / 0.0045).powf(1.5)).exp())
+    3.0 * active * (1.0 - (-(active / 0.0045).powf(1.5)).exp())
 }
+
+/// The most foam a cell holds (F): a dense, freshly whipped sheet. What
+/// lands on a full cell runs off; a cap makes a whitecap fade in
+/// τ·ln(F_max/ln 2) ≈ 1.1·τ once its breaking stops, as Monahan's stage-B
+/// whitecaps do, however long it broke or however much spray fell on it.
+pub const FOAM_MAX: f32 = 2.0;
 
 /// Foam gained per second (F/s) by a cell that is fully breaking.
 pub const FOLD_GAIN: f32 = 10.0;
@@ -325,7 +333,7 @@ impl FoamField {
                 rate += sp.foam * (1.0 - u).max(0.0) / s.dt;
             }
             let landed = self.deposits[k] as f32 / DEPOSIT_SCALE;
-            *out = carried * keep + rate * s.dt + landed;
+            *out = (carried * keep + rate * s.dt + landed).min(FOAM_MAX);
         }
         self.deposits.fill(0);
         self.amount = next;
@@ -441,7 +449,7 @@ pub fn splash_particle(s: &Splash, k: u32, step: u32, id: u32, drop_radius: f32)
 /// sweeps through at 2 m/s: one particle stands for a parcel of drops or
 /// a cloud of bubbles. Grows as the speed squared (the splash's energy),
 /// capped at four times.
-pub const SPLASH_SPRAY_PER_M2: f32 = 1500.0;
+pub const SPLASH_SPRAY_PER_M2: f32 = 500.0;
 /// Most particles one splash makes.
 pub const SPLASH_MAX: u32 = 1024;
 

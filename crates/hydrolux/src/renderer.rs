@@ -485,6 +485,13 @@ impl Renderer {
         true
     }
 
+    /// A splash of the caller's (an explosion, a thrown stone): its spray,
+    /// bubbles and foam are born in the next simulation step. Returns false
+    /// when the scene runs no white water (or too many splashes wait).
+    pub fn splash(&mut self, splash: hydrolux_core::whitewater::Splash) -> bool {
+        self.techniques.surface.whitewater.as_mut().is_some_and(|w| w.splash(splash))
+    }
+
     /// The moving bodies now: position, orientation, velocities and
     /// submerged volume of each (empty if nothing moves).
     pub fn bodies(&self) -> Vec<hydrolux_core::bodies::BodyState> {

@@ -1396,3 +1396,107 @@ fn a_floating_ball_and_its_water_are_the_same_at_a_time_whatever_the_frame_rate(
     assert!(a[0].pose.position.y > -0.45 && a[0].pose.position.y < 0.4, "{:?}", a[0].pose);
     assert!(a[0].submerged > 0.01, "submerged {} m³", a[0].submerged);
 }
+
+/// A caller's splash on still water, stepped on the GPU and on the CPU
+/// twin (hydrolux-core `Particles`, `FoamField`) for a second: the same
+/// particles alive (matched by id), where the twin puts them, the same
+/// bubble air after merging, and the same foam from the splash, the spray
+/// falling back and the bubbles bursting.
+#[test]
+fn splash_particles_and_foam_match_the_cpu_twin() {
+    use hydrolux::core::whitewater::{
+        BUBBLE, FoamField, FoamGrid, FoamStep, ParticleStep, Particles, SPRAY, SPRAY_DROP_RADIUS,
+        Splash,
+    };
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let mut s = ripple_scene("walls");
+    s.drops.clear();
+    s.emitters.clear();
+    s.ripples.extent = 8.0;
+    s.validate().expect("valid");
+    let mut r = renderer(&ctx, &s);
+    let splash = Splash {
+        position: [0.4, 0.0, -0.3],
+        radius: 0.4,
+        velocity: [0.5, 0.0, 0.0],
+        speed: 8.0,
+        spray: 120,
+        bubbles: 240,
+        foam: 0.8,
+        first: 0,
+    };
+    assert!(r.splash(splash), "the scene runs white water");
+    let t = 1.0;
+    r.simulate(&s.camera(), (16, 16), t);
+    let gpu_foam = r.read_foam().expect("foam");
+    let gpu_particles = r.read_particles().expect("particles");
+
+    let rate = s.whitewater.rate;
+    let dt = 1.0 / rate as f32;
+    let side = gpu_foam.cells as f32 * gpu_foam.cell_size;
+    let centre = [0, 1].map(|a| gpu_foam.origin[a] + 0.5 * side);
+    let grid = FoamGrid::centred(gpu_foam.cells, side, centre);
+    assert_eq!([0, 1].map(|a| grid.low[a] as f32 * grid.cell), gpu_foam.origin);
+    let mut foam = FoamField::new(grid);
+    let mut cpu = Particles::default();
+    let foam_step = FoamStep { dt, life: s.foam_life(), drift: [0.0, 0.0] };
+    let steps = (t * rate as f64).round() as u32;
+    for step in 0..steps {
+        let ps = ParticleStep {
+            dt,
+            step,
+            wind: [0.0, 0.0],
+            floor_depth: s.floor.depth,
+            max_age: 20.0,
+            low: gpu_foam.origin,
+            high: [gpu_foam.origin[0] + side, gpu_foam.origin[1] + side],
+            drop_radius: SPRAY_DROP_RADIUS,
+        };
+        let splashes: &[Splash] = if step == 0 { &[splash] } else { &[] };
+        cpu.merge();
+        for l in cpu.update(&ps, |_, _| 0.0) {
+            foam.deposit(l.x, l.z, l.foam);
+        }
+        foam.step(&foam_step, splashes, |_, _| 0.0);
+        cpu.spawn(splashes, &ps, 1 << 16);
+    }
+
+    // The same particles alive, where the twin has them.
+    let by_id: std::collections::HashMap<u32, _> = cpu.alive.iter().map(|p| (p.id, p)).collect();
+    let count = |ps: &mut dyn Iterator<Item = u32>, kind| ps.filter(|&k| k == kind).count();
+    let (gb, gs) = (
+        count(&mut gpu_particles.iter().map(|p| p.kind), BUBBLE),
+        count(&mut gpu_particles.iter().map(|p| p.kind), SPRAY),
+    );
+    let (cb, cs) =
+        (count(&mut cpu.alive.iter().map(|p| p.kind), BUBBLE), count(&mut cpu.alive.iter().map(|p| p.kind), SPRAY));
+    assert!(cb > 20 && cs > 20, "the twin keeps bubbles ({cb}) and spray ({cs}) after {t} s");
+    assert!(gb.abs_diff(cb) <= 2 && gs.abs_diff(cs) <= 2, "GPU {gb} bubbles, {gs} spray; CPU {cb}, {cs}");
+    let mut worst = 0.0f32;
+    let mut matched = 0;
+    for g in &gpu_particles {
+        let Some(c) = by_id.get(&g.id) else { continue };
+        matched += 1;
+        for k in 0..3 {
+            worst = worst.max((g.position[k] - c.position[k]).abs());
+        }
+        assert_eq!(g.kind, c.kind);
+    }
+    assert!(matched + 4 >= gpu_particles.len(), "{matched} of {} matched by id", gpu_particles.len());
+    assert!(worst < 2e-3, "positions differ by up to {worst} m");
+    let air = |ps: &[hydrolux::core::whitewater::Particle]| -> u64 {
+        ps.iter().filter(|p| p.kind == BUBBLE).map(|p| p.volume as u64 + p.gained as u64).sum()
+    };
+    let (ga, ca) = (air(&gpu_particles), cpu.bubble_volume());
+    assert!(ga.abs_diff(ca) as f64 <= 0.02 * ca as f64, "bubble air: GPU {ga}, CPU {ca} units");
+
+    // The same foam.
+    let n = grid.cells as i32;
+    let cpu_foam: Vec<f32> = (0..n * n).map(|k| foam.at(grid.low[0] + k % n, grid.low[1] + k / n)).collect();
+    let total = |f: &[f32]| f.iter().map(|&v| v as f64).sum::<f64>();
+    let (gt, ct) = (total(&gpu_foam.amount), total(&cpu_foam));
+    assert!(ct > 1.0, "the splash left foam ({ct})");
+    assert!((gt - ct).abs() < 0.02 * ct, "foam total: GPU {gt}, CPU {ct}");
+    let worst = gpu_foam.amount.iter().zip(&cpu_foam).map(|(g, c)| (g - c).abs()).fold(0.0f32, f32::max);
+    assert!(worst < 0.05, "foam differs by up to {worst} per cell");
+}

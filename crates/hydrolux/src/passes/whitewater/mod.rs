@@ -21,7 +21,8 @@ use crate::uniforms::uniform;
 use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
 use hydrolux_core::waves::ocean::{OceanFields, OceanSpectrum};
 use hydrolux_core::whitewater::{
-    FOLD_GAIN, FoamGrid, Particle, Splash, calibrated_fold_threshold, jacobian, surface_drift,
+    FOLD_GAIN, FoamGrid, Particle, SPRAY_DROP_RADIUS, Splash, calibrated_fold_threshold, jacobian,
+    surface_drift,
 };
 
 uniform! { WhitewaterParams;
@@ -40,7 +41,24 @@ uniform! { WhitewaterParams;
 }
 
 pub fn source() -> String {
-    shaders::compose("", include_str!("whitewater.wgsl"))
+    use hydrolux_core::whitewater as w;
+    let consts: String = [
+        ("G", w::G),
+        ("WATER_NU", w::WATER_NU),
+        ("WATER_SIGMA_RHO", w::WATER_SIGMA_RHO),
+        ("AIR_WATER_RATIO", w::AIR_WATER_RATIO),
+        ("DROP_DRAG", w::DROP_DRAG),
+        ("VOLUME_UNIT_M3", w::VOLUME_UNIT_M3 as f32),
+        ("BURST_FOAM_PER_M3", w::BURST_FOAM_PER_M3),
+        ("SPRAY_FOAM", w::SPRAY_FOAM),
+        ("FOLD_RAMP", w::FOLD_RAMP),
+        ("DEPOSIT_SCALE", w::DEPOSIT_SCALE),
+        ("FOAM_MAX", w::FOAM_MAX),
+    ]
+    .iter()
+    .map(|(name, v)| format!("const {name}: f32 = {v:e};\n"))
+    .collect();
+    shaders::compose(&consts, include_str!("whitewater.wgsl"))
 }
 
 /// Counters at the start of the atomics: alive in list 0 and 1, free, emitted, lost.
@@ -48,8 +66,6 @@ const COUNTERS: u32 = 16;
 const COUNT_FREE: usize = 2;
 const COUNT_EMITTED: usize = 3;
 const COUNT_LOST: usize = 4;
-/// Radius (m) of a spray drop, for its drag (splash drops are millimetres).
-pub const DROP_RADIUS: f32 = 1.5e-3;
 /// Particles are born within this distance (m) of the camera, and live
 /// within `PARTICLE_REACH` of it.
 const EMISSION_RADIUS: f32 = 60.0;
@@ -386,6 +402,15 @@ impl Whitewater {
         self.mips_due = true;
     }
 
+    /// A splash for the next step (a caller's); false when too many wait.
+    pub fn splash(&mut self, splash: Splash) -> bool {
+        let room = self.pending.len() < 4 * SPLASH_CAPACITY as usize;
+        if room {
+            self.pending.push(splash);
+        }
+        room
+    }
+
     /// Follow `clock_steps` more steps of the clock: the steps of ours due
     /// in them, as (clock steps before it, its time), after a jump past
     /// `memory` forgets everything and starts that far back.
@@ -461,7 +486,7 @@ impl Whitewater {
             counts: [self.steps as u32, splashes.len() as u32, self.capacity, parity as u32],
             air: [self.wind[0], self.wind[1], self.floor_depth, MAX_AGE],
             domain,
-            emission: [DROP_RADIUS, self.spray_rate, self.bubble_rate, EMISSION_RADIUS],
+            emission: [SPRAY_DROP_RADIUS, self.spray_rate, self.bubble_rate, EMISSION_RADIUS],
             camera: [cam[0], cam[1], self.run as f32, 0.0],
             bases: [COUNTERS, COUNTERS + n * n, COUNTERS + n * n + self.capacity, self.table - 1],
         };

@@ -130,7 +130,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // Soft where it meets what is behind it (no hard cut at the water).
     let soft = clamp((scene_distance - particle_distance) / 0.3, 0.0, 1.0);
     let density = (1.0 - r2) * (1.0 - r2);
-    let alpha = 0.8 * density * soft * in.weight;
+    let alpha = 0.4 * density * soft * in.weight;
     // Drops scatter mostly forward (g ≈ 0.8 for millimetre drops' halo).
     let phase = henyey_greenstein(dot(view, frame.light.sun_dir), 0.8);
     let sky = textureSampleLevel(sky_cube, sky_sampler, vec3<f32>(0.0, 1.0, 0.0), 6.0).rgb;

@@ -75,16 +75,10 @@ const DEAD: u32 = 0u;
 const BUBBLE: u32 = 1u;
 const SPRAY: u32 = 2u;
 const NONE: u32 = 0xffffffffu;
-const G: f32 = 9.81;
-const WATER_NU: f32 = 1.0e-6;
-const WATER_SIGMA_RHO: f32 = 7.2e-5;
-const AIR_WATER_RATIO: f32 = 0.0012;
-const DROP_DRAG: f32 = 0.47;
-const VOLUME_UNIT_M3: f32 = 1.0e-12;
-const BURST_FOAM_PER_M3: f32 = 2.0e4;
-const SPRAY_FOAM: f32 = 0.02;
-const FOLD_RAMP: f32 = 0.1;
-const DEPOSIT_SCALE: f32 = 65536.0;
+// The physics constants (G, WATER_NU, WATER_SIGMA_RHO, AIR_WATER_RATIO,
+// DROP_DRAG, VOLUME_UNIT_M3, BURST_FOAM_PER_M3, SPRAY_FOAM, FOLD_RAMP,
+// DEPOSIT_SCALE, FOAM_MAX) come from hydrolux-core's whitewater module,
+// written above this file by `source()`: one value for both twins.
 // Merge buckets: cells of twice the largest entrained bubble radius.
 const MERGE_CELL: f32 = 0.01;
 // Lists in `slots`, in capacities.
@@ -341,7 +335,7 @@ fn foam_step(@builtin(global_invocation_id) id: vec3<u32>) {
         source += sp.foam * max(1.0 - u, 0.0) / dt;
     }
     let landed = f32(atomicExchange(&atomics[params.bases.x + k], 0u)) / DEPOSIT_SCALE;
-    let f = carried * params.foam.z + source * dt + landed;
+    let f = min(carried * params.foam.z + source * dt + landed, FOAM_MAX);
     foam_out[k] = f;
     let si = vec2<i32>(i32(k % n), i32(k / n));
     textureStore(cover_out, si, 0, vec4<f32>(foam_cover(f), 0.0, 0.0, 1.0));
