@@ -19,6 +19,10 @@ pub struct BenchArgs {
     /// Frames to measure (after 3 warm-up frames).
     #[arg(long, default_value_t = 60, allow_negative_numbers = true)]
     pub frames: u32,
+    /// Simulated time (s) of the first warm-up frame: start with the
+    /// simulations (foam, particles, the interactive water) already running.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub start: f64,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -34,6 +38,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
     if a.frames == 0 {
         bail!("--frames 0: must be at least 1");
     }
+    if !(a.start.is_finite() && (0.0..=1.0e6).contains(&a.start)) {
+        bail!("--start {}: must be a time from 0 to 1000000 s", a.start);
+    }
     let scene = a.scene.load()?;
     let ctx = crate::headless_context()?;
     let info = ctx.adapter.get_info();
@@ -45,7 +52,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     let camera = scene.camera();
     for i in 0..3 {
-        target.submit(&mut renderer, camera, i as f64 / 60.0)?;
+        target.submit(&mut renderer, camera, a.start + i as f64 / 60.0)?;
         renderer.collect_timings();
     }
     // Resident memory after warm-up and at the end: flat however long it runs.
@@ -55,7 +62,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let mut order: Vec<&'static str> = Vec::new();
     for i in 0..a.frames {
         let t0 = Instant::now();
-        let index = target.submit(&mut renderer, camera, (i + 3) as f64 / 60.0)?;
+        let index = target.submit(&mut renderer, camera, a.start + (i + 3) as f64 / 60.0)?;
         ctx.device.poll(hydrolux::wgpu::PollType::Wait {
             submission_index: Some(index),
             timeout: None,
@@ -92,6 +99,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "width": a.size.width,
             "height": a.size.height,
             "frames": a.frames,
+            "start_s": a.start,
             "quality": hydrolux::core::scene::Choice::name(quality),
             "render_scale": quality.render_scale(),
             "scene_triangles": triangles,
@@ -105,7 +113,10 @@ pub fn run(a: BenchArgs) -> Result<()> {
     } else {
         println!("adapter   {} ({:?})", info.name, info.backend);
         println!("scene     {} {}", a.scene.scene, a.scene.set.join(" "));
-        println!("size      {}×{}, {} frames", a.size.width, a.size.height, a.frames);
+        println!(
+            "size      {}×{}, {} frames from t = {} s",
+            a.size.width, a.size.height, a.frames, a.start
+        );
         let scale = quality.render_scale();
         println!(
             "quality   {}{} (drawn at {}×{}, filtered up to the output)",

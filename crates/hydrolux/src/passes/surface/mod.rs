@@ -528,7 +528,10 @@ impl Technique for Surface {
             // (Written so that a NaN ocean time also re-evaluates.)
             let current = (time - whitewater.ocean_time).abs() < 0.5 * whitewater.dt as f64;
             let needs_ocean = fft && !current;
-            let own = k + 1 < count || needs_ocean;
+            // Every step but a lone last one goes in a submission of its own:
+            // the interactive water's steps after it may read the water back
+            // (the bodies' sync), which must see this step's work done.
+            let own = k + 1 < count || needs_ocean || self.dynamics.is_some();
             let mut own_encoder = own.then(|| device.create_command_encoder(&Default::default()));
             let e = own_encoder.as_mut().unwrap_or(&mut *encoder);
             let mut splashes = Vec::new();

@@ -255,7 +255,8 @@ fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
 // cell of cover c shows foam where the noise lies below c. Each octave fades
 // into its mean once a pixel's footprint (geometric mean of its two axes, so
 // grazing views keep their detail across the view) nears its size, and with
-// no octave left the pixel shows c itself.
+// no octave left the pixel shows c itself. Only the look is noise: where
+// and how much foam there is comes from the simulated field.
 fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
     let c = foam_cover_grad(p, dpdx_p, dpdy_p);
     if (c <= 0.0) {
@@ -279,7 +280,11 @@ fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
     }
     let width = 0.08 + 0.4 * (1.0 - kept);
     let pattern = smoothstep(n - width, n + width, c);
-    return mix(c, pattern, kept);
+    // Inside a patch the sheet is thicker and thinner (0.9 m blotches,
+    // faded like the octaves), not one flat white.
+    let blotch = 1.0 - smoothstep(0.2, 0.7, footprint / 0.9);
+    let thickness = clamp(1.0 + 0.8 * blotch * (value_noise(p / 0.9 + vec2<f32>(31.0, 7.0)) - 0.5), 0.0, 1.0);
+    return mix(c, pattern * thickness, kept);
 }
 
 fn value_noise(x: vec2<f32>) -> f32 {
