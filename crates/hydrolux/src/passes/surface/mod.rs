@@ -14,7 +14,7 @@ use crate::passes::whitewater::{StepInput as WhitewaterStep, Whitewater};
 use crate::technique::{FrameContext, Shared, Stage, Technique};
 use crate::timing::GpuTimer;
 use crate::uniforms::SurfaceUniforms;
-use hydrolux_core::scene::{Choice, Scene, WaterModel};
+use hydrolux_core::scene::{CLOCK_HZ, Choice, Scene, WaterModel};
 use hydrolux_core::waves::ocean::{OceanSettings, OceanSpectrum};
 use hydrolux_core::waves::ripples::RippleBoundary;
 use hydrolux_core::waves::sines::{MAX_SINE_WAVES, SineWaves};
@@ -520,7 +520,8 @@ impl Technique for Surface {
         // the surface at its own time: an FFT ocean far from the time its
         // textures hold is evaluated again (in a submission of its own).
         let fft = self.scene.water.model == WaterModel::Fft;
-        let schedule = whitewater.schedule(steps as u64, queue);
+        let frame_end = (frame.plan.time.max(0.0) * CLOCK_HZ as f64).floor() as u64;
+        let schedule = whitewater.schedule(steps as u64, frame_end, queue);
         let mut followed = 0u64;
         let mut evaluated = false;
         let count = schedule.len();

@@ -127,6 +127,9 @@ pub struct Whitewater {
     clock_steps: u64,
     /// Splashes for the next steps (the caller's, bodies', drops').
     pending: Vec<Splash>,
+    /// Cleared for a jump and not stepped since (a long jump comes in many
+    /// batches: clear once).
+    forgotten: bool,
     params: wgpu::Buffer,
     foam: [wgpu::Buffer; 2],
     splashes: wgpu::Buffer,
@@ -346,6 +349,7 @@ impl Whitewater {
             steps: 0,
             clock_steps: 0,
             pending: Vec::new(),
+            forgotten: false,
             params,
             foam,
             splashes,
@@ -412,17 +416,28 @@ impl Whitewater {
     }
 
     /// Follow `clock_steps` more steps of the clock: the steps of ours due
-    /// in them, as (clock steps before it, its time), after a jump past
-    /// `memory` forgets everything and starts that far back.
-    pub fn schedule(&mut self, clock_steps: u64, queue: &wgpu::Queue) -> Vec<(u64, f64)> {
+    /// in them, as (clock steps before it, its time). Steps more than
+    /// `memory` before `frame_end` (the clock step the frame reaches) are
+    /// not simulated: a jump forgets everything once and starts that far
+    /// back, however many batches the jump is split into.
+    pub fn schedule(
+        &mut self,
+        clock_steps: u64,
+        frame_end: u64,
+        queue: &wgpu::Queue,
+    ) -> Vec<(u64, f64)> {
         let first = self.clock_steps / self.stride;
         let end = self.clock_steps + clock_steps;
         let last = end / self.stride;
+        let horizon = (frame_end / self.stride).saturating_sub(self.memory_steps);
         let mut start = first;
-        if last - first > self.memory_steps {
-            start = last - self.memory_steps;
-            self.reset_buffers(queue);
-            self.pending.clear();
+        if horizon > first {
+            start = horizon.min(last);
+            if !self.forgotten {
+                self.reset_buffers(queue);
+                self.pending.clear();
+                self.forgotten = true;
+            }
         }
         let mut out = Vec::new();
         let mut at = self.clock_steps;
@@ -536,6 +551,7 @@ impl Whitewater {
         pass.dispatch_workgroups(1, 1, 1);
         drop(pass);
         self.steps += 1;
+        self.forgotten = false;
         self.mips_due = true;
     }
 
