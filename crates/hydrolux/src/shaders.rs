@@ -29,6 +29,7 @@ const MODULES: &[(&str, &str)] = &[
     ("caustics_lookup", include_str!("shaders/caustics_lookup.wgsl")),
     // Modules of one technique that another reuses.
     ("geometry_common", include_str!("passes/geometry/geometry_common.wgsl")),
+    ("particle", include_str!("passes/whitewater/particle.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
 ];
 

@@ -6,7 +6,7 @@
 // is bright by total internal reflection and whose middle lets through
 // what is behind, seen through the water above them. The scene's depth
 // is tested by hand: a bubble under the surface shows through it.
-#import constants, frame, sky_bindings, medium
+#import constants, frame, sky_bindings, medium, particle
 
 struct DrawParams {
     // x capacity C, y alive list (0, 1)
@@ -15,23 +15,11 @@ struct DrawParams {
     sizes: vec4<f32>,
 }
 
-struct Particle {
-    position: vec3<f32>,
-    radius: f32,
-    velocity: vec3<f32>,
-    kind: u32,
-    id: u32,
-    age: f32,
-    volume: u32,
-    gained: u32,
-}
-
 @group(1) @binding(0) var<uniform> params: DrawParams;
 @group(1) @binding(1) var<storage, read> particles: array<Particle>;
 @group(1) @binding(2) var<storage, read> slots: array<u32>;
 @group(2) @binding(0) var scene_depth: texture_2d<f32>;
 
-const BUBBLE: u32 = 1u;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,

@@ -7,7 +7,7 @@
 // `update` (integrate; what lands feeds the foam), `foam_step` (drift,
 // decay, sources; breaking crests emit particles), `emit` (the CPU's
 // splashes). Twin: hydrolux_core::whitewater, line by line.
-#import constants, surface
+#import constants, surface, particle
 
 struct WhitewaterParams {
     // xy world cell of the window's low corner, z cells per side, w 1 if it tiles the plane
@@ -28,17 +28,6 @@ struct WhitewaterParams {
     camera: vec4<f32>,
     // Bases in `atomics`: x deposits, y gained, z hash heads; w the hash's bucket mask
     bases: vec4<u32>,
-}
-
-struct Particle {
-    position: vec3<f32>,
-    radius: f32,
-    velocity: vec3<f32>,
-    kind: u32,
-    id: u32,
-    age: f32,
-    volume: u32,
-    gained: u32,
 }
 
 struct Splash {
@@ -71,9 +60,6 @@ struct Splash {
 // bubble's merge pick (4C..5C).
 @group(0) @binding(7) var<storage, read_write> slots: array<u32>;
 
-const DEAD: u32 = 0u;
-const BUBBLE: u32 = 1u;
-const SPRAY: u32 = 2u;
 const NONE: u32 = 0xffffffffu;
 // The physics constants (G, WATER_NU, WATER_SIGMA_RHO, AIR_WATER_RATIO,
 // DROP_DRAG, VOLUME_UNIT_M3, BURST_FOAM_PER_M3, SPRAY_FOAM, FOLD_RAMP,

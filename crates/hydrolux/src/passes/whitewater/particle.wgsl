@@ -1,0 +1,17 @@
+// One particle of the white-water pool, laid out as hydrolux-core's
+// `whitewater::Particle` (checked by size against naga), shared by the
+// simulation (whitewater.wgsl) and the draw (particles.wgsl).
+struct Particle {
+    position: vec3<f32>,
+    radius: f32,
+    velocity: vec3<f32>,
+    kind: u32,
+    id: u32,
+    age: f32,
+    volume: u32,
+    gained: u32,
+}
+
+const DEAD: u32 = 0u;
+const BUBBLE: u32 = 1u;
+const SPRAY: u32 = 2u;
