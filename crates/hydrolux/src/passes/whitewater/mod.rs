@@ -233,7 +233,15 @@ impl Whitewater {
             storage("whitewater atomics", 4 * (COUNTERS + n2 + capacity + table) as u64, none);
         let slots = storage("particle slots", 4 * 5 * capacity as u64, none);
         let args = storage("particle arguments", 32, wgpu::BufferUsages::INDIRECT);
-        let params = uniform_buffer(device, "whitewater", &WhitewaterUniforms::default());
+        // Storage, not uniform: see `params` in whitewater.wgsl.
+        let params = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("whitewater"),
+                contents: bytemuck::bytes_of(&WhitewaterUniforms::default()),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            },
+        );
         let cover = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("foam cover"),
             size: wgpu::Extent3d { width: cells, height: cells, depth_or_array_layers: 1 },
@@ -251,7 +259,7 @@ impl Whitewater {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("whitewater"),
             entries: &[
-                uniform_entry(0, cs),
+                storage_entry(0, cs, true),
                 storage_entry(1, cs, true),
                 storage_entry(2, cs, false),
                 storage_texture_entry(
