@@ -259,6 +259,18 @@ pub struct OceanFields {
 impl OceanFields {
     /// Evolve `spectrum` to time `t` and inverse-transform it with rustfft.
     pub fn evaluate(spectrum: &OceanSpectrum, t: f64) -> Self {
+        Self::evaluate_packed(spectrum, t, &[0, 1, 2, 3])
+    }
+
+    /// The surface's Jacobian parts only (∂Dx/∂x, ∂Dz/∂z, ∂Dx/∂z; the rest
+    /// left zero): half the transforms.
+    pub fn evaluate_jacobian(spectrum: &OceanSpectrum, t: f64) -> Self {
+        Self::evaluate_packed(spectrum, t, &[2, 3])
+    }
+
+    /// Only the packed complex fields `packed` (field f holds texel
+    /// entries 2f and 2f + 1) are transformed.
+    fn evaluate_packed(spectrum: &OceanSpectrum, t: f64, packed: &[usize]) -> Self {
         let n = spectrum.settings.resolution;
         let tau = time_phase(t);
         let lambda = spectrum.settings.choppiness as f32;
@@ -268,17 +280,17 @@ impl OceanFields {
         let mut fields = vec![vec![Complex::new(0.0f32, 0.0); n * n]; 4];
         for c in 0..spectrum.cascades.len() {
             for i in 0..n * n {
-                let packed = evolve_mode(&spectrum.modes[c * n * n + i], tau, lambda);
-                for f in 0..4 {
-                    fields[f][i] = Complex::new(packed[f][0], packed[f][1]);
+                let packed_modes = evolve_mode(&spectrum.modes[c * n * n + i], tau, lambda);
+                for &f in packed {
+                    fields[f][i] = Complex::new(packed_modes[f][0], packed_modes[f][1]);
                 }
             }
-            for field in fields.iter_mut() {
-                super::fft2(&*fft, field, n);
+            for &f in packed {
+                super::fft2(&*fft, &mut fields[f], n);
             }
             for i in 0..n * n {
                 let t = &mut texels[c * n * n + i];
-                for f in 0..4 {
+                for &f in packed {
                     t[2 * f] = fields[f][i].re;
                     t[2 * f + 1] = fields[f][i].im;
                 }
@@ -350,6 +362,104 @@ impl OceanFields {
     }
 }
 
+/// The fields' mip chains as the GPU builds them (a 2×2 box filter per
+/// level, `shaders/downsample.wgsl`), read as the GPU's trilinear sampler
+/// with repeat addressing reads them: the CPU twin of
+/// `fft_sample_footprint` in `surface.wgsl`.
+#[derive(Clone, Debug)]
+pub struct OceanMips {
+    resolution: usize,
+    patch_sizes: Vec<f64>,
+    /// The texel entries filtered and read (the others stay zero).
+    entries: std::ops::Range<usize>,
+    /// Level m: every cascade's (N/2^m)² texels, cascade-major.
+    levels: Vec<Vec<[f32; 8]>>,
+}
+
+impl OceanFields {
+    pub fn mips(&self) -> OceanMips {
+        self.mips_of(0..8)
+    }
+
+    /// Mips of the texel entries `entries` only (the others left zero).
+    pub fn mips_of(&self, entries: std::ops::Range<usize>) -> OceanMips {
+        let cascades = self.patch_sizes.len();
+        let mut levels = vec![self.texels.clone()];
+        let mut n = self.resolution;
+        while n > 1 {
+            let (up, half) = (levels.last().expect("level 0"), n / 2);
+            let mut next = vec![[0.0f32; 8]; cascades * half * half];
+            for c in 0..cascades {
+                for z in 0..half {
+                    for x in 0..half {
+                        let t = &mut next[c * half * half + z * half + x];
+                        for (dz, dx) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                            let u = &up[c * n * n + (2 * z + dz) * n + 2 * x + dx];
+                            for i in entries.clone() {
+                                t[i] += 0.25 * u[i];
+                            }
+                        }
+                    }
+                }
+            }
+            levels.push(next);
+            n = half;
+        }
+        OceanMips {
+            resolution: self.resolution,
+            patch_sizes: self.patch_sizes.clone(),
+            entries,
+            levels,
+        }
+    }
+}
+
+impl OceanMips {
+    /// Bilinear, periodic sample of level `m` of one cascade at world (x, z).
+    fn sample_level(&self, cascade: usize, m: usize, x: f64, z: f64) -> [f32; 8] {
+        let n = self.resolution >> m;
+        let l = self.patch_sizes[cascade];
+        // Level-0 texel j holds x = j·L/N; a level-m texel averages 2^m of
+        // them, so its centre sits (2^m − 1)/2 level-0 texels further on.
+        let shift = ((1usize << m) as f64 - 1.0) / 2.0;
+        let to_level = |v: f64| (v / l * self.resolution as f64 - shift) / (1usize << m) as f64;
+        let (gx, gz) = (to_level(x), to_level(z));
+        let (x0, z0) = (gx.floor(), gz.floor());
+        let (fx, fz) = ((gx - x0) as f32, (gz - z0) as f32);
+        let wrap = |v: f64| (v.rem_euclid(n as f64)) as usize % n;
+        let (x0, z0) = (wrap(x0), wrap(z0));
+        let (x1, z1) = ((x0 + 1) % n, (z0 + 1) % n);
+        let texels = &self.levels[m][cascade * n * n..(cascade + 1) * n * n];
+        let at = |xi: usize, zi: usize| &texels[zi * n + xi];
+        let mut out = [0.0; 8];
+        for i in self.entries.clone() {
+            let top = at(x0, z0)[i] * (1.0 - fx) + at(x1, z0)[i] * fx;
+            let bottom = at(x0, z1)[i] * (1.0 - fx) + at(x1, z1)[i] * fx;
+            out[i] = top * (1.0 - fz) + bottom * fz;
+        }
+        out
+    }
+
+    /// The surface at (x, z) prefiltered over a square footprint (m): each
+    /// cascade read at lod log2(footprint / texel), trilinearly.
+    pub fn sample_footprint(&self, x: f64, z: f64, footprint: f64) -> SurfaceSample {
+        let top = self.levels.len() - 1;
+        let mut sum = [0.0f32; 8];
+        for (c, &l) in self.patch_sizes.iter().enumerate() {
+            let texel = l / self.resolution as f64;
+            let lod = (footprint.max(1e-6) / texel).log2().clamp(0.0, top as f64);
+            let m = (lod.floor() as usize).min(top);
+            let f = (lod - m as f64) as f32;
+            let a = self.sample_level(c, m, x, z);
+            let b = if f > 0.0 { self.sample_level(c, (m + 1).min(top), x, z) } else { a };
+            for i in self.entries.clone() {
+                sum[i] += a[i] * (1.0 - f) + b[i] * f;
+            }
+        }
+        SurfaceSample::from_fields(sum)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::spectrum::SpectrumKind;
@@ -372,6 +482,34 @@ mod tests {
             choppiness: 0.8,
             seed: 7,
         }
+    }
+
+    /// The mips' twin reads the fields themselves at footprint 0, and a
+    /// footprint wider than every patch reads each cascade's mean (no
+    /// slope, no stretch: the derivatives of periodic fields average 0).
+    #[test]
+    fn mips_read_the_fields_at_zero_footprint_and_the_mean_beyond() {
+        let spectrum = OceanSpectrum::new(&settings(SpectrumKind::Jonswap, 12.0, 32, 2));
+        let fields = OceanFields::evaluate(&spectrum, 3.0);
+        let mips = fields.mips();
+        for p in [(0.0, 0.0), (13.7, -41.2), (250.3, 77.7)] {
+            let (a, b) = (fields.sample(p.0, p.1), mips.sample_footprint(p.0, p.1, 0.0));
+            assert!(
+                (a.dxx - b.dxx).abs() < 1e-6
+                    && (a.displacement[1] - b.displacement[1]).abs() < 1e-6
+            );
+            let far = mips.sample_footprint(p.0, p.1, 1e6);
+            assert!(far.dxx.abs() < 1e-5 && far.dzz.abs() < 1e-5 && far.slope[0].abs() < 1e-5);
+        }
+        // Halfway in lod, halfway between the two levels (one cascade).
+        let single = OceanFields::evaluate(
+            &OceanSpectrum::new(&settings(SpectrumKind::Jonswap, 12.0, 32, 1)),
+            3.0,
+        );
+        let (mips, texel) = (single.mips(), single.patch_sizes[0] / 32.0);
+        let at = |lod: f64| mips.sample_footprint(31.0, 9.0, 2.0f64.powf(lod) * texel).dxx;
+        assert!((at(1.5) - 0.5 * (at(1.0) + at(2.0))).abs() < 1e-6 + 1e-4 * at(1.0).abs());
+        assert!((at(1.0) - at(2.0)).abs() > 1e-4, "the levels differ");
     }
 
     #[test]

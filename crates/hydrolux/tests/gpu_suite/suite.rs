@@ -1401,6 +1401,47 @@ fn a_floating_ball_and_its_water_are_the_same_at_a_time_whatever_the_frame_rate(
     assert!(a[0].submerged > 0.01, "submerged {} m³", a[0].submerged);
 }
 
+/// Breaking crests on the GPU against the CPU twin: one white-water step
+/// on an FFT ocean from no foam leaves F = gain·fold(J)·dt in every cell,
+/// with J the Jacobian prefiltered over the cell (the cascades' mips, twin
+/// `OceanMips`) and J₀ the threshold calibrated on the CPU.
+#[test]
+fn breaking_crests_match_the_cpu_twin() {
+    use hydrolux::core::whitewater::{
+        FOAM_MAX, FOLD_GAIN, FoamGrid, JacobianSeries, calibrated_fold_threshold, fold_source,
+        jacobian,
+    };
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let mut s = scene(SMALL_OCEAN);
+    s.whitewater.particles = false;
+    let mut r = renderer(&ctx, &s);
+    let dt = 1.0 / s.whitewater.rate as f64;
+    r.simulate(&s.camera(), (16, 16), dt);
+    let gpu = r.read_foam().expect("foam");
+    let grid = FoamGrid::periodic(gpu.cells, gpu.cells as f32 * gpu.cell_size);
+    let spectrum = OceanSpectrum::new(&s.ocean_settings());
+    let threshold = calibrated_fold_threshold(
+        &JacobianSeries::of_ocean(&spectrum, &grid),
+        s.sea_state().wind_speed,
+    );
+    let mips = OceanFields::evaluate(&spectrum, dt).mips();
+    let (mut breaking, mut worst) = (0, 0.0f32);
+    for (k, g) in gpu.amount.iter().enumerate() {
+        let [i, j] = grid.world_cell(k);
+        let (x, z) = ((i as f32 + 0.5) * grid.cell, (j as f32 + 0.5) * grid.cell);
+        let sample = mips.sample_footprint(x as f64, z as f64, grid.cell as f64);
+        let cpu = (FOLD_GAIN * fold_source(jacobian(&sample), threshold) * dt as f32).min(FOAM_MAX);
+        breaking += (cpu > 0.0) as usize;
+        worst = worst.max((g - cpu).abs());
+    }
+    let n = gpu.amount.len();
+    eprintln!("{breaking} of {n} cells break; foam differs by up to {worst}");
+    assert!(breaking * 1000 > n && breaking * 5 < n, "{breaking} of {n} cells break");
+    // Half-float cascades: J to about 2·10⁻³, i.e. F to 0.02 of a step's most.
+    let most = FOLD_GAIN * dt as f32;
+    assert!(worst < 0.02 * most, "foam differs by up to {worst} (a step adds at most {most})");
+}
+
 /// A caller's splash on still water, stepped on the GPU and on the CPU
 /// twin (hydrolux-core `Particles`, `FoamField`) for a second: the same
 /// particles alive (matched by id), where the twin puts them, the same

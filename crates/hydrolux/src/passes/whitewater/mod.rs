@@ -19,10 +19,10 @@ use crate::passes::surface::{SurfaceKind, specialised_to};
 use crate::shaders;
 use crate::uniforms::uniform;
 use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
-use hydrolux_core::waves::ocean::{OceanFields, OceanSpectrum};
+use hydrolux_core::waves::ocean::OceanSpectrum;
 use hydrolux_core::whitewater::{
-    FOLD_GAIN, FoamGrid, Particle, SPRAY_DROP_RADIUS, Splash, calibrated_fold_threshold, jacobian,
-    surface_drift,
+    FOLD_GAIN, FoamGrid, JacobianSeries, Particle, SPRAY_DROP_RADIUS, Splash,
+    calibrated_fold_threshold, surface_drift,
 };
 
 uniform! { WhitewaterParams;
@@ -657,22 +657,11 @@ impl Whitewater {
 }
 
 /// The breaking threshold J₀ for the ocean `spectrum` seen at the foam
-/// cells of `grid` (its Jacobians at t = 0 on the CPU twin), calibrated
-/// to Monahan & O'Muircheartaigh's whitecap cover at wind `u10`.
+/// cells of `grid`, calibrated on the CPU twin to Monahan &
+/// O'Muircheartaigh's whitecap cover at wind `u10`
+/// ([`calibrated_fold_threshold`]).
 pub fn fold_threshold(spectrum: &OceanSpectrum, grid: &FoamGrid, u10: f64) -> f32 {
-    let fields = OceanFields::evaluate(spectrum, 0.0);
-    let n = (grid.cells * grid.cells) as usize;
-    // Every cell of a coarse grid, else an even subset: the quantile only.
-    let stride = (n / 65_536).max(1);
-    let mut samples: Vec<f32> = (0..n)
-        .step_by(stride)
-        .map(|k| {
-            let [i, j] = grid.world_cell(k);
-            let (x, z) = ((i as f32 + 0.5) * grid.cell, (j as f32 + 0.5) * grid.cell);
-            jacobian(&fields.sample(x as f64, z as f64))
-        })
-        .collect();
-    calibrated_fold_threshold(&mut samples, u10)
+    calibrated_fold_threshold(&JacobianSeries::of_ocean(spectrum, grid), u10)
 }
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {

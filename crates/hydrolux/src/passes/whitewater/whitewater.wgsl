@@ -241,7 +241,9 @@ fn foam_source(k: u32, x: f32, z: f32) -> f32 {
     if ((run & 3u) == 0u) {
         return 0.0;
     }
-    let s = surface_sample_footprint(vec2<f32>(x, z), 0.0);
+    // Prefiltered over the cell, as the calibration reads it: waves shorter
+    // than a cell do not break a cell's worth of sea.
+    let s = surface_sample_footprint(vec2<f32>(x, z), params.foam.x);
     var source = 0.0;
     if ((run & 1u) != 0u) {
         let fold = clamp((params.foam.w - surface_jacobian(s)) / FOLD_RAMP, 0.0, 1.0);
@@ -252,7 +254,7 @@ fn foam_source(k: u32, x: f32, z: f32) -> f32 {
     }
     if ((run & 2u) != 0u) {
         // Interactive water steeper than ~0.3 curls and traps air.
-        source += params.drift.w * clamp((length(s.slope) - 0.3) / 0.3, 0.0, 1.0);
+        source += params.drift.w * clamp((length(ripples_at(vec2<f32>(x, z)).yz) - 0.3) / 0.3, 0.0, 1.0);
     }
     return source;
 }
