@@ -65,6 +65,25 @@ pub fn monahan_whitecap_fraction(u10: f64) -> f64 {
     3.84e-6 * u10.max(0.0).powf(3.41)
 }
 
+/// Foam's diffuse albedo (sea foam: 0.4–0.8, fresh to dense; Whitlock,
+/// Bartlett & Gurganus 1982): as bright as the water shader draws it.
+pub const FOAM_ALBEDO: f32 = 0.8;
+
+/// The fraction of sunlight that a foam cover (0–1, the shading's
+/// `foam_cover`) lets into the water: what it does not scatter back (foam
+/// absorbs next to nothing), so caustics and god rays darken beneath it.
+pub fn foam_transmittance(cover: f32) -> f32 {
+    1.0 - FOAM_ALBEDO * cover
+}
+
+/// Foam's cover (0–1) of a cell holding F: about ½ at the whitecap
+/// threshold F = ln 2 ([`WHITECAP_FOAM`]), a dense sheet from 1.3; as
+/// `foam_cover` in WGSL.
+pub fn foam_cover(f: f32) -> f32 {
+    let t = ((f - 0.15) / (1.3 - 0.15)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
 /// The most foam a cell holds (F): a dense, freshly whipped sheet. What
 /// lands on a full cell runs off; a cap makes a whitecap fade in
 /// τ·ln(F_max/ln 2) ≈ 1.1·τ once its breaking stops, as Monahan's stage-B
@@ -439,11 +458,14 @@ impl FoamField {
     }
 }
 
+/// The top layer's wind drift as a fraction of the 10 m wind.
+pub const WIND_DRIFT: f32 = 0.03;
+
 /// Horizontal surface drift (m/s) under wind `u10` from `direction`
 /// (unit, towards): the wind drift of the top layer, about 3% of the wind
 /// (Wu 1975), which carries foam downwind.
 pub fn surface_drift(u10: f32, direction: [f32; 2]) -> [f32; 2] {
-    [0.03 * u10 * direction[0], 0.03 * u10 * direction[1]]
+    [WIND_DRIFT * u10 * direction[0], WIND_DRIFT * u10 * direction[1]]
 }
 
 /// One particle, laid out as `Particle` in `particles.wgsl` (48 bytes).

@@ -290,6 +290,7 @@ uniform! { SurfaceParams;
         pub ripple_area: [f32; 4],
         pub ripple_window: [f32; 4],
         pub foam_area: [f32; 4],
+        pub foam_wind: [f32; 4],
     }
 }
 

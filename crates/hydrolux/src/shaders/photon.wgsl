@@ -35,6 +35,7 @@ fn refracted_photon(origin: vec2<f32>) -> Photon {
     }
     p.pos = vec3<f32>(origin.x + s.disp.x, s.disp.y, origin.y + s.disp.z);
     p.dir = dir;
-    p.weight = shown * (1.0 - fresnel_exact(dot(nrm, l), 1.0, ior));
+    // Foam on the surface scatters most of the light back up.
+    p.weight = shown * (1.0 - fresnel_exact(dot(nrm, l), 1.0, ior)) * foam_transmittance(foam_cover_at(origin));
     return p;
 }

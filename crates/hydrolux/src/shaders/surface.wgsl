@@ -21,6 +21,9 @@ struct SurfaceParams {
     // White water's foam: xy world point of its window's low corner, z its
     // side (m; 0: no foam), w 1 if it tiles the plane (passes/whitewater).
     foam_area: vec4<f32>,
+    // xy the wind's direction (unit, towards; the foam's streaks lie along
+    // it), z how much longer than wide its streaks are (1: round patches).
+    foam_wind: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> surface: SurfaceParams;
@@ -251,6 +254,30 @@ fn surface_normal(s: SurfaceSample) -> vec3<f32> {
 
 fn surface_jacobian(s: SurfaceSample) -> f32 {
     return (1.0 + s.dxx) * (1.0 + s.dzz) - s.dxz * s.dxz;
+}
+
+// Foam's diffuse albedo (sea foam: 0.4–0.8 fresh to dense; Whitlock et
+// al. 1982); twin hydrolux_core::whitewater::FOAM_ALBEDO.
+const FOAM_ALBEDO: f32 = 0.8;
+
+// The fraction of sunlight a foam cover lets into the water: what a dense
+// sheet does not scatter back (it absorbs next to nothing). Twin
+// hydrolux_core::whitewater::foam_transmittance.
+fn foam_transmittance(cover: f32) -> f32 {
+    return 1.0 - FOAM_ALBEDO * cover;
+}
+
+// The foam's cover at p (any stage; the cells' own values, 0 without foam).
+fn foam_cover_at(p: vec2<f32>) -> f32 {
+    let a = surface.foam_area;
+    if (a.z <= 0.0) {
+        return 0.0;
+    }
+    let uv = (p - a.xy) / a.z;
+    if (a.w < 0.5 && (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)))) {
+        return 0.0;
+    }
+    return textureSampleLevel(foam_tex, surface_sampler, p / a.z, 0.0).x;
 }
 
 // The foam's cover at p, filtered over the footprint given by the screen

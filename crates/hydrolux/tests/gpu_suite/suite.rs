@@ -665,6 +665,8 @@ fn floor_caustics_match_the_cpu_photon_tracer() {
         "ocean.wind_speed=6",
         "ocean.fetch_km=20",
         "ocean.choppiness=0.5",
+        // The tracer's surface has no foam (its shade is tested on its own).
+        "whitewater.foam=false",
     ]);
     let s = scene(&waves);
     let mut r = renderer(&ctx, &s);
@@ -1399,6 +1401,59 @@ fn a_floating_ball_and_its_water_are_the_same_at_a_time_whatever_the_frame_rate(
     // The ball fell in and is floating, not resting on the floor.
     assert!(a[0].pose.position.y > -0.45 && a[0].pose.position.y < 0.4, "{:?}", a[0].pose);
     assert!(a[0].submerged > 0.01, "submerged {} m³", a[0].submerged);
+}
+
+/// Foam scatters the sunlight back up: under a splash's foam on still
+/// water the photon, beam and procedural caustics darken by the foam's transmittance, 1 − 0.8·c
+/// (twin `foam_transmittance`), and the map's mean drops by the foam's
+/// mean over the patch, against flat water's exact irradiance elsewhere.
+#[test]
+fn foam_darkens_the_caustics_beneath_it() {
+    use hydrolux::core::caustics::flat_floor_irradiance;
+    use hydrolux::core::scene::CausticMethod;
+    use hydrolux::core::whitewater::{Splash, foam_cover, foam_transmittance};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    for method in [CausticMethod::Photons, CausticMethod::Beam, CausticMethod::Procedural] {
+        let mut s = ripple_scene("walls");
+        s.drops.clear();
+        s.emitters.clear();
+        s.ripples.extent = 4.0;
+        s.caustics.method = method;
+        s.caustics.photons = 256;
+        s.caustics.map_resolution = 64;
+        s.validate().expect("valid");
+        let mut r = renderer(&ctx, &s);
+        let splash = Splash {
+            position: [0.4, 0.0, -0.3],
+            radius: 1.2,
+            velocity: [0.0; 3],
+            speed: 0.0,
+            spray: 0,
+            bubbles: 0,
+            foam: 2.0,
+            first: 0,
+        };
+        assert!(r.splash(splash));
+        let dt = 1.0 / s.whitewater.rate as f64;
+        r.simulate(&s.camera(), (16, 16), dt);
+        let foam = r.read_foam().expect("foam");
+        let (m, map) = r.read_caustics().expect("caustics are on");
+        let flat = flat_floor_irradiance(s.sun_direction(), s.water.ior);
+        // The foam's mean cover over the caustics' patch (centred on the origin).
+        let patch = s.surface_patch()[0];
+        let area: f32 =
+            foam.amount.iter().map(|&f| foam_cover(f)).sum::<f32>() * foam.cell_size.powi(2);
+        let want = flat * (1.0 - (1.0 - foam_transmittance(1.0)) * area / (patch * patch));
+        let mean = map.iter().sum::<f32>() / map.len() as f32;
+        assert!(want < 0.9 * flat, "the foam covers enough of the patch: {want} vs {flat}");
+        assert!((mean - want).abs() < 0.02 * flat, "{method:?}: mean {mean}, want {want} (flat {flat})");
+        let darkest = map.iter().cloned().fold(f32::INFINITY, f32::min);
+        assert!(
+            (darkest - flat * foam_transmittance(1.0)).abs() < 0.05 * flat,
+            "{method:?}: under dense foam {darkest}"
+        );
+        assert_eq!(m as usize * m as usize, map.len());
+    }
 }
 
 /// Breaking crests on the GPU against the CPU twin: one white-water step

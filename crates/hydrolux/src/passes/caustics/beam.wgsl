@@ -62,7 +62,10 @@ fn vs_beam(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32
     let area_vector = 0.5 * cross(b[0].xyz - a[0].xyz, c[0].xyz - a[0].xyz);
     let shown = max(dot(area_vector, l), 0.0);
     let ior = frame.water.ior;
-    let t = 1.0 - fresnel_exact(dot(normalize(area_vector), l), 1.0, ior);
+    // Foam over the cell scatters most of the light back up.
+    let centre = (vec2<f32>(f32(ci), f32(cj)) + 0.5) / f32(n) - 0.5;
+    let foam = foam_transmittance(foam_cover_at(centre * beam.extent.xy));
+    let t = (1.0 - fresnel_exact(dot(normalize(area_vector), l), 1.0, ior)) * foam;
     let floor_area = 0.5 * abs(cross(vec3<f32>(c[1].x - a[1].x, 0.0, c[1].z - a[1].z), vec3<f32>(b[1].x - a[1].x, 0.0, b[1].z - a[1].z)).y);
     var out: BeamOut;
     // Folds make the projected area vanish: cap the focus.

@@ -127,6 +127,7 @@ fn procedural(@builtin(global_invocation_id) id: vec3<u32>) {
     let cos_angle = clamp(dot(bent, travel), -1.0, 1.0);
     let angle2 = 2.0 * (1.0 - cos_angle);
     let flat_value = (1.0 - fresnel_exact(l.y, 1.0, ior)) * max(l.y, 0.0);
-    let value = flat_value * exp(-0.5 * angle2 / (SUN_MAP_RADIUS * SUN_MAP_RADIUS));
+    // Foam where the beam enters scatters most of it back up.
+    let value = flat_value * exp(-0.5 * angle2 / (SUN_MAP_RADIUS * SUN_MAP_RADIUS)) * foam_transmittance(foam_cover_at(entry.xz));
     textureStore(map_out, vec2<i32>(id.xy), id.z, vec4<f32>(value, 0.0, 0.0, 1.0));
 }

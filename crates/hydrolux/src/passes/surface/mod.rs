@@ -355,6 +355,7 @@ impl Surface {
         }
         if let Some(w) = &self.whitewater {
             u.foam_area = w.foam_area();
+            u.foam_wind = w.foam_wind();
         }
         let model = model_index(s.water.model);
         let waves = &self.sines.waves;

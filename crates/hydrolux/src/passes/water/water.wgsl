@@ -229,8 +229,6 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
 
 // `render.view = "ripples"`: the interactive water's height (red up, blue
 // down, saturating at ±5 mm) lit by the surface's normal.
-// Foam's diffuse albedo (sea foam: 0.4–0.8 fresh to dense; Whitlock et al. 1982).
-const FOAM_ALBEDO: f32 = 0.8;
 // What a foam layer lets through from above, seen from below.
 const FOAM_BELOW: f32 = 0.1;
 
@@ -251,18 +249,23 @@ fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
 
 // Foam as seen in a pixel: its cover filtered over the footprint (the
 // fraction of the pixel that is foam, so it never shimmers), broken up into
-// lacy patches and bubbles by noise at three scales (5.6 m, 1.4 m, 0.35 m): a
-// cell of cover c shows foam where the noise lies below c. Each octave fades
-// into its mean once a pixel's footprint (geometric mean of its two axes, so
-// grazing views keep their detail across the view) nears its size, and with
-// no octave left the pixel shows c itself. Only the look is noise: where
-// and how much foam there is comes from the simulated field.
+// lacy patches and bubbles by noise at three scales (5.6 m, 1.4 m, 0.35 m
+// across the wind, `foam_wind.z` times longer along it: wind streaks): a
+// cell of cover c shows foam where the noise lies below c, a dense sheet
+// keeps a few holes. Each octave fades into its mean once a pixel's
+// footprint (geometric mean of its two axes, so grazing views keep their
+// detail across the view) nears its size, and with no octave left the
+// pixel shows c itself. Only the look is noise: where and how much foam
+// there is comes from the simulated field.
 fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
     let c = foam_cover_grad(p, dpdx_p, dpdy_p);
     if (c <= 0.0) {
         return 0.0;
     }
     let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
+    // Noise space: along the wind shrunk by the streaks' length.
+    let wind = surface.foam_wind.xy;
+    let q = vec2<f32>(dot(p, wind) / max(surface.foam_wind.z, 1.0), dot(p, vec2<f32>(-wind.y, wind.x)));
     var n = 0.5;
     var kept = 0.0;
     var scale = 5.6;
@@ -270,7 +273,7 @@ fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
     for (var k = 0; k < 3; k++) {
         let d = 1.0 - smoothstep(0.2, 0.7, footprint / scale);
         let offset = vec2<f32>(17.0, 3.0) * f32(k);
-        n += weight * d * (value_noise(p / scale + offset) - 0.5);
+        n += weight * d * (value_noise(q / scale + offset) - 0.5);
         kept = max(kept, d);
         scale *= 0.25;
         weight *= 1.2;
@@ -278,13 +281,29 @@ fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
     if (kept <= 0.0) {
         return c;
     }
-    let width = 0.08 + 0.4 * (1.0 - kept);
-    let pattern = smoothstep(n - width, n + width, c);
+    let width = 0.12 + 0.4 * (1.0 - kept);
+    let pattern = smoothstep(n - width, n + width, 0.05 + 0.85 * c);
     // Inside a patch the sheet is thicker and thinner (0.9 m blotches,
     // faded like the octaves), not one flat white.
     let blotch = 1.0 - smoothstep(0.2, 0.7, footprint / 0.9);
-    let thickness = clamp(1.0 + 0.8 * blotch * (value_noise(p / 0.9 + vec2<f32>(31.0, 7.0)) - 0.5), 0.0, 1.0);
+    let thickness = clamp(1.0 + blotch * (value_noise(q / 0.9 + vec2<f32>(31.0, 7.0)) - 0.6), 0.0, 1.0);
+    // Far off, the mean of what the pattern shows (its mean cover).
     return mix(c, pattern * thickness, kept);
+}
+
+// Foam's brightness (0.6–1): bubbles of many sizes make its sheet lumpy,
+// some of it in the shade of the rest. Noise at 0.5 m and 0.12 m, faded to
+// its mean (0.85) as the pixel's footprint nears its size.
+fn foam_shade(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
+    let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
+    var shade = 0.85;
+    var scale = 0.5;
+    for (var k = 0; k < 2; k++) {
+        let d = 1.0 - smoothstep(0.2, 0.7, footprint / scale);
+        shade += 0.25 * d * (value_noise(p / scale + vec2<f32>(5.0, 11.0) * f32(k + 1)) - 0.5);
+        scale *= 0.25;
+    }
+    return clamp(shade, 0.6, 1.0);
 }
 
 fn value_noise(x: vec2<f32>) -> f32 {
@@ -393,7 +412,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (foam > 0.0) {
         let sun_lit = frame.light.sun_illuminance * max(dot(n, l), 0.0) * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
         let sky_lit = frame.light.sky_ambient * (0.5 + 0.5 * n.y);
-        let foam_color = FOAM_ALBEDO * (sky_lit + sun_lit) / PI;
+        let foam_color = FOAM_ALBEDO * foam_shade(p, dpdx(p), dpdy(p)) * (sky_lit + sun_lit) / PI;
         color = mix(color, foam_color, foam);
     }
 

@@ -21,7 +21,7 @@ use crate::uniforms::uniform;
 use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
 use hydrolux_core::waves::ocean::OceanSpectrum;
 use hydrolux_core::whitewater::{
-    FOLD_GAIN, FoamGrid, JacobianSeries, Particle, SPRAY_DROP_RADIUS, Splash,
+    FOLD_GAIN, FoamGrid, JacobianSeries, Particle, SPRAY_DROP_RADIUS, Splash, WIND_DRIFT,
     calibrated_fold_threshold, surface_drift,
 };
 
@@ -584,6 +584,20 @@ impl Whitewater {
         [lo[0], lo[1], side, self.grid.periodic as u32 as f32]
     }
 
+    /// The surface's `foam_wind`: the wind's direction and how streaky the
+    /// foam is. Wind rows foam into streaks along itself (Langmuir
+    /// circulation, wind streaks): longer the stronger it blows, 1 + U/6
+    /// (up to 4) times as long as wide; still air leaves round patches.
+    pub fn foam_wind(&self) -> [f32; 4] {
+        let d = self.drift;
+        let speed = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        if speed <= 0.0 {
+            return [1.0, 0.0, 1.0, 0.0];
+        }
+        let u10 = speed / WIND_DRIFT;
+        [d[0] / speed, d[1] / speed, (1.0 + u10 / 6.0).min(4.0), 0.0]
+    }
+
     /// Which alive list holds the particles now.
     pub fn list(&self) -> u32 {
         (self.steps % 2) as u32
@@ -676,3 +690,25 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
         ]
     },
 };
+
+#[cfg(test)]
+mod tests {
+    /// The foam's albedo that the water shader and the caustics read in WGSL
+    /// is hydrolux-core's (`FOAM_ALBEDO`, `foam_transmittance`).
+    #[test]
+    fn wgsl_foam_albedo_is_the_cores() {
+        let source = crate::shaders::compose("", "#import surface\n");
+        let module = naga::front::wgsl::parse_str(&source).expect("surface.wgsl parses");
+        let (_, constant) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some("FOAM_ALBEDO"))
+            .expect("FOAM_ALBEDO in surface.wgsl");
+        match module.global_expressions[constant.init] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => {
+                assert_eq!(v, hydrolux_core::whitewater::FOAM_ALBEDO)
+            }
+            ref e => panic!("FOAM_ALBEDO is not an f32 literal: {e:?}"),
+        }
+    }
+}
