@@ -468,7 +468,7 @@ pub fn surface_drift(u10: f32, direction: [f32; 2]) -> [f32; 2] {
     [WIND_DRIFT * u10 * direction[0], WIND_DRIFT * u10 * direction[1]]
 }
 
-/// One particle, laid out as `Particle` in `particles.wgsl` (48 bytes).
+/// One particle, laid out as `Particle` in `particle.wgsl` (64 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Particle {
@@ -486,7 +486,50 @@ pub struct Particle {
     pub volume: u32,
     /// Bubbles: volume units merged into it this step (applied next update).
     pub gained: u32,
+    /// Bubbles: where the surface above was displaced to (Dx, h, Dz) when
+    /// last looked at, from here: the next step's water motion.
+    pub carried: [f32; 3],
+    pub _pad: u32,
 }
+
+/// The water as particles see it: its height over (x, z), and where the
+/// surface point above (x, z) is displaced to (Dx, h, Dz), prefiltered over
+/// `footprint` metres. A plain height function is water without horizontal
+/// displacement (a heightfield, the interactive water).
+pub trait WaterSurface {
+    fn height(&self, x: f32, z: f32) -> f32;
+    fn displacement(&self, x: f32, z: f32, footprint: f32) -> [f32; 3];
+}
+
+impl<F: Fn(f32, f32) -> f32> WaterSurface for F {
+    fn height(&self, x: f32, z: f32) -> f32 {
+        self(x, z)
+    }
+    fn displacement(&self, x: f32, z: f32, _footprint: f32) -> [f32; 3] {
+        [0.0, self(x, z), 0.0]
+    }
+}
+
+/// An FFT ocean as particles see it, read as the GPU reads its cascades:
+/// the height under (x, z) after one fixed-point step back through the
+/// choppy displacement (as `water_height` in WGSL), the displacement
+/// prefiltered over the footprint.
+impl WaterSurface for crate::waves::ocean::OceanMips {
+    fn height(&self, x: f32, z: f32) -> f32 {
+        let d = self.sample_footprint(x as f64, z as f64, 0.0).displacement;
+        let back = self.sample_footprint((x - d[0]) as f64, (z - d[2]) as f64, 0.0);
+        back.displacement[1]
+    }
+    fn displacement(&self, x: f32, z: f32, footprint: f32) -> [f32; 3] {
+        self.sample_footprint(x as f64, z as f64, footprint as f64).displacement
+    }
+}
+
+/// The water under waves moves as its surface does, less the deeper it
+/// is (linear waves: e^(−kd)): a bubble d metres down follows the surface
+/// prefiltered over this many times d, i.e. without the waves shorter than
+/// about that, whose motion has faded to e^(−2π/4) ≈ 0.2 there.
+pub const MOTION_FOOTPRINT_PER_DEPTH: f32 = 4.0;
 
 /// A splash: particles born at a point (a body hitting or cutting the
 /// water, a drop landing), laid out as `Splash` in `particles.wgsl`.
@@ -699,9 +742,10 @@ impl Particles {
         }
     }
 
-    /// Integrate every particle one step (twin of `update`); `surface(x,
-    /// z)` is the water height. Returns what died on the water (foam).
-    pub fn update(&mut self, s: &ParticleStep, surface: impl Fn(f32, f32) -> f32) -> Vec<Landing> {
+    /// Integrate every particle one step (twin of `update`) over the water
+    /// `surface` (a height function will do for water without horizontal
+    /// displacement). Returns what died on the water (foam).
+    pub fn update(&mut self, s: &ParticleStep, surface: impl WaterSurface) -> Vec<Landing> {
         let mut landed = Vec::new();
         let mut kept = Vec::with_capacity(self.alive.len());
         for mut p in self.alive.drain(..) {
@@ -738,15 +782,12 @@ pub enum Fate {
 }
 
 /// One particle's step (twin of `update` in `particles.wgsl`).
-pub fn update_particle(
-    p: &mut Particle,
-    s: &ParticleStep,
-    surface: &impl Fn(f32, f32) -> f32,
-) -> Fate {
+pub fn update_particle(p: &mut Particle, s: &ParticleStep, surface: &impl WaterSurface) -> Fate {
     if p.kind == DEAD {
         return Fate::Merged;
     }
     let dt = s.dt;
+    let newborn = p.age == 0.0;
     p.age += dt;
     if p.kind == BUBBLE {
         if p.gained > 0 {
@@ -754,9 +795,19 @@ pub fn update_particle(
             p.gained = 0;
             p.radius = bubble_radius(p.volume);
         }
+        // The water's motion here: how far the surface above moved since
+        // the last step (nothing known yet in a bubble's first step).
+        let mut water = [0.0f32; 3];
+        if !newborn {
+            let footprint = MOTION_FOOTPRINT_PER_DEPTH * (-p.position[1]).max(0.0);
+            let now = surface.displacement(p.position[0], p.position[2], footprint);
+            for k in 0..3 {
+                water[k] = (now[k] - p.carried[k]) / dt;
+            }
+        }
         let rise = bubble_terminal_velocity(p.radius);
         let keep = (-dt / bubble_relaxation(p.radius)).exp();
-        let target = [0.0, rise, 0.0];
+        let target = [water[0], water[1] + rise, water[2]];
         for k in 0..3 {
             p.velocity[k] = target[k] + (p.velocity[k] - target[k]) * keep;
         }
@@ -783,13 +834,15 @@ pub fn update_particle(
     if !inside {
         return Fate::Escapes;
     }
-    let h = surface(p.position[0], p.position[2]);
+    let h = surface.height(p.position[0], p.position[2]);
     if p.kind == BUBBLE {
         p.position[1] = p.position[1].max(-s.floor_depth + p.radius);
         if p.position[1] >= h {
             let foam = p.volume as f32 * VOLUME_UNIT_M3 as f32 * BURST_FOAM_PER_M3;
             return Fate::Lands(Landing { x: p.position[0], z: p.position[2], foam });
         }
+        let footprint = MOTION_FOOTPRINT_PER_DEPTH * (-p.position[1]).max(0.0);
+        p.carried = surface.displacement(p.position[0], p.position[2], footprint);
     } else if p.position[1] <= h && p.velocity[1] < 0.0 {
         return Fate::Lands(Landing { x: p.position[0], z: p.position[2], foam: SPRAY_FOAM });
     }
@@ -880,6 +933,73 @@ mod tests {
             high: [1e4, 1e4],
             drop_radius: 5e-4,
         }
+    }
+
+    /// A deep-water wave (Gerstner: the surface point at rest over x moves
+    /// on a circle of radius A), box-filtered over the footprint as the
+    /// cascades' mips are.
+    struct Swell {
+        amplitude: f32,
+        k: f32,
+        t: f32,
+    }
+
+    impl WaterSurface for Swell {
+        fn height(&self, x: f32, _z: f32) -> f32 {
+            // Near enough for a bubble well below the crests.
+            self.displacement(x, 0.0, 0.0)[1]
+        }
+        fn displacement(&self, x: f32, _z: f32, footprint: f32) -> [f32; 3] {
+            let omega = (G * self.k).sqrt();
+            let half = 0.5 * self.k * footprint;
+            let filtered = if half > 1e-6 { half.sin() / half } else { 1.0 };
+            let phase = self.k * x - omega * self.t;
+            let a = self.amplitude * filtered;
+            [-a * phase.sin(), a * phase.cos(), 0.0]
+        }
+    }
+
+    /// A bubble under a swell is carried round its orbit: over a period it
+    /// sways back and forth by the orbit's diameter, 2·A·e^(−kd) at depth d
+    /// (linear waves), drifts forward no faster than Stokes drift
+    /// (ωkA²e^(−2kd)), and still rises at its terminal velocity.
+    #[test]
+    fn bubbles_ride_the_waves_orbits() {
+        let (amplitude, wavelength) = (0.3f32, 20.0f32);
+        let k = std::f32::consts::TAU / wavelength;
+        let period = std::f32::consts::TAU / (G * k).sqrt();
+        let volume = bubble_volume(1e-4);
+        let depth = 0.2;
+        let mut p = Particle {
+            position: [0.0, -depth, 0.0],
+            kind: BUBBLE,
+            volume,
+            radius: bubble_radius(volume),
+            ..Default::default()
+        };
+        let dt = 1.0 / 60.0;
+        let s = step_at(dt);
+        let steps = (period / dt).round() as usize;
+        let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
+        let start = p.position;
+        for i in 0..steps {
+            let swell = Swell { amplitude, k, t: i as f32 * dt };
+            assert_eq!(update_particle(&mut p, &s, &swell), Fate::Lives);
+            low = low.min(p.position[0]);
+            high = high.max(p.position[0]);
+        }
+        let want = 2.0 * amplitude * (-k * depth).exp();
+        assert!(((high - low) / want - 1.0).abs() < 0.1, "sway {} m, want {want} m", high - low);
+        // Forward with the waves, and no faster than Stokes drift.
+        let stokes = (G * k).sqrt() * k * amplitude * amplitude * (-2.0 * k * depth).exp() * period;
+        let drift = p.position[0] - start[0];
+        assert!(drift > 0.0 && drift < 1.2 * stokes, "drifted {drift} m (Stokes: {stokes} m)");
+        let rise = bubble_terminal_velocity(p.radius) * period;
+        assert!(
+            ((p.position[1] - start[1]) / rise - 1.0).abs() < 0.25,
+            "rose {} m of {rise}",
+            p.position[1] - start[1]
+        );
     }
 
     #[test]
@@ -1022,7 +1142,7 @@ mod tests {
                 ps.spawn(&[splash], &s, 4096);
             }
             ps.merge();
-            ps.update(&s, |x, z| 0.1 * (x * 2.0).sin() * (z * 1.5).cos());
+            ps.update(&s, |x: f32, z: f32| 0.1 * (x * 2.0).sin() * (z * 1.5).cos());
             for p in &ps.alive {
                 assert!(p.position.iter().chain(&p.velocity).all(|v| v.is_finite()));
                 assert!(p.position[0].abs() <= 5.0 && p.position[2].abs() <= 5.0);

@@ -1456,6 +1456,85 @@ fn foam_darkens_the_caustics_beneath_it() {
     }
 }
 
+/// Bubbles under moving waves on the GPU against the CPU twin: a splash's
+/// bubbles on an FFT ocean, carried by the water's orbital motion (the
+/// surface's displacement over each step, prefiltered by depth; twin
+/// `WaterSurface for OceanMips`) as they rise, merge and burst, for a
+/// second: the same bubbles, where the twin has them.
+#[test]
+fn bubbles_ride_the_gpu_waves_as_on_the_cpu_twin() {
+    use hydrolux::core::whitewater::{BUBBLE, ParticleStep, Particles, SPRAY_DROP_RADIUS, Splash};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let mut s = scene(SMALL_OCEAN);
+    // No crest emission: only the splash's particles.
+    s.whitewater.spray_rate = 0.0;
+    s.whitewater.bubble_rate = 0.0;
+    let mut r = renderer(&ctx, &s);
+    let cam = s.camera().position;
+    let splash = Splash {
+        position: [cam.x + 3.0, -0.2, cam.z - 4.0],
+        radius: 1.5,
+        velocity: [0.0; 3],
+        speed: 0.0,
+        spray: 0,
+        bubbles: 300,
+        foam: 0.0,
+        first: 0,
+    };
+    assert!(r.splash(splash));
+    let t = 1.0;
+    r.simulate(&s.camera(), (16, 16), t);
+    let gpu_particles = r.read_particles().expect("particles");
+
+    let spectrum = OceanSpectrum::new(&s.ocean_settings());
+    let rate = s.whitewater.rate;
+    let dt = 1.0 / rate as f32;
+    let reach = 120.0;
+    let mut cpu = Particles::default();
+    let steps = (t * rate as f64).round() as u32;
+    let (mut swayed, mut moving) = (0.0f32, 0usize);
+    for step in 0..steps {
+        let surface = OceanFields::evaluate(&spectrum, (step + 1) as f64 * dt as f64).mips();
+        let ps = ParticleStep {
+            dt,
+            step,
+            wind: [0.0, 0.0],
+            floor_depth: if s.floor.depth > 0.0 { s.floor.depth } else { 1.0e4 },
+            max_age: 20.0,
+            low: [cam.x - reach, cam.z - reach],
+            high: [cam.x + reach, cam.z + reach],
+            drop_radius: SPRAY_DROP_RADIUS,
+        };
+        let splashes: &[Splash] = if step == 0 { &[splash] } else { &[] };
+        cpu.merge();
+        cpu.update(&ps, surface);
+        cpu.spawn(splashes, &ps, 1 << 16);
+        for p in &cpu.alive {
+            let h = p.velocity[0].hypot(p.velocity[2]);
+            swayed = swayed.max(h);
+            moving += (h > 0.05) as usize;
+        }
+    }
+    assert!(swayed > 0.1 && moving > 0, "the waves move the bubbles sideways (up to {swayed} m/s)");
+    let by_id: std::collections::HashMap<u32, _> = cpu.alive.iter().map(|p| (p.id, p)).collect();
+    let gb = gpu_particles.iter().filter(|p| p.kind == BUBBLE).count();
+    let cb = cpu.alive.iter().filter(|p| p.kind == BUBBLE).count();
+    assert!(cb > 50, "the twin keeps {cb} bubbles after {t} s");
+    assert!(gb.abs_diff(cb) <= 3, "GPU {gb} bubbles, CPU {cb}");
+    let (mut worst, mut matched) = (0.0f32, 0);
+    for g in &gpu_particles {
+        let Some(c) = by_id.get(&g.id) else { continue };
+        matched += 1;
+        for k in 0..3 {
+            worst = worst.max((g.position[k] - c.position[k]).abs());
+        }
+    }
+    assert!(matched + 6 >= gpu_particles.len(), "{matched} of {} matched by id", gpu_particles.len());
+    eprintln!("{gb} GPU, {cb} CPU bubbles; {matched} matched, worst {worst} m, sway up to {swayed} m/s");
+    // Half-float cascades: the motion to ~10⁻³ of itself, i.e. millimetres.
+    assert!(worst < 1e-2, "positions differ by up to {worst} m");
+}
+
 /// Breaking crests on the GPU against the CPU twin: one white-water step
 /// on an FFT ocean from no foam leaves F = gain·fold(J)·dt in every cell,
 /// with J the Jacobian prefiltered over the cell (the cascades' mips, twin

@@ -54,6 +54,7 @@ pub fn source() -> String {
         ("FOLD_RAMP", w::FOLD_RAMP),
         ("DEPOSIT_SCALE", w::DEPOSIT_SCALE),
         ("FOAM_MAX", w::FOAM_MAX),
+        ("MOTION_FOOTPRINT_PER_DEPTH", w::MOTION_FOOTPRINT_PER_DEPTH),
     ]
     .iter()
     .map(|(name, v)| format!("const {name}: f32 = {v:e};\n"))

@@ -10,6 +10,10 @@ struct Particle {
     age: f32,
     volume: u32,
     gained: u32,
+    // Bubbles: where the surface above was displaced to when last looked
+    // at, from here (the next step's water motion).
+    carried: vec3<f32>,
+    pad: u32,
 }
 
 const DEAD: u32 = 0u;

@@ -5,8 +5,9 @@
 // along its motion over the shutter; bubbles are spheres of air whose rim
 // is bright by total internal reflection and whose middle lets through
 // what is behind, seen through the water above them. The scene's depth
-// is tested by hand: a bubble under the surface shows through it.
-#import constants, frame, sky_bindings, medium, particle
+// is tested by hand: a bubble under the surface shows through it. Spray
+// sits in the scene's fog like everything else (`through_fog`).
+#import constants, frame, sky_bindings, medium, particle, fog
 
 struct DrawParams {
     // x capacity C, y alive list (0, 1)
@@ -123,5 +124,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let phase = henyey_greenstein(dot(view, frame.light.sun_dir), 0.8);
     let sky = textureSampleLevel(sky_cube, sky_sampler, vec3<f32>(0.0, 1.0, 0.0), 6.0).rgb;
     let color = sun * phase * 0.9 + sky * 0.85;
-    return vec4<f32>(color * alpha, alpha);
+    // In the scene's fog: dimmed by the air between, and the fog's own glow
+    // in front of it put back over what the parcel hides.
+    return vec4<f32>(through_fog(eye, in.centre, color) * alpha, alpha);
 }

@@ -281,7 +281,7 @@ fn emit_crest(k: u32, p: vec2<f32>, s: SurfaceSample, fold: f32) {
         let r2 = random(step, id, 2u);
         let r3 = random(step, id, 3u);
         let jitter = (vec2<f32>(r1, r2) - 0.5) * params.foam.x;
-        var q = Particle(vec3<f32>(w.x + jitter.x, s.disp.y, w.y + jitter.y), 0.0, vec3<f32>(0.0), BUBBLE, id, 0.0, 0u, 0u);
+        var q = Particle(vec3<f32>(w.x + jitter.x, s.disp.y, w.y + jitter.y), 0.0, vec3<f32>(0.0), BUBBLE, id, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
         if (m < spray) {
             q.kind = SPRAY;
             q.radius = params.emission.x;
@@ -453,6 +453,13 @@ fn water_height(x: f32, z: f32) -> f32 {
     return surface_sample_footprint(w - s0.disp.xz, 0.0).disp.y;
 }
 
+// Where the surface point above a particle at p is displaced to, seen
+// from p's depth: prefiltered over MOTION_FOOTPRINT_PER_DEPTH times it
+// (the water moves with the longer waves only, deeper down).
+fn water_displacement(p: vec3<f32>) -> vec3<f32> {
+    return surface_sample_footprint(p.xz, MOTION_FOOTPRINT_PER_DEPTH * max(-p.y, 0.0)).disp;
+}
+
 @compute @workgroup_size(64)
 fn update(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= alive_count()) {
@@ -465,6 +472,7 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let dt = params.foam.y;
+    let newborn = p.age == 0.0;
     p.age += dt;
     if (p.kind == BUBBLE) {
         let more = atomicExchange(&atomics[params.bases.y + slot], 0u);
@@ -472,9 +480,15 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
             p.volume = p.volume + min(more, 0xffffffffu - p.volume);
             p.radius = bubble_radius(p.volume);
         }
+        // The water's motion here: how far the surface above moved since
+        // the last step (nothing known yet in a bubble's first step).
+        var water = vec3<f32>(0.0);
+        if (!newborn) {
+            water = (water_displacement(p.position) - p.carried) / dt;
+        }
         let rise = bubble_terminal_velocity(p.radius);
         let keep = exp(-dt / bubble_relaxation(p.radius));
-        let goal = vec3<f32>(0.0, rise, 0.0);
+        let goal = vec3<f32>(water.x, water.y + rise, water.z);
         p.velocity = goal + (p.velocity - goal) * keep;
     } else {
         let wind = params.air.xy;
@@ -501,6 +515,7 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
             release(slot);
             return;
         }
+        p.carried = water_displacement(p.position);
     } else if (p.position.y <= h && p.velocity.y < 0.0) {
         deposit(p.position.x, p.position.z, SPRAY_FOAM);
         release(slot);
@@ -537,7 +552,7 @@ fn emit(@builtin(global_invocation_id) id: vec3<u32>) {
     let d = s.radius * sqrt(r2);
     let ca = cos(a);
     let sa = sin(a);
-    var p = Particle(vec3<f32>(s.position.x + d * ca, s.position.y, s.position.z + d * sa), 0.0, vec3<f32>(0.0), BUBBLE, pid, 0.0, 0u, 0u);
+    var p = Particle(vec3<f32>(s.position.x + d * ca, s.position.y, s.position.z + d * sa), 0.0, vec3<f32>(0.0), BUBBLE, pid, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
     if (k < s.spray) {
         let up = s.speed * (0.6 + 0.4 * r3);
         let out = s.speed * 0.5 * r2;
