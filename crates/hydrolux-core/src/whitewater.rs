@@ -141,28 +141,35 @@ impl JacobianSeries {
                 (0..steps).map(move |i| t0 + i as f64 * CALIBRATION_DT as f64)
             })
             .collect();
-        // The evaluations are independent: spread them over the cores.
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(times.len());
-        let chunk = times.len().div_ceil(threads.max(1));
-        let rows: Vec<Vec<f32>> = std::thread::scope(|scope| {
-            let workers: Vec<_> = times
-                .chunks(chunk)
-                .map(|ts| {
-                    let at = &at;
-                    scope.spawn(move || {
-                        let mut out = Vec::with_capacity(ts.len() * at.len());
-                        for &t in ts {
-                            let mips = OceanFields::evaluate_jacobian(spectrum, t).mips_of(5..8);
-                            out.extend(at.iter().map(|&(x, z)| {
-                                jacobian(&mips.sample_footprint(x, z, grid.cell as f64))
-                            }));
-                        }
-                        out
-                    })
-                })
-                .collect();
-            workers.into_iter().map(|w| w.join().expect("calibration worker")).collect()
-        });
+        let row = |ts: &[f64]| {
+            let mut out = Vec::with_capacity(ts.len() * at.len());
+            for &t in ts {
+                let mips = OceanFields::evaluate_jacobian(spectrum, t).mips_of(5..8);
+                out.extend(
+                    at.iter()
+                        .map(|&(x, z)| jacobian(&mips.sample_footprint(x, z, grid.cell as f64))),
+                );
+            }
+            out
+        };
+        // The evaluations are independent: spread them over the cores, where
+        // there are threads (not on the web: wasm32 has none, and spawning
+        // one panics there).
+        let threads = if cfg!(target_arch = "wasm32") {
+            1
+        } else {
+            std::thread::available_parallelism().map_or(1, |n| n.get()).min(times.len())
+        };
+        let rows: Vec<Vec<f32>> = if threads <= 1 {
+            vec![row(&times)]
+        } else {
+            let chunk = times.len().div_ceil(threads);
+            std::thread::scope(|scope| {
+                let workers: Vec<_> =
+                    times.chunks(chunk).map(|ts| scope.spawn(move || row(ts))).collect();
+                workers.into_iter().map(|w| w.join().expect("calibration worker")).collect()
+            })
+        };
         JacobianSeries { cells: at.len(), windows, dt: CALIBRATION_DT, values: rows.concat() }
     }
 

@@ -319,7 +319,7 @@ fn value_noise(x: vec2<f32>) -> f32 {
 
 fn noise_hash(i: vec2<f32>) -> f32 {
     let k = vec2<u32>(vec2<i32>(i));
-    var h = k.x * 0x27d4eb2du ^ (k.y * 0x165667b1u);
+    var h = (k.x * 0x27d4eb2du) ^ (k.y * 0x165667b1u);
     h = (h ^ (h >> 15u)) * 0x2c1b3c6du;
     h = h ^ (h >> 12u);
     return f32(h & 0xffffu) / 65535.0;
@@ -356,7 +356,12 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (frame.modes.debug_view == VIEW_RIPPLES) {
         return ripple_view(p, n);
     }
-    let foam = foam_seen(p, dpdx(p), dpdy(p));
+    // Derivatives in uniform control flow (WGSL's rule), shared by the foam's
+    // cover and its shade.
+    let p_dx = dpdx(p);
+    let p_dy = dpdy(p);
+    let foam = foam_seen(p, p_dx, p_dy);
+    let shade = foam_shade(p, p_dx, p_dy);
     if (frame.modes.debug_view == VIEW_FOAM) {
         return foam_view(foam, n);
     }
@@ -412,7 +417,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (foam > 0.0) {
         let sun_lit = frame.light.sun_illuminance * max(dot(n, l), 0.0) * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
         let sky_lit = frame.light.sky_ambient * (0.5 + 0.5 * n.y);
-        let foam_color = FOAM_ALBEDO * foam_shade(p, dpdx(p), dpdy(p)) * (sky_lit + sun_lit) / PI;
+        let foam_color = FOAM_ALBEDO * shade * (sky_lit + sun_lit) / PI;
         color = mix(color, foam_color, foam);
     }
 
