@@ -361,7 +361,6 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let p_dx = dpdx(p);
     let p_dy = dpdy(p);
     let foam = foam_seen(p, p_dx, p_dy);
-    let shade = foam_shade(p, p_dx, p_dy);
     if (frame.modes.debug_view == VIEW_FOAM) {
         return foam_view(foam, n);
     }
@@ -417,7 +416,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (foam > 0.0) {
         let sun_lit = frame.light.sun_illuminance * max(dot(n, l), 0.0) * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
         let sky_lit = frame.light.sky_ambient * (0.5 + 0.5 * n.y);
-        let foam_color = FOAM_ALBEDO * shade * (sky_lit + sun_lit) / PI;
+        let foam_color = FOAM_ALBEDO * foam_shade(p, p_dx, p_dy) * (sky_lit + sun_lit) / PI;
         color = mix(color, foam_color, foam);
     }
 
