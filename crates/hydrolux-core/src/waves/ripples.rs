@@ -294,6 +294,31 @@ pub fn grid_cell(grid: &RippleGrid, window: &RippleWindow, d: [usize; 2]) -> [us
     }
 }
 
+/// The texel (row = z) of the surface's texture, and of the landing spray's
+/// kicks, that holds world point (x, z): the domain cell for walls, the
+/// world cell modulo the grid for open and periodic domains (as the
+/// texture tiles the plane). `None` outside the domain. Twin of `kick_texel`
+/// in `passes/whitewater/whitewater.wgsl`.
+pub fn texel_of(grid: &RippleGrid, window: &RippleWindow, x: f64, z: f64) -> Option<usize> {
+    let n = grid.cells as i64;
+    let mut t = [0usize; 2];
+    for (a, v) in [x, z].into_iter().enumerate() {
+        let c = (v / grid.cell_size).floor();
+        if !c.is_finite() {
+            return None;
+        }
+        let d = c as i64 - window.origin[a];
+        if !(0..n).contains(&d) {
+            return None;
+        }
+        t[a] = match grid.boundary {
+            RippleBoundary::Walls => d as usize,
+            RippleBoundary::Open | RippleBoundary::Periodic => (c as i64).rem_euclid(n) as usize,
+        };
+    }
+    Some(t[1] * grid.cells + t[0])
+}
+
 /// Per-step damping factor of the sponge at domain cell `d` (1 inside;
 /// falling to 0 at the outermost cell). Twin of `sponge` in WGSL.
 pub fn sponge(grid: &RippleGrid, d: [usize; 2], dt: f64) -> f64 {
@@ -338,6 +363,14 @@ pub struct RippleSim {
     pub phi: Vec<f64>,
     /// Depth (m) per domain cell, row = z.
     pub depth: Vec<f64>,
+    /// Landing spray since the last step, per texel ([`texel_of`]): the
+    /// sum of the parcels' downward speeds in fixed point
+    /// (`whitewater::KICK_SCALE` per m/s), as the GPU's atomics hold it.
+    pub kicks: Vec<u32>,
+    /// Δφ (m²/s) one kick unit gives its cell: the spray parcel's water
+    /// over the cell's area, per unit
+    /// ([`crate::whitewater::kick_per_unit`]; 0: spray does not ring the water).
+    pub kick_per_unit: f64,
     planner: FftPlanner<f64>,
     pub steps: u64,
 }
@@ -352,6 +385,8 @@ impl RippleSim {
             h: vec![0.0; f * f],
             phi: vec![0.0; f * f],
             depth: vec![settings.depths[0]; n * n],
+            kicks: vec![0; n * n],
+            kick_per_unit: 0.0,
             planner: FftPlanner::new(),
             steps: 0,
         }
@@ -392,6 +427,15 @@ impl RippleSim {
         }
     }
 
+    /// A spray parcel landing at world (x, z) at `speed` m/s downwards: its
+    /// momentum kicks the water at the next step (twin of `kick` in
+    /// `whitewater.wgsl`). Outside the domain it is lost.
+    pub fn land(&mut self, x: f32, z: f32, speed: f32) {
+        if let Some(t) = texel_of(&self.settings.grid, &self.window, x as f64, z as f64) {
+            self.kicks[t] = self.kicks[t].wrapping_add(crate::whitewater::kick_units(speed));
+        }
+    }
+
     /// One step: the disturbances first (drops, the sponge), then the
     /// exact rotation of every wave.
     pub fn step(&mut self, drops: &[Drop]) {
@@ -413,11 +457,16 @@ impl RippleSim {
                 for drop in drops {
                     self.h[i] += drop_height(&grid, &self.window, drop, w);
                 }
+                // Landing spray: an impulsive pressure P changes φ by −P/ρ
+                // (linearised Bernoulli); P·A = the parcels' momentum.
+                let t = grid_cell(&grid, &self.window, d);
+                self.phi[i] -= self.kicks[t[1] * grid.cells + t[0]] as f64 * self.kick_per_unit;
                 let s = sponge(&grid, d, dt);
                 self.h[i] *= s;
                 self.phi[i] *= s;
             }
         }
+        self.kicks.iter_mut().for_each(|k| *k = 0);
         let mut z: Vec<Complex64> =
             self.h.iter().zip(&self.phi).map(|(&h, &p)| Complex64::new(h, p)).collect();
         fft2(&mut self.planner, &mut z, f, false);
@@ -670,6 +719,72 @@ mod tests {
         let v1 = sim.volume();
         assert!(v0 > 1e-4, "volume {v0}");
         assert!((v1 - v0).abs() < 1e-9 * v0, "volume {v0:e} → {v1:e} m³");
+    }
+
+    #[test]
+    fn steady_spray_presses_the_water_down_by_its_momentum_flux_over_g() {
+        // Spray landing steadily on a patch is a pressure on it, its
+        // momentum flux ρ·q (q = V·v per m² and second): the water settles
+        // where ρ·g·h balances it, h = −(q − q̄)/g (walls keep the mean level).
+        let mut s = settings(RippleBoundary::Walls, 32, 0.125, 2.0);
+        s.viscosity = WATER_VISCOSITY;
+        // Damping lets it settle; it shifts the balance by γ²/(g·k) ≈ 0.1%.
+        s.damping = 0.3;
+        let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+        sim.kick_per_unit = crate::whitewater::kick_per_unit(0.06, s.grid.cell_size);
+        let (lo, hi) = (12, 20);
+        let speed = 5.0;
+        for _ in 0..1800 {
+            for j in lo..hi {
+                for i in lo..hi {
+                    let c = |i: usize| ((i as f64 + 0.5) * s.grid.cell_size) as f32;
+                    sim.land(c(i), c(j), speed);
+                }
+            }
+            sim.step(&[]);
+        }
+        let per_step = crate::whitewater::kick_units(speed) as f64 * sim.kick_per_unit;
+        let q = per_step / s.dt;
+        let patch = ((hi - lo) * (hi - lo)) as f64 / (32.0 * 32.0);
+        let expected = -(q - q * patch) / GRAVITY;
+        let centre: f64 = (14..18)
+            .flat_map(|j| (14..18).map(move |i| (i, j)))
+            .map(|(i, j)| sim.height(i, j))
+            .sum::<f64>()
+            / 16.0;
+        let far = sim.height(2, 2);
+        let expected_far = q * patch / GRAVITY;
+        assert!(expected < -1e-4, "a measurable depression ({expected:e} m)");
+        assert!(
+            (centre - expected).abs() < 0.03 * expected.abs(),
+            "under the spray {centre:e} m, −(q − q̄)/g = {expected:e} m"
+        );
+        assert!(
+            (far - expected_far).abs() < 0.05 * expected_far.abs(),
+            "far from it {far:e} m, q̄/g = {expected_far:e} m"
+        );
+        assert!(sim.kicks.iter().all(|&k| k == 0), "a step uses up its kicks");
+        // Outside the domain nothing lands.
+        sim.land(-1.0, 2.0, speed);
+        sim.land(2.0, 4.01, speed);
+        assert!(sim.kicks.iter().all(|&k| k == 0));
+    }
+
+    #[test]
+    fn texels_of_open_domains_tile_the_plane() {
+        let grid = RippleGrid { boundary: RippleBoundary::Open, cells: 8, cell_size: 0.5 };
+        let window = RippleWindow { origin: [-3, 5] };
+        // World cell (−3, 5) is the window's first; it is texel (5, 5) of 8.
+        assert_eq!(texel_of(&grid, &window, -1.4, 2.6), Some(5 * 8 + 5));
+        assert_eq!(texel_of(&grid, &window, -1.6, 2.6), None);
+        assert_eq!(texel_of(&grid, &window, 2.4, 6.4), Some(4 * 8 + 4));
+        assert_eq!(texel_of(&grid, &window, 2.6, 2.6), None);
+        // The texel is the grid cell that holds the domain cell.
+        let (d, w) = domain_cell(&grid, &window, [5, 5]);
+        assert_eq!(d, [0, 0]);
+        assert_eq!(texel_of(&grid, &window, w[0], w[1]), Some(5 * 8 + 5));
+        let walls = RippleGrid { boundary: RippleBoundary::Walls, ..grid };
+        assert_eq!(texel_of(&walls, &window, -1.4, 2.6), Some(0));
     }
 
     #[test]

@@ -1583,9 +1583,10 @@ fn breaking_crests_match_the_cpu_twin() {
 /// falling back and the bubbles bursting.
 #[test]
 fn splash_particles_and_foam_match_the_cpu_twin() {
+    use hydrolux::core::waves::ripples::{RippleSim, RippleWindow};
     use hydrolux::core::whitewater::{
         BUBBLE, FoamField, FoamGrid, FoamStep, ParticleStep, Particles, SPRAY, SPRAY_DROP_RADIUS,
-        Splash,
+        Splash, kick_per_unit,
     };
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let mut s = ripple_scene("walls");
@@ -1620,7 +1621,17 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
     let mut cpu = Particles::default();
     let foam_step = FoamStep { dt, life: s.foam_life(), drift: [0.0, 0.0] };
     let steps = (t * rate as f64).round() as u32;
+    // The interactive water, which the landing spray kicks: its steps
+    // between white water's (three at 60 Hz before each at 20 Hz).
+    let settings = s.ripple_settings().expect("interactive water");
+    let mut water = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
+    water.kick_per_unit = kick_per_unit(s.whitewater.spray_size, settings.grid.cell_size);
+    let ripple_steps = (settings.dt * rate as f64).recip().round() as u32;
+    let mut landed_spray = 0;
     for step in 0..steps {
+        for _ in 0..ripple_steps {
+            water.step(&[]);
+        }
         let ps = ParticleStep {
             dt,
             step,
@@ -1635,6 +1646,10 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
         cpu.merge();
         for l in cpu.update(&ps, |_, _| 0.0) {
             foam.deposit(l.x, l.z, l.foam);
+            if l.speed > 0.0 {
+                water.land(l.x, l.z, l.speed);
+                landed_spray += 1;
+            }
         }
         foam.step(&foam_step, splashes, |_, _| 0.0);
         cpu.spawn(splashes, &ps, 1 << 16);
@@ -1678,4 +1693,18 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
     assert!((gt - ct).abs() < 0.02 * ct, "foam total: GPU {gt}, CPU {ct}");
     let worst = gpu_foam.amount.iter().zip(&cpu_foam).map(|(g, c)| (g - c).abs()).fold(0.0f32, f32::max);
     assert!(worst < 0.05, "foam differs by up to {worst} per cell");
+
+    // The same rings from the spray that fell back (the splash itself made
+    // none: only its particles touch the water).
+    let gpu_water = r.read_ripples().expect("interactive water");
+    let cpu_water = water.heights();
+    let rms = |v: &mut dyn Iterator<Item = f64>| {
+        let (sum, n) = v.fold((0.0, 0), |(s, n), x| (s + x * x, n + 1));
+        (sum / n as f64).sqrt()
+    };
+    let amplitude = rms(&mut cpu_water.iter().copied());
+    let error = rms(&mut gpu_water.heights.iter().zip(&cpu_water).map(|(g, c)| *g as f64 - c));
+    assert!(landed_spray > 10, "spray fell back ({landed_spray} parcels)");
+    assert!(amplitude > 1e-6, "the landing spray rang the water ({amplitude:e} m rms)");
+    assert!(error < 0.05 * amplitude, "rings: GPU − CPU {error:e} m rms, waves {amplitude:e} m rms");
 }

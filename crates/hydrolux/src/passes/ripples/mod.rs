@@ -28,6 +28,7 @@ uniform! { RippleParams;
         pub physics: [f32; 4],
         pub sponge: [f32; 4],
         pub bodies: [i32; 4],
+        pub spray: [f32; 4],
     }
 }
 
@@ -75,6 +76,17 @@ fn gpu_move(m: &BodyMove) -> [[f32; 4]; 5] {
     ]
 }
 
+/// Δφ (m²/s) per unit of landing spray: the scene's spray parcel over a
+/// cell (0 without spray).
+fn kick_per_unit(scene: &Scene, settings: &RippleSettings) -> f32 {
+    let w = &scene.whitewater;
+    if scene.has_whitewater() && w.particles {
+        hydrolux_core::whitewater::kick_per_unit(w.spray_size, settings.grid.cell_size) as f32
+    } else {
+        0.0
+    }
+}
+
 fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
@@ -101,6 +113,11 @@ pub struct RipplePass {
     moves: wgpu::Buffer,
     move_capacity: u64,
     heights: wgpu::Buffer,
+    /// Landing spray per texel (fixed-point speeds; the white water adds,
+    /// the next step uses them up).
+    pub kicks: wgpu::Buffer,
+    /// Δφ (m²/s) per kick unit: the scene's spray parcel over a cell.
+    kick_per_unit: f32,
     pub texture: wgpu::Texture,
     layout: wgpu::BindGroupLayout,
     group: wgpu::BindGroup,
@@ -136,6 +153,8 @@ impl RipplePass {
         let spectral = cells(grid, 16, "ripples spectral", copy);
         let depth = cells((n * n) as u64, 4, "ripples depth", copy);
         let heights = cells((n * n) as u64, 4, "ripples heights", copy);
+        let kicks = cells((n * n) as u64, 4, "ripples spray kicks", copy);
+        let kick_per_unit = kick_per_unit(scene, &settings);
         queue.write_buffer(
             &depth,
             0,
@@ -182,6 +201,7 @@ impl RipplePass {
                 storage_entry(5, cs, false),
                 storage_texture_entry(6, FORMAT, wgpu::TextureViewDimension::D2),
                 storage_entry(7, cs, true),
+                storage_entry(8, cs, false),
             ],
         });
         let fft_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -236,6 +256,8 @@ impl RipplePass {
             moves,
             move_capacity,
             heights,
+            kicks,
+            kick_per_unit,
             texture,
             layout,
             fft_groups,
@@ -277,6 +299,7 @@ impl RipplePass {
                     resource: wgpu::BindingResource::TextureView(&view),
                 },
                 whole(7, &self.moves),
+                whole(8, &self.kicks),
             ],
         })
     }
@@ -287,6 +310,7 @@ impl RipplePass {
             && scene.ripples == self.scene.ripples
             && scene.drops == self.scene.drops
             && scene.emitters == self.scene.emitters
+            && kick_per_unit(scene, &self.settings) == self.kick_per_unit
     }
 
     /// Back to still water (t = 0).
@@ -295,6 +319,7 @@ impl RipplePass {
         let n = self.settings.grid.cells as u32;
         queue.write_buffer(&self.spectral, 0, &vec![0u8; f * f * 16]);
         queue.write_buffer(&self.heights, 0, &vec![0u8; (n * n * 4) as usize]);
+        queue.write_buffer(&self.kicks, 0, &vec![0u8; (n * n * 4) as usize]);
         queue.write_texture(
             self.texture.as_image_copy(),
             &vec![0u8; (n * n * 8) as usize],
@@ -355,6 +380,7 @@ impl RipplePass {
             physics: [GRAVITY as f32, s.tension as f32, s.viscosity as f32, s.damping as f32],
             sponge: [sponge_rate(g) as f32, 0.0, 0.0, 0.0],
             bodies: [0; 4],
+            spray: [self.kick_per_unit, 0.0, 0.0, 0.0],
         }
     }
 

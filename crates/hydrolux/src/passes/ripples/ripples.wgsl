@@ -20,6 +20,8 @@ struct RippleParams {
     sponge: vec4<f32>,
     // x first body move of this step, y their count
     bodies: vec4<i32>,
+    // x Δφ (m²/s) per unit of landing spray (hydrolux-core whitewater::kick_per_unit)
+    spray: vec4<f32>,
 }
 
 // A body's move over one step (twin: waves::ripples::BodyMove): shape
@@ -49,6 +51,10 @@ struct BodyMove {
 @group(0) @binding(6) var surface_out: texture_storage_2d<rgba16float, write>;
 // Bodies moving through the water in this batch's steps.
 @group(0) @binding(7) var<storage, read> moves: array<BodyMove>;
+// Spray landed since the last step, per texel (row = z): the parcels'
+// downward speeds summed in fixed point by the white water's `update`;
+// used up by the step (cleared in `spectral_step`, after `disturb` read it).
+@group(0) @binding(8) var<storage, read_write> kicks: array<atomic<u32>>;
 
 const BODY_SPHERE: u32 = 0u;
 const BODY_BOX: u32 = 1u;
@@ -150,6 +156,17 @@ fn domain_cell(g: vec2<u32>) -> vec2<u32> {
     return vec2<u32>(((vec2<i32>(g) - params.window.xy) % ni + ni) % ni);
 }
 
+// The texel (of the surface's texture and of `kicks`) holding grid cell
+// g's state: its domain cell between walls, itself in open water (the
+// texture tiles the plane). Twin: ripples::grid_cell of domain_cell.
+fn texel_of(g: vec2<u32>) -> u32 {
+    var t = g;
+    if (params.grid.z == EDGES_WALLS) {
+        t = domain_cell(g);
+    }
+    return t.y * params.grid.x + t.x;
+}
+
 fn world_of(d: vec2<u32>) -> vec2<f32> {
     return (vec2<f32>(params.window.xy + vec2<i32>(d)) + 0.5) * params.space.x;
 }
@@ -238,6 +255,8 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var i = 0; i < params.window.w; i++) {
         s.x += drop_height(drops[first + i], w);
     }
+    // Landing spray: an impulsive pressure P changes φ by −P/ρ.
+    s.y -= f32(atomicLoad(&kicks[texel_of(g)])) * params.spray.x;
     s *= sponge(d);
     spatial[grid_index(g)] = vec4<f32>(s.x, -s.y, 0.0, 0.0);
 }
@@ -267,6 +286,10 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let i = id.y * f + id.x;
+    let n = params.grid.x;
+    if (id.x < n && id.y < n) {
+        atomicStore(&kicks[id.y * n + id.x], 0u);
+    }
     let m = ((f - id.y) % f) * f + (f - id.x) % f;
     // spatial holds conj(Z): Z(k) = conj(a), conj(Z(−k)) = b.
     let a = spatial[i].xy;

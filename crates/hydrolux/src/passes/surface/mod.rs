@@ -205,10 +205,14 @@ impl Surface {
         )
         .create_view(&Default::default());
         let group_without_foam = make_group(&no_foam);
-        let whitewater = match keep_whitewater {
+        let mut whitewater = match keep_whitewater {
             Some(w) if w.fits(scene) => Some(w),
             _ => Whitewater::new(shared, scene, &spectrum),
         };
+        if let Some(w) = &mut whitewater {
+            let kicks = dynamics.as_ref().and_then(|d| d.ripples.as_ref()).map(|r| &r.kicks);
+            w.bind_kicks(device, kicks);
+        }
         let group = match &whitewater {
             Some(w) => make_group(&w.cover.create_view(&Default::default())),
             None => make_group(&no_foam),

@@ -54,6 +54,7 @@ pub fn source() -> String {
         ("FOLD_RAMP", w::FOLD_RAMP),
         ("DEPOSIT_SCALE", w::DEPOSIT_SCALE),
         ("FOAM_MAX", w::FOAM_MAX),
+        ("KICK_SCALE", w::KICK_SCALE),
         ("MOTION_FOOTPRINT_PER_DEPTH", w::MOTION_FOOTPRINT_PER_DEPTH),
     ]
     .iter()
@@ -81,6 +82,18 @@ const SPLASH_CAPACITY: u32 = 256;
 const RUN_FOLD: u32 = 1;
 const RUN_RIPPLES: u32 = 2;
 const RUN_PARTICLES: u32 = 4;
+
+fn kicks_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    kicks: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("spray kicks"),
+        layout,
+        entries: &[wgpu::BindGroupEntry { binding: 1, resource: kicks.as_entire_binding() }],
+    })
+}
 
 /// A snapshot of the particle pool (for `bench` and the viewer).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -143,6 +156,11 @@ pub struct Whitewater {
     cover_chain: MipChain,
     groups: [wgpu::BindGroup; 2],
     args_group: wgpu::BindGroup,
+    /// `update`'s group 2: the interactive water's landing-spray kicks
+    /// (a stand-in buffer without interactive water).
+    kicks_layout: wgpu::BindGroupLayout,
+    kicks_group: wgpu::BindGroup,
+    no_kicks: wgpu::Buffer,
     pipelines: Pipelines,
     /// Simulated time (s) of the ocean the surface's textures hold, so that
     /// a step close to it does not evaluate the ocean again.
@@ -278,6 +296,12 @@ impl Whitewater {
             label: Some("particle arguments"),
             entries: &[storage_entry(0, cs, false)],
         });
+        let kicks_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("spray kicks"),
+            entries: &[storage_entry(1, cs, false)],
+        });
+        let no_kicks = storage("no spray kicks", 16, none);
+        let kicks_group = kicks_group(device, &kicks_layout, &no_kicks);
         let cover_view = cover.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             base_mip_level: 0,
@@ -335,7 +359,14 @@ impl Whitewater {
             hash_insert: pipeline("hash_insert"),
             merge_pick: pipeline("merge_pick"),
             merge_apply: pipeline("merge_apply"),
-            update: pipeline("update"),
+            update: compute_pipeline_with(
+                device,
+                "update",
+                &module,
+                "update",
+                &[&layout, surface, &kicks_layout],
+                &constants,
+            ),
             foam_step: pipeline("foam_step"),
             emit: pipeline("emit"),
         };
@@ -370,6 +401,9 @@ impl Whitewater {
             cover_chain,
             groups,
             args_group,
+            kicks_layout,
+            kicks_group,
+            no_kicks,
             pipelines,
             ocean_time: f64::NAN,
             mips_due: true,
@@ -378,6 +412,11 @@ impl Whitewater {
         };
         whitewater.reset_buffers(&shared.queue);
         Some(whitewater)
+    }
+
+    /// Where landing spray kicks the interactive water (`None`: there is none).
+    pub fn bind_kicks(&mut self, device: &wgpu::Device, kicks: Option<&wgpu::Buffer>) {
+        self.kicks_group = kicks_group(device, &self.kicks_layout, kicks.unwrap_or(&self.no_kicks));
     }
 
     /// Whether `scene` keeps this state.
@@ -537,6 +576,7 @@ impl Whitewater {
         if particles {
             pass.set_pipeline(&p.hash_clear);
             pass.dispatch_workgroups(self.table.div_ceil(64), 1, 1);
+            pass.set_bind_group(2, &self.kicks_group, &[]);
             for pipeline in [&p.hash_insert, &p.merge_pick, &p.merge_apply, &p.update] {
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups_indirect(&self.args, 0);

@@ -68,7 +68,7 @@ struct Splash {
 const NONE: u32 = 0xffffffffu;
 // The physics constants (G, WATER_NU, WATER_SIGMA_RHO, AIR_WATER_RATIO,
 // DROP_DRAG, VOLUME_UNIT_M3, BURST_FOAM_PER_M3, SPRAY_FOAM, FOLD_RAMP,
-// DEPOSIT_SCALE, FOAM_MAX) come from hydrolux-core's whitewater module,
+// DEPOSIT_SCALE, FOAM_MAX, KICK_SCALE) come from hydrolux-core's whitewater module,
 // written above this file by `source()`: one value for both twins.
 // Merge buckets: cells of twice the largest entrained bubble radius.
 const MERGE_CELL: f32 = 0.01;
@@ -349,6 +349,40 @@ fn begin() {
     args[2] = 1u;
 }
 
+// The interactive water's landing spray (passes/ripples, `kicks`): the
+// parcels' downward speeds summed per texel in fixed point, which the
+// water's next step turns into a jump of its potential. Only `update`
+// binds it (its layout's group 2 holds this one binding).
+@group(2) @binding(1) var<storage, read_write> kicks: array<atomic<u32>>;
+
+// The kicks' texel holding world point p, or −1 outside the interactive
+// water. Twin: hydrolux-core waves::ripples::texel_of.
+fn kick_texel(p: vec2<f32>) -> i32 {
+    if (RIPPLES == 0u) {
+        return -1;
+    }
+    let cell = surface.ripple_area.w;
+    let n = i32(round(surface.ripple_area.z / cell));
+    let c = vec2<i32>(floor(p / cell));
+    let d = c - vec2<i32>(round(surface.ripple_window.xy / cell));
+    if (any(d < vec2<i32>(0)) || any(d >= vec2<i32>(n))) {
+        return -1;
+    }
+    var t = d;
+    if (RIPPLES != 1u) {
+        t = ((c % n) + n) % n;
+    }
+    return t.y * n + t.x;
+}
+
+// A spray parcel landing at p at `speed` m/s downwards (twin: RippleSim::land).
+fn kick(p: vec2<f32>, speed: f32) {
+    let t = kick_texel(p);
+    if (t >= 0) {
+        atomicAdd(&kicks[t], u32(round(clamp(speed, 0.0, 60.0) * KICK_SCALE)));
+    }
+}
+
 // After the step: the draw's instance count (six vertices per particle).
 @compute @workgroup_size(1)
 fn finish() {
@@ -518,6 +552,7 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
         p.carried = water_displacement(p.position);
     } else if (p.position.y <= h && p.velocity.y < 0.0) {
         deposit(p.position.x, p.position.z, SPRAY_FOAM);
+        kick(p.position.xz, -p.velocity.y);
         release(slot);
         return;
     }
