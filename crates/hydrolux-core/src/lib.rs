@@ -14,6 +14,7 @@ pub mod medium;
 pub mod npy;
 pub mod optics;
 pub mod projective;
+pub mod raytrace;
 pub mod rng;
 pub mod scene;
 pub mod sky;
