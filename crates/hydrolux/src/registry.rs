@@ -8,7 +8,7 @@
 
 use crate::error::RenderError;
 use crate::passes::{
-    caustics, geometry, godrays, mips, probe, sky, surface, tonemap, water, water_object,
+    caustics, geometry, godrays, mips, probe, raytrace, sky, surface, tonemap, water, water_object,
 };
 use crate::technique::{Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
@@ -68,6 +68,7 @@ macro_rules! registry {
             $($info,)*
             FRAME_INFO,
             probe::INFO,
+            raytrace::INFO,
             mips::INFO,
             crate::targets::MEDIUM_COPY_INFO,
         ];

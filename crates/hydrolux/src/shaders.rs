@@ -27,10 +27,12 @@ const MODULES: &[(&str, &str)] = &[
     ("fog", include_str!("shaders/fog.wgsl")),
     ("object_caustics", include_str!("shaders/object_caustics.wgsl")),
     ("caustics_lookup", include_str!("shaders/caustics_lookup.wgsl")),
+    ("heightfield_trace", include_str!("shaders/heightfield_trace.wgsl")),
     // Modules of one technique that another reuses.
     ("geometry_common", include_str!("passes/geometry/geometry_common.wgsl")),
     ("particle", include_str!("passes/whitewater/particle.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
+    ("traced", include_str!("passes/raytrace/traced.wgsl")),
 ];
 
 /// The names on a source's `#import` lines, in order.

@@ -45,6 +45,7 @@ choice!(Fresnel: Exact, Schlick, JensenGolias, Power);
 choice!(WaterOptics: Physical, Simple);
 choice!(MediumName: Pure, ClearOcean, Coastal, TurbidHarbor, Custom);
 choice!(RefractionLookup: Depth, Plane);
+choice!(WaterMethod: Projective, Raytrace);
 choice!(TerrainKind: None, Noise, Heightmap);
 choice!(Pattern: None, Tiles, Checker);
 choice!(Primitive: Box, Sphere, Cylinder, Plane);
@@ -65,6 +66,7 @@ pub fn enumerated_keys() -> Vec<(&'static str, Vec<String>)> {
         ("water.optics", WaterOptics::names()),
         ("water.medium", MediumName::names()),
         ("water.refraction", RefractionLookup::names()),
+        ("water.method", WaterMethod::names()),
         ("floor.terrain", TerrainKind::names()),
         ("floor.material.pattern", Pattern::names()),
         ("objects.material.pattern", Pattern::names()),

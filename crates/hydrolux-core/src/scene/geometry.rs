@@ -60,6 +60,70 @@ fn flat_floor(depth: f32) -> Mesh {
 }
 
 impl Scene {
+    /// The terrain floor, if the floor is one (reads a heightmap file).
+    pub fn terrain(&self) -> Result<Option<Terrain>, AssetError> {
+        let f = &self.floor;
+        Ok(match f.terrain {
+            TerrainKind::None => None,
+            TerrainKind::Noise => Some(Terrain::basin(&BasinParams {
+                size: f.size,
+                resolution: f.resolution as usize,
+                depth: f.depth,
+                shore_radius: f.shore_radius,
+                shore_height: f.shore_height,
+                relief: f.relief,
+                seed: f.seed,
+            })),
+            TerrainKind::Heightmap => {
+                let (w, h, v) = load_heightmap(&self.resolve_path(&f.heightmap))?;
+                Some(Terrain::from_heightmap(
+                    w,
+                    h,
+                    &v,
+                    f.size,
+                    f.depth,
+                    f.relief,
+                    f.resolution as usize,
+                ))
+            }
+        })
+    }
+
+    /// The ground as a heightfield for ray tracing (`water.method =
+    /// "raytrace"`): the terrain's samples (beyond its square, the mean of
+    /// its edge), or a flat floor that goes on forever; `None` without a
+    /// floor (bottomless water).
+    pub fn ground_heightfield(&self) -> Result<Option<crate::raytrace::Heightfield>, AssetError> {
+        use crate::raytrace::Heightfield;
+        let f = &self.floor;
+        if let Some(t) = self.terrain()? {
+            let n = t.n;
+            let edge: Vec<f32> = (0..n)
+                .flat_map(|k| {
+                    [
+                        t.heights[k],
+                        t.heights[(n - 1) * n + k],
+                        t.heights[k * n],
+                        t.heights[k * n + n - 1],
+                    ]
+                })
+                .collect();
+            let outside = edge.iter().sum::<f32>() / edge.len() as f32;
+            let half = 0.5 * t.size;
+            return Ok(Some(Heightfield {
+                origin: [-half, -half],
+                cell: t.size / (n - 1) as f32,
+                n,
+                heights: t.heights,
+                outside,
+            }));
+        }
+        if f.depth > 0.0 {
+            return Ok(Some(Heightfield::sampled([-1.0, -1.0], 2.0, 2, -f.depth, |_, _| -f.depth)));
+        }
+        Ok(None)
+    }
+
     /// Load and build every mesh of the scene (reads mesh and image files).
     pub fn build_geometry(&self) -> Result<Vec<SceneObject>, AssetError> {
         let mut out = Vec::new();
@@ -77,28 +141,7 @@ impl Scene {
             }
             TerrainKind::None => {}
             TerrainKind::Noise | TerrainKind::Heightmap => {
-                let terrain = if f.terrain == TerrainKind::Noise {
-                    Terrain::basin(&BasinParams {
-                        size: f.size,
-                        resolution: f.resolution as usize,
-                        depth: f.depth,
-                        shore_radius: f.shore_radius,
-                        shore_height: f.shore_height,
-                        relief: f.relief,
-                        seed: f.seed,
-                    })
-                } else {
-                    let (w, h, v) = load_heightmap(&self.resolve_path(&f.heightmap))?;
-                    Terrain::from_heightmap(
-                        w,
-                        h,
-                        &v,
-                        f.size,
-                        f.depth,
-                        f.relief,
-                        f.resolution as usize,
-                    )
-                };
+                let terrain = self.terrain()?.expect("a terrain floor");
                 let (lo, hi) = terrain
                     .heights
                     .iter()

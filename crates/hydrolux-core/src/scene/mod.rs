@@ -167,6 +167,20 @@ pub enum RefractionLookup {
     Plane,
 }
 
+/// How reflected and refracted rays find what they see.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WaterMethod {
+    /// Seeds 000 and 002: the scene rendered into reflection and refraction
+    /// textures, looked up where the rays meet planes or depths (fast,
+    /// approximate).
+    Projective,
+    /// Seed 003 §3.3.1 (Baboud & Décoret 2006): rays traced exactly against
+    /// the ground and the water surface as heightfields (`raytrace.rs`);
+    /// objects other than the ground are not in the traced rays.
+    Raytrace,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct WaterDesc {
@@ -198,6 +212,8 @@ pub struct WaterDesc {
     pub body_color: [f32; 3],
     pub simple_attenuation: f32,
     pub refraction: RefractionLookup,
+    /// Projective lookups or ray tracing for reflections and refractions.
+    pub method: WaterMethod,
     /// `refraction = "plane"`: depth of the lookup plane (m).
     pub refraction_depth: f32,
     /// `refraction = "depth"`: clamp of dv (m).
@@ -874,6 +890,7 @@ impl Default for WaterDesc {
             body_color: [0.004, 0.018, 0.028],
             simple_attenuation: 0.25,
             refraction: RefractionLookup::Depth,
+            method: WaterMethod::Projective,
             refraction_depth: 2.0,
             refraction_max: 8.0,
             reflection_height: 1.5,

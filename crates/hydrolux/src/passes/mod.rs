@@ -14,6 +14,7 @@ pub mod godrays;
 pub mod mips;
 pub mod ocean;
 pub mod probe;
+pub mod raytrace;
 pub mod ripples;
 pub mod sky;
 pub mod surface;

@@ -3,9 +3,13 @@
 // Ihrke & Seidel 2008). Twin: hydrolux-core raytrace.rs (trace_hierarchical,
 // cell_crossing, first_root), line by line.
 //
-// A heightfield is `samples` (r32float, n × n corner samples, row = z) and
-// `pyramid` (rg32float, level 0 one texel per cell holding its corners'
-// least and greatest height, each mip the bounds of 2 × 2 texels below).
+// A heightfield lives in two storage arrays the importing shader declares,
+// `hf_heights: array<f32>` (n × n corner samples, row = z, from
+// `base.x`) and `hf_bounds: array<vec2<f32>>` (its min/max pyramid from
+// `base.y`: level 0 one entry per cell holding its corners' least and
+// greatest height, each next level the bounds of 2 × 2 entries below, the
+// levels one after the other). Storage, not textures: the water shader has
+// no sampled-texture slots left.
 
 struct Heightfield {
     // xy world (x, z) of sample (0, 0), z the sample spacing (m), w the
@@ -14,18 +18,33 @@ struct Heightfield {
     // x cells per side at level 0 (a power of two), y samples per side n,
     // z the pyramid's top level
     size: vec4<u32>,
+    // x first sample in hf_heights, y first bound in hf_bounds
+    base: vec4<u32>,
 }
 
-fn hf_sample(samples: texture_2d<f32>, hf: Heightfield, i: i32, j: i32) -> f32 {
+fn hf_sample(hf: Heightfield, i: i32, j: i32) -> f32 {
     let n = i32(hf.size.y);
     if (i < 0 || j < 0 || i >= n || j >= n) {
         return hf.place.w;
     }
-    return textureLoad(samples, vec2<i32>(i, j), 0).r;
+    return hf_heights[hf.base.x + u32(j * n + i)];
+}
+
+// Where level k of the pyramid starts: the levels below it hold
+// Σ (side/2^l)² = (side² − (side/2^k)²)·4/3 entries.
+fn hf_level_base(hf: Heightfield, k: u32) -> u32 {
+    let side = hf.size.x;
+    let s = side >> k;
+    return hf.base.y + (side * side - s * s) / 3u * 4u;
+}
+
+fn hf_bounds_at(hf: Heightfield, k: u32, b: vec2<i32>) -> vec2<f32> {
+    let s = i32(hf.size.x >> k);
+    return hf_bounds[hf_level_base(hf, k) + u32(b.y * s + b.x)];
 }
 
 // Bilinear height at world (x, z); the outside height off the grid.
-fn hf_height(samples: texture_2d<f32>, hf: Heightfield, x: f32, z: f32) -> f32 {
+fn hf_height(hf: Heightfield, x: f32, z: f32) -> f32 {
     let u = (x - hf.place.x) / hf.place.z;
     let v = (z - hf.place.y) / hf.place.z;
     let c = f32(hf.size.y) - 1.0;
@@ -36,10 +55,10 @@ fn hf_height(samples: texture_2d<f32>, hf: Heightfield, x: f32, z: f32) -> f32 {
     let j = min(i32(floor(v)), i32(hf.size.y) - 2);
     let a = u - f32(i);
     let b = v - f32(j);
-    let h00 = hf_sample(samples, hf, i, j);
-    let h10 = hf_sample(samples, hf, i + 1, j);
-    let h01 = hf_sample(samples, hf, i, j + 1);
-    let h11 = hf_sample(samples, hf, i + 1, j + 1);
+    let h00 = hf_sample(hf, i, j);
+    let h10 = hf_sample(hf, i + 1, j);
+    let h01 = hf_sample(hf, i, j + 1);
+    let h11 = hf_sample(hf, i + 1, j + 1);
     return h00 * (1.0 - a) * (1.0 - b) + h10 * a * (1.0 - b) + h01 * (1.0 - a) * b + h11 * a * b;
 }
 
@@ -86,11 +105,11 @@ fn first_root(c0: f32, c1: f32, c2: f32, t0: f32, t1: f32) -> f32 {
 }
 
 // The ray's first crossing of cell (i, j)'s bilinear patch in [t0, t1].
-fn cell_crossing(samples: texture_2d<f32>, hf: Heightfield, o: vec3<f32>, d: vec3<f32>, i: i32, j: i32, t0: f32, t1: f32) -> f32 {
-    let h00 = hf_sample(samples, hf, i, j);
-    let h10 = hf_sample(samples, hf, i + 1, j);
-    let h01 = hf_sample(samples, hf, i, j + 1);
-    let h11 = hf_sample(samples, hf, i + 1, j + 1);
+fn cell_crossing(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, i: i32, j: i32, t0: f32, t1: f32) -> f32 {
+    let h00 = hf_sample(hf, i, j);
+    let h10 = hf_sample(hf, i + 1, j);
+    let h01 = hf_sample(hf, i, j + 1);
+    let h11 = hf_sample(hf, i + 1, j + 1);
     let a0 = (o.x - hf.place.x) / hf.place.z - f32(i);
     let a1 = d.x / hf.place.z;
     let b0 = (o.z - hf.place.y) / hf.place.z - f32(j);
@@ -106,9 +125,9 @@ fn cell_crossing(samples: texture_2d<f32>, hf: Heightfield, o: vec3<f32>, d: vec
 
 // The first crossing (t; NO_ROOT if none) within t_max of the ray o + t·d
 // with the heightfield, from whichever side the ray starts on.
-fn trace_heightfield(samples: texture_2d<f32>, pyramid: texture_2d<f32>, hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> f32 {
+fn trace_heightfield(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> f32 {
     var s = 1.0;
-    if (o.y < hf_height(samples, hf, o.x, o.z)) {
+    if (o.y < hf_height(hf, o.x, o.z)) {
         s = -1.0;
     }
     let top = hf.size.z;
@@ -145,7 +164,7 @@ fn trace_heightfield(samples: texture_2d<f32>, pyramid: texture_2d<f32>, hf: Hei
     // that meets the grid already on the other side hits the wall.
     if (t_in > 0.0) {
         let q = o + d * (t_in + nudge);
-        if (s * (o.y + t_in * d.y - hf_height(samples, hf, q.x, q.z)) < 0.0) {
+        if (s * (o.y + t_in * d.y - hf_height(hf, q.x, q.z)) < 0.0) {
             return t_in;
         }
     }
@@ -168,7 +187,7 @@ fn trace_heightfield(samples: texture_2d<f32>, pyramid: texture_2d<f32>, hf: Hei
         t_exit = max(t_exit, t);
         let y0 = o.y + t * d.y;
         let y1 = o.y + t_exit * d.y;
-        let bounds = textureLoad(pyramid, b, i32(level)).rg;
+        let bounds = hf_bounds_at(hf, level, b);
         var clear = max(y0, y1) < bounds.x;
         if (s > 0.0) {
             clear = min(y0, y1) > bounds.y;
@@ -182,7 +201,7 @@ fn trace_heightfield(samples: texture_2d<f32>, pyramid: texture_2d<f32>, hf: Hei
             level -= 1u;
             continue;
         }
-        let r = cell_crossing(samples, hf, o, d, bi, bj, t, t_exit);
+        let r = cell_crossing(hf, o, d, bi, bj, t, t_exit);
         if (r != NO_ROOT) {
             return r;
         }

@@ -163,6 +163,9 @@ pub struct WaterPass {
     pub inputs_layout: wgpu::BindGroupLayout,
     /// The surface model the pipelines are specialised to.
     model: crate::passes::surface::SurfaceKind,
+    /// What `water.method = "raytrace"` traces (group 3; stand-ins otherwise).
+    pub traced: crate::passes::raytrace::Traced,
+    traced_layout: wgpu::BindGroupLayout,
 }
 
 /// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
@@ -221,12 +224,16 @@ impl WaterPass {
         inputs: &wgpu::BindGroupLayout,
         main_depth_format: wgpu::TextureFormat,
         model: crate::passes::surface::SurfaceKind,
+        traced: crate::passes::raytrace::Traced,
+        traced_layout: wgpu::BindGroupLayout,
     ) -> Self {
         let module = shader(device, "water", &source());
-        let constants = crate::passes::surface::specialised_to(model);
+        let mut constants = crate::passes::surface::specialised_to(model).to_vec();
+        let tracing = traced.method == hydrolux_core::scene::WaterMethod::Raytrace;
+        constants.push(("RAYTRACE", tracing as u32 as f64));
         let options =
             || wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
-        let layout = pipeline_layout(device, "water", &[globals, surface, inputs]);
+        let layout = pipeline_layout(device, "water", &[globals, surface, inputs, &traced_layout]);
         let grid_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: 8,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -303,6 +310,8 @@ impl WaterPass {
         WaterPass {
             inputs_layout: inputs.clone(),
             model,
+            traced,
+            traced_layout,
             full: GridMesh::new(device, "water full grid", RING_HALF, &[None]),
             ring: GridMesh::new(device, "water ring", RING_HALF, &hole_offsets()),
             far: GridMesh::new(device, "water far field", FAR_HALF, &[Some((0, 0))]),
@@ -373,6 +382,7 @@ impl WaterPass {
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, surface, &[]);
         pass.set_bind_group(2, inputs, &[]);
+        pass.set_bind_group(3, &self.traced.group, &[]);
         // All tiles: off-screen ones make no fragments anyway, so culling
         // would only save vertex work.
         pass.set_pipeline(&self.volume_rings);
@@ -426,6 +436,7 @@ impl WaterPass {
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, surface, &[]);
         pass.set_bind_group(2, inputs, &[]);
+        pass.set_bind_group(3, &self.traced.group, &[]);
         let draw_surface = |pass: &mut wgpu::RenderPass<'_>,
                             rings: &wgpu::RenderPipeline,
                             far: &wgpu::RenderPipeline| {
@@ -461,7 +472,18 @@ impl Technique for WaterPass {
         let (device, l) = (&shared.device, &shared.layouts);
         let inputs = WaterPass::inputs_layout(device);
         let model = crate::passes::surface::SurfaceKind::of(scene);
-        Ok(WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format, model))
+        let traced_layout = crate::passes::raytrace::Traced::layout(device);
+        let traced = crate::passes::raytrace::Traced::new(shared, scene, &traced_layout)?;
+        Ok(WaterPass::new(
+            device,
+            &l.globals,
+            &l.surface,
+            &inputs,
+            shared.depth_format,
+            model,
+            traced,
+            traced_layout,
+        ))
     }
 
     /// A new surface model gets pipelines specialised to it; the inputs'
@@ -469,17 +491,40 @@ impl Technique for WaterPass {
     fn set_scene(
         &mut self,
         shared: &crate::technique::Shared,
-        _old: &Scene,
+        old: &Scene,
         new: &Scene,
     ) -> Result<bool, crate::error::RenderError> {
-        if crate::passes::surface::SurfaceKind::of(new) != self.model {
+        let model = crate::passes::surface::SurfaceKind::of(new);
+        if model != self.model || !self.traced.fits(old, new) {
             let (device, l) = (&shared.device, &shared.layouts);
             let inputs = self.inputs_layout.clone();
-            let model = crate::passes::surface::SurfaceKind::of(new);
-            *self =
-                WaterPass::new(device, &l.globals, &l.surface, &inputs, shared.depth_format, model);
+            let traced_layout = self.traced_layout.clone();
+            let traced = crate::passes::raytrace::Traced::new(shared, new, &traced_layout)?;
+            *self = WaterPass::new(
+                device,
+                &l.globals,
+                &l.surface,
+                &inputs,
+                shared.depth_format,
+                model,
+                traced,
+                traced_layout,
+            );
         }
         Ok(false)
+    }
+
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        _timer: Option<&mut crate::timing::GpuTimer>,
+    ) {
+        if stage == Stage::Simulate && frame.plan.has_water {
+            let c = frame.plan.camera.position;
+            self.traced.record(&frame.shared.queue, encoder, &frame.bound.surface, [c.x, c.z]);
+        }
     }
 
     fn draw(&self, stage: Stage, pass: &mut wgpu::RenderPass<'_>, frame: &FrameContext) {

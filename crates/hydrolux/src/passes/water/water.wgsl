@@ -16,7 +16,7 @@
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
 // SKY_CUBE_SIZE are prepended by the pass.
-#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup
+#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced
 
 // Inputs of the water pass (group 2), rebuilt with the render targets. Seen
 // from the air: the scene above the water mirrored (reflection) and the
@@ -30,6 +30,15 @@
 @group(2) @binding(4) var reflection_under_tex: texture_2d<f32>;
 @group(2) @binding(5) var refraction_over_tex: texture_2d<f32>;
 @group(2) @binding(6) var refraction_over_depth: texture_2d<f32>;
+
+// Ray tracing (`water.method = "raytrace"`, passes/raytrace; seed 003
+// §3.3.1): the reflected and refracted rays traced exactly against the
+// ground and the water surface as heightfields, instead of looked up in the
+// projective textures. Specialised like RIPPLES: 0 projective, 1 traced.
+override RAYTRACE: u32 = 0u;
+@group(3) @binding(0) var<uniform> traced: TracedParams;
+@group(3) @binding(1) var<storage, read> hf_heights: array<f32>;
+@group(3) @binding(2) var<storage, read> hf_bounds: array<vec2<f32>>;
 
 struct VsOut {
     @invariant @builtin(position) clip: vec4<f32>,
@@ -199,6 +208,117 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
     }
     // In-medium radiance leaves through the surface divided by n² (the solid angle widens).
     return (seen * transmittance(s) + path_in_scatter_with_shafts(p, t_dir, s)) / (ior * ior);
+}
+
+// ---------------------------------------------------------------- traced
+
+// Where a traced ray first meets the ground (t; NO_ROOT: nowhere).
+fn trace_ground(o: vec3<f32>, d: vec3<f32>) -> f32 {
+    if (traced.flags.x == 0.0) {
+        return NO_ROOT;
+    }
+    return trace_heightfield(traced.ground, o, d, traced.flags.y);
+}
+
+// The ground's normal at world (x, z), from its heightfield.
+fn ground_normal(x: f32, z: f32) -> vec3<f32> {
+    let e = traced.ground.place.z;
+    let hx = hf_height(traced.ground, x + e, z) - hf_height(traced.ground, x - e, z);
+    let hz = hf_height(traced.ground, x, z + e) - hf_height(traced.ground, x, z - e);
+    return normalize(vec3<f32>(-hx, 2.0 * e, -hz));
+}
+
+// The ground's albedo at q: its material and procedural pattern (as the
+// geometry pass draws it; grout lines 6% of a tile, checkers).
+fn ground_albedo(q: vec3<f32>) -> vec3<f32> {
+    let kind = traced.ground_pattern.w;
+    var mix_w = 0.0;
+    if (kind > 0.5) {
+        let t = q.xz / traced.ground_albedo.w;
+        if (kind < 1.5) {
+            let f = abs(fract(t) - 0.5);
+            mix_w = select(0.0, 1.0, max(f.x, f.y) > 0.47);
+        } else {
+            let c = floor(t);
+            mix_w = f32((i32(c.x) + i32(c.y)) & 1);
+        }
+    }
+    return mix(traced.ground_albedo.rgb, traced.ground_pattern.rgb, mix_w);
+}
+
+// The light the ground sends back at q (Lambertian, as the geometry pass
+// shades it): below the mean level the light field under the surface
+// (with the caustics and the sun's shadow), above it sun and sky.
+fn ground_radiance(q: vec3<f32>) -> vec3<f32> {
+    let n = ground_normal(q.x, q.z);
+    let visibility = sun_visibility(q, n);
+    var irradiance: vec3<f32>;
+    if (q.y < 0.0) {
+        irradiance = underwater_irradiance(-q.y, n, visibility * caustic_factor(q));
+    } else {
+        let l = frame.light.sun_dir;
+        let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
+        irradiance = frame.light.sun_illuminance * max(dot(n, l), 0.0) * visibility
+            + frame.light.sky_ambient * (0.5 + 0.5 * n.y) + 0.15 * e_down * (0.5 - 0.5 * n.y);
+    }
+    return ground_albedo(q) / PI * irradiance;
+}
+
+// What the reflected ray r from surface point p (normal n) sees, traced:
+// the ground where it rises out of the water, the next wave, or the sky.
+// Objects are not in traced reflections.
+fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
+    // Start on the traced water's side above: the drawn mesh and the
+    // resampled heightfield differ by a little, and beyond the window the
+    // heightfield is the mean level, which a trough lies under.
+    var o = p + n * 0.02;
+    o.y = max(o.y, hf_height(traced.water, o.x, o.z) + 0.02);
+    let tg = trace_ground(o, r);
+    let tw = trace_heightfield(traced.water, o, r, traced.flags.y);
+    if (tg < NO_ROOT && tg <= tw) {
+        let q = o + r * tg;
+        return through_fog(p, q, ground_radiance(q));
+    }
+    if (tw < NO_ROOT) {
+        // Another wave: what it reflects of the sky (one more bounce, by
+        // its heightfield's normal) over the water's own colour.
+        let q = o + r * tw;
+        let e = traced.water.place.z;
+        let hx = hf_height(traced.water, q.x + e, q.z) - hf_height(traced.water, q.x - e, q.z);
+        let hz = hf_height(traced.water, q.x, q.z + e) - hf_height(traced.water, q.x, q.z - e);
+        let m = normalize(vec3<f32>(-hx, 2.0 * e, -hz));
+        var r2 = reflect(r, m);
+        r2.y = abs(r2.y);
+        let ior = frame.water.ior;
+        let f2 = fresnel(frame.modes.fresnel, frame.water.fresnel_power, abs(dot(r, m)), 1.0, ior);
+        let sky2 = textureSampleLevel(sky_cube, sky_sampler, r2, 0.0).rgb * exposure();
+        var body = path_in_scatter(vec3<f32>(0.0, -1.0, 0.0), 1e5) / (ior * ior);
+        if (frame.modes.optics == 1u) {
+            body = frame.water.body_color * e_down / PI;
+        }
+        return f2 * sky2 + (1.0 - f2) * body;
+    }
+    return sky_reflected;
+}
+
+// The light that comes up through the surface at p along t_dir, traced to
+// the ground (or into bottomless water).
+fn traced_transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
+    let ior = frame.water.ior;
+    let t = trace_ground(p, t_dir);
+    if (t >= NO_ROOT) {
+        if (frame.modes.optics == 1u) {
+            return frame.water.body_color * e_down / PI;
+        }
+        return path_in_scatter(t_dir, 1e5) / (ior * ior);
+    }
+    let q = p + t_dir * t;
+    let seen = ground_radiance(q);
+    if (frame.modes.optics == 1u) {
+        let c_water = frame.water.body_color * e_down / PI;
+        return c_water + exp(-t * frame.water.simple_attenuation) * (seen - c_water);
+    }
+    return (seen * transmittance(t) + path_in_scatter_with_shafts(p, t_dir, t)) / (ior * ior);
 }
 
 // Samples of the god rays seen from above.
@@ -390,7 +510,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let local = textureSampleLevel(reflection_tex, clamp_sampler, ruv, local_lod);
     // The texture is cleared to transparent black, so it is premultiplied by
     // coverage at every mip level.
-    let reflected = local.rgb + (1.0 - local.a) * sky_reflected;
+    var reflected = local.rgb + (1.0 - local.a) * sky_reflected;
 
     // Sun glint, shadowed by the scene.
     let l = frame.light.sun_dir;
@@ -407,7 +527,14 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
 
     let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
     let t_dir = refract(-v, n, 1.0 / ior);
-    var color = f * reflected + (1.0 - f) * transmitted(in.world, t_dir, e_down) + glint;
+    var through: vec3<f32>;
+    if (RAYTRACE == 1u) {
+        reflected = traced_reflection(in.world, n, r, sky_reflected, e_down);
+        through = traced_transmitted(in.world, t_dir, e_down);
+    } else {
+        through = transmitted(in.world, t_dir, e_down);
+    }
+    var color = f * reflected + (1.0 - f) * through + glint;
 
     // Foam: a rough, nearly white layer of bubbles (albedo ~0.8, lit
     // diffusely by the sky and the unshadowed sun on the wave's slope, so

@@ -1,0 +1,368 @@
+//! Ray tracing of water volumes on the GPU (seed 003 §3.3.1, after Baboud
+//! & Décoret 2006; `water.method = "raytrace"`): the ground and the water
+//! surface as heightfields with min/max pyramids, which the water shader
+//! traces its reflected and refracted rays against exactly
+//! (`shaders/heightfield_trace.wgsl`). The ground's heightfield is built
+//! once per scene on the CPU (hydrolux-core `Scene::ground_heightfield`,
+//! `raytrace::MinMaxPyramid`, uploaded as is); the water's is resampled
+//! from the displaced surface over a window around the camera each frame
+//! (`resample.wgsl`) and reduced into its pyramid (`raytrace.wgsl`). The CPU
+//! twin of everything here is hydrolux-core `raytrace`.
+
+use crate::error::RenderError;
+use crate::gpu_util::*;
+use crate::shaders;
+use crate::uniforms::uniform;
+use hydrolux_core::raytrace::{Heightfield, MinMaxPyramid};
+use hydrolux_core::scene::{Pattern, Scene, WaterMethod};
+
+uniform! { Heightfield;
+    /// WGSL `Heightfield` (shaders/heightfield_trace.wgsl).
+    pub(crate) struct HeightfieldUniforms {
+        pub place: [f32; 4],
+        pub size: [u32; 4],
+        pub base: [u32; 4],
+    }
+}
+
+uniform! { TracedParams;
+    /// WGSL `TracedParams` (passes/raytrace/traced.wgsl).
+    pub(crate) struct TracedUniforms {
+        pub ground: HeightfieldUniforms,
+        pub water: HeightfieldUniforms,
+        pub ground_albedo: [f32; 4],
+        pub ground_pattern: [f32; 4],
+        pub flags: [f32; 4],
+    }
+}
+
+/// Cells per side of the water's heightfield window, and their size (m):
+/// the finest ring of the water's clipmap, over 64 m around the camera
+/// (where a reflected ray can meet the next wave; beyond, the water is
+/// traced as its mean level).
+pub const WATER_CELLS: u32 = 256;
+pub const WATER_CELL_M: f32 = 0.25;
+/// The furthest a traced ray goes (m).
+pub const TRACE_REACH: f32 = 2000.0;
+
+pub fn resample_source() -> String {
+    shaders::compose("", include_str!("resample.wgsl"))
+}
+
+pub fn source() -> String {
+    shaders::compose("", include_str!("raytrace.wgsl"))
+}
+
+/// Where the water's window lies for a camera at (x, z): whole cells, centred.
+pub fn water_window(camera_xz: [f32; 2]) -> [f32; 2] {
+    let half = (WATER_CELLS / 2) as f32 * WATER_CELL_M;
+    camera_xz.map(|c| (c / WATER_CELL_M).round() * WATER_CELL_M - half)
+}
+
+/// Entries of a pyramid with `side` cells at level 0 (all its levels).
+fn pyramid_entries(side: u32) -> u32 {
+    (side * side - 1) / 3 * 4 + 1
+}
+
+/// The traced heightfields and what builds them.
+pub struct Traced {
+    pub method: WaterMethod,
+    uniforms: TracedUniforms,
+    buffer: wgpu::Buffer,
+    heights: wgpu::Buffer,
+    bounds: wgpu::Buffer,
+    /// The water shader's group 3.
+    pub group: wgpu::BindGroup,
+    resample: wgpu::ComputePipeline,
+    reduce: wgpu::ComputePipeline,
+    compute_group: wgpu::BindGroup,
+    /// Per pyramid level: which level `reduce` writes.
+    level_groups: Vec<wgpu::BindGroup>,
+    probe: wgpu::ComputePipeline,
+    probe_layout: wgpu::BindGroupLayout,
+}
+
+impl Traced {
+    /// The water shader's group 3: the uniforms, the heights, the bounds.
+    pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+        let fs = wgpu::ShaderStages::FRAGMENT;
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("traced"),
+            entries: &[
+                uniform_entry(0, fs),
+                storage_entry(1, fs, true),
+                storage_entry(2, fs, true),
+            ],
+        })
+    }
+
+    /// What `scene` traces (small stand-ins for the projective method, whose
+    /// pipelines bind them without reading them).
+    pub fn new(
+        shared: &crate::technique::Shared,
+        scene: &Scene,
+        layout: &wgpu::BindGroupLayout,
+    ) -> Result<Self, RenderError> {
+        let (device, queue) = (&shared.device, &shared.queue);
+        let method = scene.water.method;
+        let tracing = method == WaterMethod::Raytrace;
+        let ground = if tracing { scene.ground_heightfield()? } else { None };
+        let has_ground = ground.is_some();
+        let ground = ground
+            .unwrap_or_else(|| Heightfield::sampled([0.0, 0.0], 1.0, 2, -1.0e6, |_, _| -1.0e6));
+        let pyramid = MinMaxPyramid::new(&ground);
+        let ground_side = pyramid.side as u32;
+        let water_side = if tracing { WATER_CELLS } else { 2 };
+        let water_n = water_side + 1;
+        // Heights: the ground's samples, then the water's; bounds likewise.
+        let ground_samples = ground.heights.len() as u32;
+        let ground_bounds = pyramid_entries(ground_side);
+        let heights_len = ground_samples + water_n * water_n;
+        let bounds_len = ground_bounds + pyramid_entries(water_side);
+        let storage = |label: &str, bytes: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let heights = storage("traced heights", 4 * heights_len as u64);
+        let bounds = storage("traced bounds", 8 * bounds_len as u64);
+        queue.write_buffer(&heights, 0, bytemuck::cast_slice(&ground.heights));
+        let flat: Vec<[f32; 2]> = pyramid.levels.concat();
+        debug_assert_eq!(flat.len() as u32, ground_bounds);
+        queue.write_buffer(&bounds, 0, bytemuck::cast_slice(&flat));
+        let material = &scene.floor.material;
+        let pattern = match material.pattern {
+            Pattern::None => 0.0,
+            Pattern::Tiles => 1.0,
+            Pattern::Checker => 2.0,
+        };
+        let uniforms = TracedUniforms {
+            ground: HeightfieldUniforms {
+                place: [ground.origin[0], ground.origin[1], ground.cell, ground.outside],
+                size: [ground_side, ground.n as u32, ground_side.ilog2(), 0],
+                base: [0, 0, 0, 0],
+            },
+            water: HeightfieldUniforms {
+                place: [0.0, 0.0, WATER_CELL_M, 0.0],
+                size: [water_side, water_n, water_side.ilog2(), 0],
+                base: [ground_samples, ground_bounds, 0, 0],
+            },
+            ground_albedo: [
+                material.albedo[0],
+                material.albedo[1],
+                material.albedo[2],
+                material.tile_size,
+            ],
+            ground_pattern: [
+                material.pattern_color[0],
+                material.pattern_color[1],
+                material.pattern_color[2],
+                pattern,
+            ],
+            flags: [has_ground as u32 as f32, TRACE_REACH, 0.0, 0.0],
+        };
+        let buffer = uniform_buffer(device, "traced", &uniforms);
+        fn whole(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }
+        }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("traced"),
+            layout,
+            entries: &[whole(0, &buffer), whole(1, &heights), whole(2, &bounds)],
+        });
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("traced compute"),
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, false),
+                storage_entry(2, cs, false),
+            ],
+        });
+        let level_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("traced level"),
+            entries: &[uniform_entry(0, cs)],
+        });
+        let probe_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("traced probe"),
+            entries: &[storage_entry(1, cs, true), storage_entry(2, cs, false)],
+        });
+        let constants =
+            crate::passes::surface::specialised_to(crate::passes::surface::SurfaceKind::of(scene));
+        let resample_module = shader(device, "traced resample", &resample_source());
+        let resample = compute_pipeline_with(
+            device,
+            "traced resample",
+            &resample_module,
+            "resample",
+            &[&compute_layout, &shared.layouts.surface],
+            &constants,
+        );
+        let module = shader(device, "traced", &source());
+        let reduce = compute_pipeline(
+            device,
+            "traced reduce",
+            &module,
+            "reduce",
+            &[&compute_layout, &level_layout],
+        );
+        let probe = compute_pipeline(
+            device,
+            "traced probe",
+            &module,
+            "probe_rays",
+            &[&compute_layout, &probe_layout],
+        );
+        let compute_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("traced compute"),
+            layout: &compute_layout,
+            entries: &[whole(0, &buffer), whole(1, &heights), whole(2, &bounds)],
+        });
+        let level_groups = (0..=water_side.ilog2())
+            .map(|k| {
+                let b = uniform_buffer(device, "traced level", &[k, 0, 0, 0]);
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("traced level"),
+                    layout: &level_layout,
+                    entries: &[whole(0, &b)],
+                })
+            })
+            .collect();
+        Ok(Traced {
+            method,
+            uniforms,
+            buffer,
+            heights,
+            bounds,
+            group,
+            resample,
+            reduce,
+            compute_group,
+            level_groups,
+            probe,
+            probe_layout,
+        })
+    }
+
+    /// Whether `scene` traces what this was built for.
+    pub fn fits(&self, old: &Scene, new: &Scene) -> bool {
+        new.water.method == self.method
+            && (self.method == WaterMethod::Projective
+                || (new.floor == old.floor && new.water.model == old.water.model))
+    }
+
+    /// Resample the water around the camera and rebuild its pyramid (only
+    /// when tracing).
+    pub fn record(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        surface: &wgpu::BindGroup,
+        camera_xz: [f32; 2],
+    ) {
+        if self.method != WaterMethod::Raytrace {
+            return;
+        }
+        let origin = water_window(camera_xz);
+        self.uniforms.water.place = [origin[0], origin[1], WATER_CELL_M, 0.0];
+        queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&self.uniforms));
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("traced water"),
+            timestamp_writes: None,
+        });
+        let n = WATER_CELLS + 1;
+        pass.set_pipeline(&self.resample);
+        pass.set_bind_group(0, &self.compute_group, &[]);
+        pass.set_bind_group(1, surface, &[]);
+        pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
+        pass.set_pipeline(&self.reduce);
+        for (k, group) in self.level_groups.iter().enumerate() {
+            let side = WATER_CELLS >> k;
+            pass.set_bind_group(1, group, &[]);
+            pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
+        }
+    }
+
+    /// Trace `rays` (origin, direction, reach) against the ground on the
+    /// GPU: each ray's t, or `None` where it hits nothing (the GPU twin
+    /// check of hydrolux-core `raytrace::trace_hierarchical`).
+    pub fn probe_ground(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        rays: &[([f32; 3], [f32; 3], f32)],
+    ) -> Vec<Option<f32>> {
+        use wgpu::util::DeviceExt;
+        let data: Vec<[f32; 4]> = rays
+            .iter()
+            .flat_map(|(o, d, reach)| [[o[0], o[1], o[2], *reach], [d[0], d[1], d[2], 0.0]])
+            .collect();
+        let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("traced probe rays"),
+            contents: bytemuck::cast_slice(&data),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("traced probe hits"),
+            size: 4 * rays.len().max(1) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("traced probe"),
+            layout: &self.probe_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 1, resource: input.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: output.as_entire_binding() },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.probe);
+            pass.set_bind_group(0, &self.compute_group, &[]);
+            pass.set_bind_group(1, &group, &[]);
+            pass.dispatch_workgroups((rays.len() as u32).div_ceil(64), 1, 1);
+        }
+        queue.submit([encoder.finish()]);
+        let bytes = read_buffer(device, queue, &output, 4 * rays.len() as u64);
+        bytemuck::cast_slice::<u8, f32>(&bytes).iter().map(|&t| (t < 1e38).then_some(t)).collect()
+    }
+
+    /// The water heightfield's samples now (row = z, (cells + 1)² of them)
+    /// and its window's origin (m).
+    pub fn read_water(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> (Vec<f32>, [f32; 2]) {
+        let w = &self.uniforms.water;
+        let bytes = read_buffer(device, queue, &self.heights, self.heights.size());
+        let all: &[f32] = bytemuck::cast_slice(&bytes);
+        let n = (w.size[1] * w.size[1]) as usize;
+        let from = w.base[0] as usize;
+        (all[from..from + n].to_vec(), [w.place[0], w.place[1]])
+    }
+
+    /// Bytes of GPU memory it holds.
+    pub fn bytes(&self) -> u64 {
+        self.heights.size() + self.bounds.size()
+    }
+}
+
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
+    name: "raytrace",
+    shaders: || {
+        vec![
+            ("raytrace".to_string(), source()),
+            ("raytrace/resample".to_string(), resample_source()),
+        ]
+    },
+    uniforms: || {
+        vec![
+            crate::uniforms::Layout::of::<TracedUniforms>(source()),
+            crate::uniforms::Layout::of::<HeightfieldUniforms>(source()),
+        ]
+    },
+};
