@@ -175,6 +175,28 @@ impl Renderer {
         })
     }
 
+    /// Trace rays (origin, direction, reach in m) against the ground's
+    /// heightfield on the GPU, as `water.method = "raytrace"` does: each
+    /// ray's distance to its first hit, `None` where it hits nothing. `None`
+    /// when the scene does not ray-trace.
+    pub fn probe_traced_ground(
+        &self,
+        rays: &[([f32; 3], [f32; 3], f32)],
+    ) -> Option<Vec<Option<f32>>> {
+        let t = &self.techniques.water.traced;
+        (t.method == hydrolux_core::scene::WaterMethod::Raytrace)
+            .then(|| t.probe_ground(self.device(), self.queue(), rays))
+    }
+
+    /// The ray-traced water's heightfield after the last frame (row = z,
+    /// 257 × 257 samples 0.25 m apart) and its first sample's world (x, z);
+    /// `None` when the scene does not ray-trace.
+    pub fn read_traced_water(&self) -> Option<(Vec<f32>, [f32; 2])> {
+        let t = &self.techniques.water.traced;
+        (t.method == hydrolux_core::scene::WaterMethod::Raytrace)
+            .then(|| t.read_water(self.device(), self.queue()))
+    }
+
     /// The foam field after the last frame or simulation step (foam F
     /// per cell, row = z, col = x) and where its window lies; `None` without
     /// `[whitewater]` foam.

@@ -310,11 +310,17 @@ fn flat_water_over_a_white_floor_matches_the_optics() {
         ("pure", 3.0, "depth"),
         ("coastal", 3.0, "plane"),
         ("coastal", 3.0, "simple"),
+        // Ray traced (water.method = "raytrace"): the same light, exactly.
+        ("clear_ocean", 8.0, "raytrace"),
+        ("turbid_harbor", 1.0, "raytrace"),
+        ("coastal", 3.0, "raytrace"),
     ];
     for (medium, depth, mode) in cases {
         let lookup = if mode == "plane" { "plane" } else { "depth" };
         let optics = if mode == "simple" { "simple" } else { "physical" };
+        let method = if mode == "raytrace" { "raytrace" } else { "projective" };
         let sets = [
+            format!("water.method={method}"),
             format!("water.refraction={lookup}"),
             format!("water.refraction_depth={depth}"),
             format!("water.optics={optics}"),
@@ -1707,4 +1713,57 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
     assert!(landed_spray > 10, "spray fell back ({landed_spray} parcels)");
     assert!(amplitude > 1e-6, "the landing spray rang the water ({amplitude:e} m rms)");
     assert!(error < 0.05 * amplitude, "rings: GPU − CPU {error:e} m rms, waves {amplitude:e} m rms");
+}
+
+/// The GPU's traced ground (`water.method = "raytrace"`) against the CPU
+/// twin (hydrolux-core `raytrace::trace_hierarchical`) on the lake's
+/// terrain: rays from above and below the water, steep to grazing, the
+/// same first hits.
+#[test]
+fn traced_ground_hits_match_the_cpu_tracer() {
+    use hydrolux::core::raytrace::{MinMaxPyramid, Ray, trace_dense, trace_hierarchical};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let s = Scene::load("lake", &["water.method=raytrace".to_string()]).expect("lake");
+    let r = renderer(&ctx, &s);
+    let hf = s.ground_heightfield().expect("terrain").expect("a ground");
+    let pyramid = MinMaxPyramid::new(&hf);
+    let mut rays = Vec::new();
+    for k in 0..600u32 {
+        let u = |salt: u32| hydrolux::core::whitewater::random(k, salt, 7);
+        let x = (u(1) - 0.5) * 260.0;
+        let z = (u(2) - 0.5) * 260.0;
+        let y = -4.0 + 8.0 * u(3);
+        let a = u(4) * std::f32::consts::TAU;
+        let elevation = match k % 4 {
+            0 => 0.01,
+            1 => 0.1,
+            _ => (u(5) - 0.5) * 3.0,
+        };
+        let dir = [a.cos() * elevation.cos(), -elevation.sin(), a.sin() * elevation.cos()];
+        rays.push(([x, y, z], dir, 400.0));
+    }
+    let gpu = r.probe_traced_ground(&rays).expect("the scene ray-traces");
+    let (mut hits, mut worst, mut dense_agree) = (0, 0.0f32, 0);
+    for (k, ((o, d, reach), g)) in rays.iter().zip(&gpu).enumerate() {
+        let ray = Ray { origin: *o, dir: *d };
+        let cpu = trace_hierarchical(&hf, &pyramid, &ray, *reach).map(|h| h.t);
+        match (cpu, g) {
+            (Some(c), Some(g)) => {
+                hits += 1;
+                worst = worst.max((c - g).abs() / c.max(1.0));
+                if k % 10 == 0 {
+                    // And the brute-force reference agrees.
+                    let dense = trace_dense(&hf, &ray, *reach).map(|h| h.t);
+                    if dense.is_some_and(|t| (t - c).abs() < 1e-2 * c.max(1.0)) {
+                        dense_agree += 1;
+                    }
+                }
+            }
+            (None, None) => {}
+            (c, g) => panic!("ray {k} {o:?} {d:?}: CPU {c:?}, GPU {g:?}"),
+        }
+    }
+    assert!(hits > 200, "{hits} of {} rays hit the terrain", rays.len());
+    assert!(worst < 1e-3, "hit distances differ by up to {worst} (relative)");
+    assert!(dense_agree * 10 + 20 >= hits, "the dense march agrees on {dense_agree} of ~{} checked", hits / 10);
 }

@@ -69,8 +69,9 @@ pub struct Traced {
     pub method: WaterMethod,
     uniforms: TracedUniforms,
     buffer: wgpu::Buffer,
+    /// Every sample, the ground's then the water's (the bounds live in the
+    /// bind groups alone).
     heights: wgpu::Buffer,
-    bounds: wgpu::Buffer,
     /// The water shader's group 3.
     pub group: wgpu::BindGroup,
     resample: wgpu::ComputePipeline,
@@ -238,7 +239,6 @@ impl Traced {
             uniforms,
             buffer,
             heights,
-            bounds,
             group,
             resample,
             reduce,
@@ -343,11 +343,6 @@ impl Traced {
         let n = (w.size[1] * w.size[1]) as usize;
         let from = w.base[0] as usize;
         (all[from..from + n].to_vec(), [w.place[0], w.place[1]])
-    }
-
-    /// Bytes of GPU memory it holds.
-    pub fn bytes(&self) -> u64 {
-        self.heights.size() + self.bounds.size()
     }
 }
 
