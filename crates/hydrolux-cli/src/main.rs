@@ -1,6 +1,7 @@
 //! `hydrolux`: render water headless, view it live, benchmark it.
 
 mod bench;
+mod compare;
 mod dumps;
 mod output;
 mod render;
@@ -75,6 +76,8 @@ enum Command {
     View(view::ViewArgs),
     /// Render frames and report frame-time statistics and per-pass GPU times.
     Bench(bench::BenchArgs),
+    /// Render one frame projective and ray traced; write both and the per-pixel error, print its statistics.
+    Compare(compare::CompareArgs),
     /// List the built-in scenes.
     Scenes,
     /// Print the GPU adapter Hydrolux would use and its limits.
@@ -154,6 +157,7 @@ fn main() {
         Command::Render(a) => render::run(a),
         Command::View(a) => view::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Scenes => {
             scenes();
             Ok(())

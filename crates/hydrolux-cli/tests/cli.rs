@@ -103,6 +103,10 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--widht", "3"], "a similar argument exists: '--width'"),
         (&["render", "--frames", "-2"], "'--frames <FRAMES>'"),
         (&["render", "--set", "air.fog_g=1"], "open interval (-1, 1)"),
+        (&["render", "--set", "water.method=exact"], "water.method"),
+        (&["compare", "--view", "normals"], "--view"),
+        (&["compare", "--set", "water.model=none"], "no water to compare"),
+        (&["compare", "--width", "0"], "--width 0"),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);
@@ -197,6 +201,30 @@ fn render_writes_png_exr_and_npy_dumps() {
 }
 
 #[test]
+fn compare_writes_both_frames_and_the_error_with_its_statistics() {
+    let dir = scratch("compare");
+    let out = Command::new(env!("CARGO_BIN_EXE_hydrolux"))
+        .args(["compare", "--scene", "lake", "--width", "64", "--height", "36", "--out", "c"])
+        .current_dir(&dir)
+        .output()
+        .expect("runs");
+    let (stdout, stderr) =
+        (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{stderr}");
+    for f in ["c-projective.png", "c-raytrace.png", "c-error.png"] {
+        assert_eq!(&std::fs::read(dir.join(f)).unwrap()[1..4], b"PNG", "{f}");
+    }
+    // The water is found and measured: a share of the frame, a finite mean.
+    let water = stdout.lines().find(|l| l.starts_with("water ")).expect("a water line");
+    let pixels: u32 = water.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!(pixels > 64 * 36 / 5, "{water}");
+    assert!(stdout.contains("reflection-dominated") && stdout.contains("refraction-dominated"));
+    let (p, t) =
+        (std::fs::read(dir.join("c-projective.png")), std::fs::read(dir.join("c-raytrace.png")));
+    assert_ne!(p.unwrap(), t.unwrap(), "the two methods drew the same image");
+}
+
+#[test]
 fn scenes_with_mesh_files_and_every_debug_view_render() {
     let dir = scratch("views");
     // An OBJ without normals, referred to relative to the scene file.
@@ -208,9 +236,17 @@ fn scenes_with_mesh_files_and_every_debug_view_render() {
     let scene = "[floor]\ndepth = 3\n[[objects]]\nmesh = \"tetra.obj\"\nposition = [0, -0.5, -8]\nscale = [2, 2, 2]\n";
     std::fs::write(dir.join("mesh.toml"), scene).unwrap();
     let mut images = Vec::new();
-    for view in
-        ["final", "reflection", "refraction", "depth", "normals", "shadow", "medium", "caustics"]
-    {
+    for view in [
+        "final",
+        "reflection",
+        "refraction",
+        "depth",
+        "normals",
+        "shadow",
+        "medium",
+        "caustics",
+        "fresnel",
+    ] {
         let out = format!("{view}.png");
         let (code, err) = hydrolux(
             &[

@@ -6,6 +6,7 @@ pub mod bodies;
 pub mod camera;
 pub mod caustics;
 pub mod clock;
+pub mod compare;
 pub mod files;
 pub mod fuzz;
 pub mod geometry;

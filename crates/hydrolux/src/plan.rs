@@ -326,6 +326,7 @@ fn debug_view_index(view: DebugView) -> u32 {
         DebugView::Caustics => 7,
         DebugView::Ripples => 8,
         DebugView::Foam => 9,
+        DebugView::Fresnel => 10,
     }
 }
 

@@ -671,6 +671,10 @@ pub enum DebugView {
     Ripples,
     /// The foam's cover on the surface (white), over the water in grey.
     Foam,
+    /// The water's Fresnel reflectance per pixel in red, the water marked by
+    /// green = 1 (the rest grey): `hydrolux compare` reads it to split its
+    /// error into reflection- and refraction-dominated pixels.
+    Fresnel,
 }
 
 impl Default for Scene {

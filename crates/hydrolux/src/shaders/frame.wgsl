@@ -197,6 +197,7 @@ const VIEW_MEDIUM: u32 = 6u;
 const VIEW_CAUSTICS: u32 = 7u;
 const VIEW_RIPPLES: u32 = 8u;
 const VIEW_FOAM: u32 = 9u;
+const VIEW_FRESNEL: u32 = 10u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 

@@ -75,7 +75,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         case VIEW_REFRACTION: {
             mapped = tone(textureLoad(refraction_tex, scaled_texel(pos.xy, textureDimensions(refraction_tex)), 0).rgb);
         }
-        case VIEW_NORMALS, VIEW_RIPPLES, VIEW_FOAM: {
+        case VIEW_NORMALS, VIEW_RIPPLES, VIEW_FOAM, VIEW_FRESNEL: {
             mapped = hdr_at(pos.xy);
         }
         case VIEW_DEPTH: {

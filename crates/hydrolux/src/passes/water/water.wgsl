@@ -488,6 +488,9 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let ior = frame.water.ior;
     let q = frame.water.fresnel_power;
     let f = fresnel(frame.modes.fresnel, q, cos_v, 1.0, ior);
+    if (frame.modes.debug_view == VIEW_FRESNEL) {
+        return vec4<f32>(f, 1.0, 0.0, 1.0);
+    }
 
     // Slope variance inside the pixel: resolved (moments) + unresolved (sub-grid).
     let variance = s.slope_variance + frame.surface.unresolved_variance;
@@ -586,6 +589,9 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     let ior = frame.water.ior;
     let cos_v = max(dot(n, v), 1e-3);
     let f = fresnel(frame.modes.fresnel, frame.water.fresnel_power, cos_v, ior, 1.0);
+    if (frame.modes.debug_view == VIEW_FRESNEL) {
+        return vec4<f32>(f, 1.0, 0.0, 1.0);
+    }
     let depth = max(-in.world.y, 0.0);
 
     // Reflected back down: the mirrored scene under the water where the ray
