@@ -292,6 +292,17 @@ fn golden_images() {
     }
 }
 
+/// `lake` and `coastal` with `water.method = "raytrace"`: reflections and
+/// refractions traced against their terrains and the waves.
+#[test]
+fn golden_images_ray_traced() {
+    for name in ["lake", "coastal"] {
+        let s = Scene::load(name, &["water.method=raytrace".to_string()]).expect("built-in");
+        let (px, _) = render(&s, (160, 90), 10.0);
+        golden::check(&format!("{name}-raytrace"), 160, 90, &px);
+    }
+}
+
 /// A camera straight above flat water over a white floor: the centre pixel
 /// must be what the optics predict (hydrolux_core::medium::FlatWaterView):
 /// Fresnel-weighted sky, and the floor's light and the water's in-scattering
