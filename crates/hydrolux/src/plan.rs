@@ -150,7 +150,12 @@ impl FramePlan {
         // second; one within wave reach of the surface may see both media.
         let reach = world.vertical_reach;
         let y = camera.position.y;
-        let offscreen = Offscreen { air: has_water && y > -reach, water: has_water && y < reach };
+        // Ray-traced water seen from the air looks nothing up in the air
+        // pair (its debug views still show them).
+        let traced = s.water.method == hydrolux_core::scene::WaterMethod::Raytrace
+            && s.render.view == DebugView::Final;
+        let offscreen =
+            Offscreen { air: has_water && y > -reach && !traced, water: has_water && y < reach };
         let caustics = s.has_caustics().then(|| CausticsPlan {
             patch: s.surface_patch(),
             depth: s.floor.depth,

@@ -264,6 +264,7 @@ impl Traced {
         encoder: &mut wgpu::CommandEncoder,
         surface: &wgpu::BindGroup,
         camera_xz: [f32; 2],
+        timer: Option<&mut crate::timing::GpuTimer>,
     ) {
         if self.method != WaterMethod::Raytrace {
             return;
@@ -273,7 +274,7 @@ impl Traced {
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&self.uniforms));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("traced water"),
-            timestamp_writes: None,
+            timestamp_writes: timer.and_then(|t| t.compute_writes("traced water")),
         });
         let n = WATER_CELLS + 1;
         pass.set_pipeline(&self.resample);

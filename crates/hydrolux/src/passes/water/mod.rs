@@ -519,11 +519,12 @@ impl Technique for WaterPass {
         stage: Stage,
         encoder: &mut wgpu::CommandEncoder,
         frame: &FrameContext,
-        _timer: Option<&mut crate::timing::GpuTimer>,
+        timer: Option<&mut crate::timing::GpuTimer>,
     ) {
         if stage == Stage::Simulate && frame.plan.has_water {
             let c = frame.plan.camera.position;
-            self.traced.record(&frame.shared.queue, encoder, &frame.bound.surface, [c.x, c.z]);
+            let q = &frame.shared.queue;
+            self.traced.record(q, encoder, &frame.bound.surface, [c.x, c.z], timer);
         }
     }
 
