@@ -66,7 +66,11 @@ pub fn run(a: CompareArgs) -> Result<()> {
         bail!("--scene {}: it has no water to compare", a.scene.scene);
     }
     let traced = scene_with(&a.scene, &["water.method=raytrace"])?;
-    let fresnel = scene_with(&a.scene, &["water.method=projective", "render.view=fresnel"])?;
+    // Nothing drawn over the surface (god rays, fog) may change the view's values.
+    let fresnel = scene_with(
+        &a.scene,
+        &["water.method=projective", "render.view=fresnel", "godrays.method=off", "air.fog=0"],
+    )?;
     let ctx = crate::headless_context()?;
     let (w, h) = (a.size.width, a.size.height);
     let target = HeadlessTarget::new(&ctx.device, (w, h));

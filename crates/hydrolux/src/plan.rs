@@ -150,12 +150,14 @@ impl FramePlan {
         // second; one within wave reach of the surface may see both media.
         let reach = world.vertical_reach;
         let y = camera.position.y;
-        // Ray-traced water seen from the air looks nothing up in the air
-        // pair (its debug views still show them).
+        // Ray-traced water looks nothing up in them (the debug views still
+        // show them).
         let traced = s.water.method == hydrolux_core::scene::WaterMethod::Raytrace
             && s.render.view == DebugView::Final;
-        let offscreen =
-            Offscreen { air: has_water && y > -reach && !traced, water: has_water && y < reach };
+        let offscreen = Offscreen {
+            air: has_water && y > -reach && !traced,
+            water: has_water && y < reach && !traced,
+        };
         let caustics = s.has_caustics().then(|| CausticsPlan {
             patch: s.surface_patch(),
             depth: s.floor.depth,

@@ -562,6 +562,9 @@ fn pixel_medium_matches_a_cpu_heightfield_test() {
 fn snells_window_has_the_critical_angle_and_total_reflection_outside() {
     use hydrolux::core::optics::{IOR_AIR, IOR_WATER, critical_angle};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    // Projective and ray traced alike.
+    for method in ["projective", "raytrace"] {
+    let method_set = format!("water.method={method}");
     let sets = [
         "water.model=flat",
         "ocean.wind_speed=0",
@@ -571,6 +574,7 @@ fn snells_window_has_the_critical_angle_and_total_reflection_outside() {
         "camera.look_at=[0, 10, 0]",
         "camera.up=[0, 0, -1]",
         "camera.fov_y_deg=130",
+        &method_set,
     ];
     let s = scene(&sets);
     let mut r = renderer(&ctx, &s);
@@ -601,7 +605,9 @@ fn snells_window_has_the_critical_angle_and_total_reflection_outside() {
     assert!(inside > 8.0 * outside, "window {inside} vs reflection {outside}");
     // The edge: where the luminance first falls below a quarter of the window's.
     let edge = profile.iter().find(|p| p.0 > 10.0 && p.1 < 0.25 * inside).expect("an edge").0;
-    assert!((edge - critical).abs() < 2.0, "window edge at {edge}°, critical angle {critical}°");
+    assert!((edge - critical).abs() < 2.0, "{method}: window edge at {edge}°, critical angle {critical}°");
+    assert!(inside > 8.0 * outside, "{method}: window {inside} vs reflection {outside}");
+    }
 }
 
 /// Golden images of the view from under the water, and of a camera whose

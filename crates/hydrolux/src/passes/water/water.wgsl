@@ -598,14 +598,26 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     // meets a plane `reflection_height` below, attenuated over that path;
     // endless water where the texture is empty.
     let r = reflect(-v, n);
-    let h = frame.water.reflection_height;
-    let t_r = clamp((-h - in.world.y) / min(r.y, -1e-3), 0.0, 200.0);
-    let unresolved = sqrt(frame.surface.unresolved_variance.x + frame.surface.unresolved_variance.y);
-    let lod = log2(max(0.5 * unresolved * frame.projective.reflection_texels_per_radian, 1.0));
-    let ruv = clamp(reflection_uv(frame.projective.reflection_view_proj, in.world, r, -h, 200.0), vec2<f32>(0.001), vec2<f32>(0.999));
-    let local = textureSampleLevel(reflection_under_tex, clamp_sampler, ruv, lod);
     let deep = view_in_scatter(depth, r, 1e5);
-    let reflected = local.rgb * transmittance(t_r) + local.a * view_in_scatter(depth, r, t_r) + (1.0 - local.a) * deep;
+    var reflected: vec3<f32>;
+    if (RAYTRACE == 1u) {
+        // Traced down to the ground, through the water on the way.
+        // (n faces the viewer: into the water.)
+        let o = in.world + n * 0.02;
+        let t = trace_ground(o, r);
+        reflected = deep;
+        if (t < NO_ROOT) {
+            reflected = ground_radiance(o + r * t) * transmittance(t) + view_in_scatter(depth, r, t);
+        }
+    } else {
+        let h = frame.water.reflection_height;
+        let t_r = clamp((-h - in.world.y) / min(r.y, -1e-3), 0.0, 200.0);
+        let unresolved = sqrt(frame.surface.unresolved_variance.x + frame.surface.unresolved_variance.y);
+        let lod = log2(max(0.5 * unresolved * frame.projective.reflection_texels_per_radian, 1.0));
+        let ruv = clamp(reflection_uv(frame.projective.reflection_view_proj, in.world, r, -h, 200.0), vec2<f32>(0.001), vec2<f32>(0.999));
+        let local = textureSampleLevel(reflection_under_tex, clamp_sampler, ruv, lod);
+        reflected = local.rgb * transmittance(t_r) + local.a * view_in_scatter(depth, r, t_r) + (1.0 - local.a) * deep;
+    }
 
     // Out through Snell's window: the scene above the water, or the sky; the
     // radiance gains n² entering the denser medium.
@@ -613,9 +625,21 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     if (f < 1.0) {
         let t_dir = refract(-v, n, ior);
         var sky_l = textureSampleLevel(sky_cube, sky_sampler, t_dir, 0.0).rgb * exposure();
-        let found = refraction_lookup(refraction_over_depth, in.world, t_dir, false);
-        let above = textureSampleLevel(refraction_over_tex, clamp_sampler, found.xy, 0.0);
-        through = (above.rgb + (1.0 - above.a) * sky_l) * ior * ior;
+        if (RAYTRACE == 1u) {
+            // Traced up to the land above the water, or the sky.
+            let o = in.world - n * 0.02;
+            let t = trace_ground(o, t_dir);
+            var above = sky_l;
+            if (t < NO_ROOT) {
+                let q = o + t_dir * t;
+                above = through_fog(in.world, q, ground_radiance(q));
+            }
+            through = above * ior * ior;
+        } else {
+            let found = refraction_lookup(refraction_over_depth, in.world, t_dir, false);
+            let above = textureSampleLevel(refraction_over_tex, clamp_sampler, found.xy, 0.0);
+            through = (above.rgb + (1.0 - above.a) * sky_l) * ior * ior;
+        }
     }
     var l = f * reflected + (1.0 - f) * through;
     // Foam seen from below: a dark, ragged layer, the light that filters
