@@ -1784,3 +1784,80 @@ fn traced_ground_hits_match_the_cpu_tracer() {
     assert!(worst < 1e-3, "hit distances differ by up to {worst} (relative)");
     assert!(dense_agree * 10 + 20 >= hits, "the dense march agrees on {dense_agree} of ~{} checked", hits / 10);
 }
+
+/// A red box on a white floor under flat water, seen at an angle with
+/// `water.method = "raytrace"`: the pixels that show it are those whose
+/// view ray, refracted at the surface by Snell's law, meets the box (a CPU
+/// ray cast per pixel), where the projective lookup only approximates it.
+#[test]
+fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
+    use hydrolux::core::optics::{IOR_AIR, IOR_WATER, refract};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let s = Scene::load(
+        "ocean",
+        &[
+            "water.method=raytrace",
+            "water.model=flat",
+            "ocean.wind_speed=0.5",
+            "water.medium=pure",
+            "floor.depth=2",
+            "floor.material.albedo=[1, 1, 1]",
+            "caustics.method=off",
+            "godrays.method=off",
+            "sun.elevation_deg=60",
+            "camera.position=[0, 3, 3.5]",
+            "camera.look_at=[0, -1.5, 0]",
+            "camera.fov_y_deg=50",
+            "objects=[{primitive=\"box\", position=[0.4, -1.5, -0.2], scale=[1.2, 1.0, 0.8], material={albedo=[0.8, 0.05, 0.05]}}]",
+        ]
+        .map(String::from),
+    )
+    .expect("valid scene");
+    let mut r = renderer(&ctx, &s);
+    let (w, h) = (96u32, 64u32);
+    let target = HeadlessTarget::new(&ctx.device, (w, h));
+    target.render(&mut r, s.camera(), 0.0).expect("frame");
+    let (hw, hh, hdr) = r.read_hdr().expect("rendered");
+    let cam = s.camera();
+    let forward = cam.forward();
+    let right = forward.cross(cam.up).normalize();
+    let up = right.cross(forward);
+    let tan = (cam.fov_y_deg.to_radians() / 2.0).tan();
+    let aspect = hw as f32 / hh as f32;
+    let (lo, hi) = (glam::Vec3::new(-0.2, -2.0, -0.6), glam::Vec3::new(1.0, -1.0, 0.2));
+    let hits_box = |o: glam::Vec3, d: glam::Vec3| {
+        let (t0, t1) = ((lo - o) / d, (hi - o) / d);
+        let near = t0.min(t1).max_element();
+        let far = t0.max(t1).min_element();
+        near <= far && far > 0.0
+    };
+    let (mut agree, mut predicted, mut seen) = (0, 0, 0);
+    for y in 0..hh {
+        for x in 0..hw {
+            let ndc = glam::Vec2::new(
+                (x as f32 + 0.5) / hw as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / hh as f32 * 2.0,
+            );
+            let d = (forward + ndc.x * tan * aspect * right + ndc.y * tan * up).normalize();
+            let mut red = false;
+            if d.y < 0.0 {
+                let p = cam.position + d * (-cam.position.y / d.y);
+                let t = refract(d, glam::Vec3::Y, IOR_AIR, IOR_WATER).expect("into water");
+                red = hits_box(p, t);
+            }
+            let c = hdr[(y * hw + x) as usize];
+            // Red light is what the box sends back; the water and the floor are cyan.
+            let gpu_red = c[0] > c[1];
+            predicted += red as u32;
+            seen += gpu_red as u32;
+            agree += (red == gpu_red) as u32;
+        }
+    }
+    let total = hw * hh;
+    assert!(predicted > 150, "the box covers {predicted} pixels");
+    assert!(seen.abs_diff(predicted) < predicted / 3, "{seen} red pixels, {predicted} predicted");
+    assert!(
+        agree as f32 > 0.97 * total as f32,
+        "traced: {seen} red pixels, Snell's law puts the box in {predicted}; they agree on {agree} of {total}"
+    );
+}

@@ -53,6 +53,8 @@ struct GpuObject {
     /// Its uniforms, rewritten when it moves.
     buffer: wgpu::Buffer,
     uniforms: ObjectUniforms,
+    /// Where it is now (a moving body's last move).
+    model: std::cell::Cell<glam::Mat4>,
     /// A clear refractive object (`material.ior` > 0): drawn by water_object.
     refractive: bool,
 }
@@ -70,6 +72,7 @@ impl SceneGeometry {
     /// the next frame on.
     pub fn move_object(&self, queue: &wgpu::Queue, index: usize, transform: glam::Mat4) {
         let Some(o) = self.objects.get(self.first_object + index) else { return };
+        o.model.set(transform);
         let normal = glam::Mat3::from_mat4(transform).inverse().transpose();
         let mut u = o.uniforms;
         u.model = transform.to_cols_array_2d();
@@ -79,6 +82,11 @@ impl SceneGeometry {
             normal.z_axis.extend(0.0).into(),
         ];
         queue.write_buffer(&o.buffer, 0, bytemuck::bytes_of(&u));
+    }
+
+    /// Where `[[objects]]` entry `index` is now.
+    pub fn object_model(&self, index: usize) -> Option<glam::Mat4> {
+        self.objects.get(self.first_object + index).map(|o| o.model.get())
     }
 }
 
@@ -338,6 +346,7 @@ impl GeometryPass {
                 group,
                 buffer,
                 uniforms: u,
+                model: std::cell::Cell::new(o.transform),
                 refractive: m.ior > 0.0,
             });
         }

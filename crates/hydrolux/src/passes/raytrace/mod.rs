@@ -36,6 +36,69 @@ uniform! { TracedParams;
     }
 }
 
+/// An object traced as its primitive (WGSL `TracedObject`): the inverse of
+/// its transform, its shape, its material.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct TracedObject {
+    pub inverse_model: [[f32; 4]; 4],
+    /// rgb albedo, w the pattern's tile size (m)
+    pub albedo: [f32; 4],
+    /// rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
+    pub pattern: [f32; 4],
+    /// x the shape: 0 box, 1 sphere, 2 cylinder (unit primitives)
+    pub shape: [u32; 4],
+}
+
+/// Shape codes of `TracedObject.shape.x`.
+const SHAPE_BOX: u32 = 0;
+const SHAPE_SPHERE: u32 = 1;
+const SHAPE_CYLINDER: u32 = 2;
+
+fn pattern_code(p: Pattern) -> f32 {
+    match p {
+        Pattern::None => 0.0,
+        Pattern::Tiles => 1.0,
+        Pattern::Checker => 2.0,
+    }
+}
+
+/// The scene's objects rays can be traced against: opaque boxes, spheres
+/// and cylinders (their unit primitives, transformed), by `[[objects]]`
+/// index. Meshes, planes and refractive objects are not traced.
+fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
+    use hydrolux_core::scene::Primitive;
+    scene
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| o.mesh.is_empty() && o.material.ior <= 0.0)
+        .filter_map(|(i, o)| {
+            let shape = match o.primitive {
+                Primitive::Box => SHAPE_BOX,
+                Primitive::Sphere => SHAPE_SPHERE,
+                Primitive::Cylinder => SHAPE_CYLINDER,
+                Primitive::Plane => return None,
+            };
+            let m = &o.material;
+            Some((
+                i,
+                TracedObject {
+                    inverse_model: Scene::object_transform(o).inverse().to_cols_array_2d(),
+                    albedo: [m.albedo[0], m.albedo[1], m.albedo[2], m.tile_size],
+                    pattern: [
+                        m.pattern_color[0],
+                        m.pattern_color[1],
+                        m.pattern_color[2],
+                        pattern_code(m.pattern),
+                    ],
+                    shape: [shape, 0, 0, 0],
+                },
+            ))
+        })
+        .collect()
+}
+
 /// Cells per side of the water's heightfield window, and their size (m):
 /// the finest ring of the water's clipmap, over 64 m around the camera
 /// (where a reflected ray can meet the next wave; beyond, the water is
@@ -74,6 +137,9 @@ pub struct Traced {
     heights: wgpu::Buffer,
     /// The water shader's group 3.
     pub group: wgpu::BindGroup,
+    /// Traced objects (by `[[objects]]` index) and their GPU copy.
+    objects: Vec<(usize, TracedObject)>,
+    objects_buffer: wgpu::Buffer,
     resample: wgpu::ComputePipeline,
     reduce: wgpu::ComputePipeline,
     compute_group: wgpu::BindGroup,
@@ -93,6 +159,7 @@ impl Traced {
                 uniform_entry(0, fs),
                 storage_entry(1, fs, true),
                 storage_entry(2, fs, true),
+                storage_entry(3, fs, true),
             ],
         })
     }
@@ -137,11 +204,18 @@ impl Traced {
         debug_assert_eq!(flat.len() as u32, ground_bounds);
         queue.write_buffer(&bounds, 0, bytemuck::cast_slice(&flat));
         let material = &scene.floor.material;
-        let pattern = match material.pattern {
-            Pattern::None => 0.0,
-            Pattern::Tiles => 1.0,
-            Pattern::Checker => 2.0,
-        };
+        let pattern = pattern_code(material.pattern);
+        let objects = if tracing { traceable(scene) } else { Vec::new() };
+        let objects_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("traced objects"),
+            size: (objects.len().max(1) * std::mem::size_of::<TracedObject>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let gpu_objects: Vec<TracedObject> = objects.iter().map(|(_, o)| *o).collect();
+        if !gpu_objects.is_empty() {
+            queue.write_buffer(&objects_buffer, 0, bytemuck::cast_slice(&gpu_objects));
+        }
         let uniforms = TracedUniforms {
             ground: HeightfieldUniforms {
                 place: [ground.origin[0], ground.origin[1], ground.cell, ground.outside],
@@ -165,7 +239,7 @@ impl Traced {
                 material.pattern_color[2],
                 pattern,
             ],
-            flags: [has_ground as u32 as f32, TRACE_REACH, 0.0, 0.0],
+            flags: [has_ground as u32 as f32, TRACE_REACH, objects.len() as f32, 0.0],
         };
         let buffer = uniform_buffer(device, "traced", &uniforms);
         fn whole(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
@@ -174,7 +248,12 @@ impl Traced {
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("traced"),
             layout,
-            entries: &[whole(0, &buffer), whole(1, &heights), whole(2, &bounds)],
+            entries: &[
+                whole(0, &buffer),
+                whole(1, &heights),
+                whole(2, &bounds),
+                whole(3, &objects_buffer),
+            ],
         });
         let cs = wgpu::ShaderStages::COMPUTE;
         let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -240,6 +319,8 @@ impl Traced {
             buffer,
             heights,
             group,
+            objects,
+            objects_buffer,
             resample,
             reduce,
             compute_group,
@@ -253,7 +334,27 @@ impl Traced {
     pub fn fits(&self, old: &Scene, new: &Scene) -> bool {
         new.water.method == self.method
             && (self.method == WaterMethod::Projective
-                || (new.floor == old.floor && new.water.model == old.water.model))
+                || (new.floor == old.floor
+                    && new.water.model == old.water.model
+                    && new.objects == old.objects))
+    }
+
+    /// Put the traced objects where they are now (moving bodies).
+    pub fn move_objects(
+        &mut self,
+        queue: &wgpu::Queue,
+        geometry: &crate::passes::geometry::SceneGeometry,
+    ) {
+        if self.objects.is_empty() {
+            return;
+        }
+        for (index, o) in &mut self.objects {
+            if let Some(m) = geometry.object_model(*index) {
+                o.inverse_model = m.inverse().to_cols_array_2d();
+            }
+        }
+        let gpu: Vec<TracedObject> = self.objects.iter().map(|(_, o)| *o).collect();
+        queue.write_buffer(&self.objects_buffer, 0, bytemuck::cast_slice(&gpu));
     }
 
     /// Resample the water around the camera and rebuild its pyramid (only

@@ -13,3 +13,15 @@ struct TracedParams {
     // x 1 if there is ground, y the furthest a ray is traced (m)
     flags: vec4<f32>,
 }
+
+// An object traced as its unit primitive (box [−½, ½]³, sphere of radius ½,
+// cylinder of radius ½ and height 1 along y), transformed.
+struct TracedObject {
+    inverse_model: mat4x4<f32>,
+    // rgb albedo, w the pattern's tile size (m)
+    albedo: vec4<f32>,
+    // rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
+    pattern: vec4<f32>,
+    // x the shape: 0 box, 1 sphere, 2 cylinder
+    shape: vec4<u32>,
+}

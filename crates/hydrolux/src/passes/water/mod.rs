@@ -524,6 +524,7 @@ impl Technique for WaterPass {
         if stage == Stage::Simulate && frame.plan.has_water {
             let c = frame.plan.camera.position;
             let q = &frame.shared.queue;
+            self.traced.move_objects(q, &frame.shared.geometry);
             self.traced.record(q, encoder, &frame.bound.surface, [c.x, c.z], timer);
         }
     }

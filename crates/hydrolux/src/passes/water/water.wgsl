@@ -39,6 +39,7 @@ override RAYTRACE: u32 = 0u;
 @group(3) @binding(0) var<uniform> traced: TracedParams;
 @group(3) @binding(1) var<storage, read> hf_heights: array<f32>;
 @group(3) @binding(2) var<storage, read> hf_bounds: array<vec2<f32>>;
+@group(3) @binding(3) var<storage, read> traced_objects: array<TracedObject>;
 
 struct VsOut {
     @invariant @builtin(position) clip: vec4<f32>,
@@ -228,29 +229,140 @@ fn ground_normal(x: f32, z: f32) -> vec3<f32> {
     return normalize(vec3<f32>(-hx, 2.0 * e, -hz));
 }
 
-// The ground's albedo at q: its material and procedural pattern (as the
-// geometry pass draws it; grout lines 6% of a tile, checkers).
-fn ground_albedo(q: vec3<f32>) -> vec3<f32> {
-    let kind = traced.ground_pattern.w;
-    var mix_w = 0.0;
-    if (kind > 0.5) {
-        let t = q.xz / traced.ground_albedo.w;
-        if (kind < 1.5) {
-            let f = abs(fract(t) - 0.5);
-            mix_w = select(0.0, 1.0, max(f.x, f.y) > 0.47);
-        } else {
-            let c = floor(t);
-            mix_w = f32((i32(c.x) + i32(c.y)) & 1);
-        }
-    }
-    return mix(traced.ground_albedo.rgb, traced.ground_pattern.rgb, mix_w);
+// A traced object's first hit: t (NO_ROOT: none), which, and its normal.
+struct ObjectHit {
+    t: f32,
+    index: u32,
+    normal: vec3<f32>,
 }
 
-// The light the ground sends back at q (Lambertian, as the geometry pass
-// shades it): below the mean level the light field under the surface
-// (with the caustics and the sun's shadow), above it sun and sky.
-fn ground_radiance(q: vec3<f32>) -> vec3<f32> {
-    let n = ground_normal(q.x, q.z);
+// The first entry of the ray o + t·d (object space) into a unit primitive:
+// (t, object-space normal); t = NO_ROOT if it misses or starts inside.
+fn hit_primitive(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
+    let miss = vec4<f32>(NO_ROOT, 0.0, 0.0, 0.0);
+    if (shape == 1u) {
+        let a = dot(d, d);
+        let b = dot(o, d);
+        let c = dot(o, o) - 0.25;
+        let disc = b * b - a * c;
+        if (disc < 0.0 || a <= 0.0) {
+            return miss;
+        }
+        let t = (-b - sqrt(disc)) / a;
+        if (t <= 1e-4) {
+            return miss;
+        }
+        return vec4<f32>(t, normalize(o + d * t));
+    }
+    var t0 = -NO_ROOT;
+    var t1 = NO_ROOT;
+    var normal = vec3<f32>(0.0);
+    if (shape == 0u) {
+        for (var k = 0; k < 3; k++) {
+            if (abs(d[k]) < 1e-12) {
+                if (abs(o[k]) > 0.5) {
+                    return miss;
+                }
+            } else {
+                let ta = (-0.5 - o[k]) / d[k];
+                let tb = (0.5 - o[k]) / d[k];
+                let near = min(ta, tb);
+                if (near > t0) {
+                    t0 = near;
+                    normal = vec3<f32>(0.0);
+                    normal[k] = -sign(d[k]);
+                }
+                t1 = min(t1, max(ta, tb));
+            }
+        }
+    } else {
+        // Cylinder: the side, then the caps.
+        let a = d.x * d.x + d.z * d.z;
+        let b = o.x * d.x + o.z * d.z;
+        let c = o.x * o.x + o.z * o.z - 0.25;
+        if (a < 1e-12) {
+            if (c > 0.0) {
+                return miss;
+            }
+        } else {
+            let disc = b * b - a * c;
+            if (disc < 0.0) {
+                return miss;
+            }
+            t0 = (-b - sqrt(disc)) / a;
+            t1 = (-b + sqrt(disc)) / a;
+            let p = o + d * t0;
+            normal = normalize(vec3<f32>(p.x, 0.0, p.z));
+        }
+        if (abs(d.y) < 1e-12) {
+            if (abs(o.y) > 0.5) {
+                return miss;
+            }
+        } else {
+            let ta = (-0.5 - o.y) / d.y;
+            let tb = (0.5 - o.y) / d.y;
+            let near = min(ta, tb);
+            if (near > t0) {
+                t0 = near;
+                normal = vec3<f32>(0.0, -sign(d.y), 0.0);
+            }
+            t1 = min(t1, max(ta, tb));
+        }
+    }
+    if (t0 > t1 || t0 <= 1e-4) {
+        return miss;
+    }
+    return vec4<f32>(t0, normal);
+}
+
+// The first traced object along o + t·d within t_max (world space).
+fn trace_objects(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> ObjectHit {
+    var best = ObjectHit(NO_ROOT, 0u, vec3<f32>(0.0, 1.0, 0.0));
+    let count = u32(traced.flags.z);
+    for (var i = 0u; i < count; i++) {
+        let inv = traced_objects[i].inverse_model;
+        let h = hit_primitive(traced_objects[i].shape.x, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
+        if (h.x < best.t && h.x <= t_max) {
+            // World normal: the inverse transpose, i.e. n·M⁻¹.
+            best = ObjectHit(h.x, i, normalize((vec4<f32>(h.yzw, 0.0) * inv).xyz));
+        }
+    }
+    return best;
+}
+
+// How much of the pattern's second colour shows at q (normal n) over a
+// footprint of `footprint` metres: the procedural pattern as the geometry
+// pass draws it (on the plane facing the dominant normal axis; grout lines
+// 6% of a tile, checkers), faded to its mean where a pixel covers a good
+// part of a tile.
+fn pattern_at(q: vec3<f32>, n: vec3<f32>, tile: f32, kind: f32, footprint: f32) -> f32 {
+    if (kind < 0.5) {
+        return 0.0;
+    }
+    let a = abs(n);
+    var p = q.xz;
+    if (a.x > a.y && a.x > a.z) {
+        p = q.zy;
+    } else if (a.z > a.y) {
+        p = q.xy;
+    }
+    let t = p / tile;
+    let w = max(footprint / tile, 1e-4);
+    let far = smoothstep(0.15, 0.5, w);
+    if (kind < 1.5) {
+        let f = abs(fract(t) - 0.5);
+        let line = smoothstep(vec2<f32>(0.47 - w), vec2<f32>(0.47 + w), f);
+        return mix(max(line.x, line.y), 0.1164, far);
+    }
+    let c = floor(t);
+    return mix(f32((i32(c.x) + i32(c.y)) & 1), 0.5, far);
+}
+
+// What a Lambertian surface of albedo `albedo` at q (normal n) sends back
+// (as the geometry pass shades it): below the mean level the light field
+// under the surface with the caustics and the sun's shadow, above it sun
+// and sky.
+fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
     let visibility = sun_visibility(q, n);
     var irradiance: vec3<f32>;
     if (q.y < 0.0) {
@@ -261,23 +373,51 @@ fn ground_radiance(q: vec3<f32>) -> vec3<f32> {
         irradiance = frame.light.sun_illuminance * max(dot(n, l), 0.0) * visibility
             + frame.light.sky_ambient * (0.5 + 0.5 * n.y) + 0.15 * e_down * (0.5 - 0.5 * n.y);
     }
-    return ground_albedo(q) / PI * irradiance;
+    return albedo / PI * irradiance;
+}
+
+// A traced object's light at its hit.
+fn object_radiance(o: vec3<f32>, d: vec3<f32>, hit: ObjectHit, footprint: f32) -> vec3<f32> {
+    let obj = traced_objects[hit.index];
+    let q = o + d * hit.t;
+    let w = pattern_at(q, hit.normal, obj.albedo.w, obj.pattern.w, footprint);
+    return lit_radiance(q, hit.normal, mix(obj.albedo.rgb, obj.pattern.rgb, w));
+}
+
+// The light the ground sends back at q, seen over `footprint` metres.
+fn ground_radiance(q: vec3<f32>, footprint: f32) -> vec3<f32> {
+    let n = ground_normal(q.x, q.z);
+    let w = pattern_at(q, vec3<f32>(0.0, 1.0, 0.0), traced.ground_albedo.w, traced.ground_pattern.w, footprint);
+    return lit_radiance(q, n, mix(traced.ground_albedo.rgb, traced.ground_pattern.rgb, w));
+}
+
+// What a traced ray o + t·d meets first, ground (within t_ground) or an
+// object, lit, seen over a pixel of `pixel_angle` at `before` metres from
+// the eye; `hit.x` NO_ROOT if neither.
+fn traced_scene(o: vec3<f32>, d: vec3<f32>, t_ground: f32, before: f32, pixel_angle: f32) -> vec4<f32> {
+    let obj = trace_objects(o, d, t_ground);
+    if (obj.t < NO_ROOT && obj.t <= t_ground) {
+        return vec4<f32>(object_radiance(o, d, obj, pixel_angle * (before + obj.t)), obj.t);
+    }
+    if (t_ground < NO_ROOT) {
+        return vec4<f32>(ground_radiance(o + d * t_ground, pixel_angle * (before + t_ground)), t_ground);
+    }
+    return vec4<f32>(0.0, 0.0, 0.0, NO_ROOT);
 }
 
 // What the reflected ray r from surface point p (normal n) sees, traced:
 // the ground where it rises out of the water, the next wave, or the sky.
 // Objects are not in traced reflections.
-fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
+fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: vec3<f32>, e_down: vec3<f32>, pixel_angle: f32) -> vec3<f32> {
     // Start on the traced water's side above: the drawn mesh and the
     // resampled heightfield differ by a little, and beyond the window the
     // heightfield is the mean level, which a trough lies under.
     var o = p + n * 0.02;
     o.y = max(o.y, hf_height(traced.water, o.x, o.z) + 0.02);
-    let tg = trace_ground(o, r);
     let tw = trace_heightfield(traced.water, o, r, traced.flags.y);
-    if (tg < NO_ROOT && tg <= tw) {
-        let q = o + r * tg;
-        return through_fog(p, q, ground_radiance(q));
+    let seen = traced_scene(o, r, min(trace_ground(o, r), tw), distance(frame.view.position, p), pixel_angle);
+    if (seen.w < NO_ROOT) {
+        return through_fog(p, o + r * seen.w, seen.rgb);
     }
     if (tw < NO_ROOT) {
         // Another wave: what it reflects of the sky (one more bounce, by
@@ -301,24 +441,23 @@ fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: ve
     return sky_reflected;
 }
 
-// The light that comes up through the surface at p along t_dir, traced to
-// the ground (or into bottomless water).
-fn traced_transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
+// The light that comes up through the surface at p along t_dir, where
+// `seen` is what the ray meets (rgb) and how far (w; NO_ROOT: bottomless
+// water).
+fn traced_transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>, seen: vec4<f32>) -> vec3<f32> {
     let ior = frame.water.ior;
-    let t = trace_ground(p, t_dir);
+    let t = seen.w;
     if (t >= NO_ROOT) {
         if (frame.modes.optics == 1u) {
             return frame.water.body_color * e_down / PI;
         }
         return path_in_scatter(t_dir, 1e5) / (ior * ior);
     }
-    let q = p + t_dir * t;
-    let seen = ground_radiance(q);
     if (frame.modes.optics == 1u) {
         let c_water = frame.water.body_color * e_down / PI;
-        return c_water + exp(-t * frame.water.simple_attenuation) * (seen - c_water);
+        return c_water + exp(-t * frame.water.simple_attenuation) * (seen.rgb - c_water);
     }
-    return (seen * transmittance(t) + path_in_scatter_with_shafts(p, t_dir, t)) / (ior * ior);
+    return (seen.rgb * transmittance(t) + path_in_scatter_with_shafts(p, t_dir, t)) / (ior * ior);
 }
 
 // Samples of the god rays seen from above.
@@ -532,8 +671,12 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let t_dir = refract(-v, n, 1.0 / ior);
     var through: vec3<f32>;
     if (RAYTRACE == 1u) {
-        reflected = traced_reflection(in.world, n, r, sky_reflected, e_down);
-        through = traced_transmitted(in.world, t_dir, e_down);
+        // Where the refracted ray meets the ground, and how wide a pixel is
+        // there (derivatives here, in uniform control flow).
+        let pixel_angle = length(fwidth(in.world)) / max(dist, 1e-3);
+        reflected = traced_reflection(in.world, n, r, sky_reflected, e_down, pixel_angle);
+        let seen = traced_scene(in.world, t_dir, trace_ground(in.world, t_dir), dist, pixel_angle);
+        through = traced_transmitted(in.world, t_dir, e_down, seen);
     } else {
         through = transmitted(in.world, t_dir, e_down);
     }
@@ -587,6 +730,8 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
         return foam_view(foam, n);
     }
     let ior = frame.water.ior;
+    // How wide a pixel is per metre along its ray (traced hits' patterns).
+    let pixel_angle = length(fwidth(in.world)) / max(distance(eye, in.world), 1e-3);
     let cos_v = max(dot(n, v), 1e-3);
     let f = fresnel(frame.modes.fresnel, frame.water.fresnel_power, cos_v, ior, 1.0);
     if (frame.modes.debug_view == VIEW_FRESNEL) {
@@ -604,10 +749,10 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
         // Traced down to the ground, through the water on the way.
         // (n faces the viewer: into the water.)
         let o = in.world + n * 0.02;
-        let t = trace_ground(o, r);
+        let seen = traced_scene(o, r, trace_ground(o, r), distance(eye, in.world), pixel_angle);
         reflected = deep;
-        if (t < NO_ROOT) {
-            reflected = ground_radiance(o + r * t) * transmittance(t) + view_in_scatter(depth, r, t);
+        if (seen.w < NO_ROOT) {
+            reflected = seen.rgb * transmittance(seen.w) + view_in_scatter(depth, r, seen.w);
         }
     } else {
         let h = frame.water.reflection_height;
@@ -628,11 +773,10 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
         if (RAYTRACE == 1u) {
             // Traced up to the land above the water, or the sky.
             let o = in.world - n * 0.02;
-            let t = trace_ground(o, t_dir);
+            let seen = traced_scene(o, t_dir, trace_ground(o, t_dir), distance(eye, in.world), pixel_angle);
             var above = sky_l;
-            if (t < NO_ROOT) {
-                let q = o + t_dir * t;
-                above = through_fog(in.world, q, ground_radiance(q));
+            if (seen.w < NO_ROOT) {
+                above = through_fog(in.world, o + t_dir * seen.w, seen.rgb);
             }
             through = above * ior * ior;
         } else {
