@@ -1861,3 +1861,32 @@ fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
         "traced: {seen} red pixels, Snell's law puts the box in {predicted}; they agree on {agree} of {total}"
     );
 }
+
+/// The ray-traced water's heightfield, resampled on the GPU from the FFT
+/// ocean with its horizontal displacement undone, against the CPU twin
+/// (hydrolux-core `Heightfield::resampled` over the CPU ocean's mips).
+#[test]
+fn traced_water_heightfield_matches_the_cpu_resampling() {
+    use hydrolux::core::raytrace::Heightfield;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let mut sets: Vec<&str> = SMALL_OCEAN.to_vec();
+    sets.push("water.method=raytrace");
+    sets.push("ocean.choppiness=1.0");
+    let s = scene(&sets);
+    let mut r = renderer(&ctx, &s);
+    let t = 2.5;
+    r.simulate(&s.camera(), (16, 16), t);
+    let (gpu, origin) = r.read_traced_water().expect("traced");
+    let n = 257usize;
+    assert_eq!(gpu.len(), n * n);
+    let mips = OceanFields::evaluate(&OceanSpectrum::new(&s.ocean_settings()), t).mips();
+    let cpu = Heightfield::resampled(origin, 0.25, n, 0.0, 6, |x, z| {
+        mips.sample_footprint(x as f64, z as f64, 0.25).displacement
+    });
+    let rms = (cpu.heights.iter().map(|h| (h * h) as f64).sum::<f64>() / (n * n) as f64).sqrt();
+    let mut errors: Vec<f32> = gpu.iter().zip(&cpu.heights).map(|(g, c)| (g - c).abs()).collect();
+    errors.sort_by(f32::total_cmp);
+    let p99 = errors[errors.len() * 99 / 100];
+    assert!(rms > 0.1, "waves of {rms} m rms");
+    assert!(p99 < 0.01 * rms as f32 + 2e-3, "99% within {p99} m (waves {rms} m rms)");
+}
