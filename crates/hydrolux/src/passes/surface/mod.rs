@@ -576,10 +576,22 @@ impl Technique for Surface {
                 queue.submit([e.finish()]);
             }
         }
-        // What is left of the clock's steps after our last step.
+        // What is left of the clock's steps after our last step; their
+        // splashes wait for the next white-water step (in a later frame),
+        // as they would had the frame ended elsewhere.
         if let Some(d) = &mut self.dynamics {
             let rest = (steps as u64).saturating_sub(followed);
-            d.step(device, queue, encoder, camera, rest as u32);
+            let dt = d.dt();
+            for input in d.step(device, queue, encoder, camera, rest as u32) {
+                let drops = input.drops.iter().filter_map(hydrolux_core::whitewater::drop_splash);
+                let moves = input
+                    .moves
+                    .iter()
+                    .filter_map(|m| hydrolux_core::whitewater::body_splash(m, dt));
+                for splash in drops.chain(moves) {
+                    whitewater.splash(splash);
+                }
+            }
         }
         if evaluated {
             // The frame's own ocean, at its time.
