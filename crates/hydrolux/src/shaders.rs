@@ -28,6 +28,7 @@ const MODULES: &[(&str, &str)] = &[
     ("object_caustics", include_str!("shaders/object_caustics.wgsl")),
     ("caustics_lookup", include_str!("shaders/caustics_lookup.wgsl")),
     ("heightfield_trace", include_str!("shaders/heightfield_trace.wgsl")),
+    ("ray_primitive", include_str!("shaders/ray_primitive.wgsl")),
     // Modules of one technique that another reuses.
     ("geometry_common", include_str!("passes/geometry/geometry_common.wgsl")),
     ("particle", include_str!("passes/whitewater/particle.wgsl")),

@@ -50,9 +50,9 @@ pub(crate) struct TracedObject {
     pub shape: [u32; 4],
 }
 
-/// Shape codes of `TracedObject.shape.x`.
-const SHAPE_BOX: u32 = 0;
-const SHAPE_SPHERE: u32 = 1;
+/// Shape codes of `TracedObject.shape.x` (`shaders/ray_primitive.wgsl`).
+const SHAPE_SPHERE: u32 = 0;
+const SHAPE_BOX: u32 = 1;
 const SHAPE_CYLINDER: u32 = 2;
 
 fn pattern_code(p: Pattern) -> f32 {

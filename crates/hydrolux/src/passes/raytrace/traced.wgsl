@@ -22,6 +22,6 @@ struct TracedObject {
     albedo: vec4<f32>,
     // rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
     pattern: vec4<f32>,
-    // x the shape: 0 box, 1 sphere, 2 cylinder
+    // x the shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER (ray_primitive.wgsl)
     shape: vec4<u32>,
 }

@@ -5,7 +5,7 @@
 // rotation at both depth levels), the inverse FFT of `spectral`. `publish`
 // writes the heights and slopes the surface is drawn with. Twin:
 // hydrolux_core::waves::ripples.
-#import constants, complex
+#import constants, complex, ray_primitive
 
 struct RippleParams {
     // x domain cells N, y FFT size F, z edges (0 walls, 1 open, 2 periodic), w sponge cells
@@ -56,8 +56,8 @@ struct BodyMove {
 // used up by the step (cleared in `spectral_step`, after `disturb` read it).
 @group(0) @binding(8) var<storage, read_write> kicks: array<atomic<u32>>;
 
-const BODY_SPHERE: u32 = 0u;
-const BODY_BOX: u32 = 1u;
+const BODY_SPHERE: u32 = PRIMITIVE_SPHERE;
+const BODY_BOX: u32 = PRIMITIVE_BOX;
 
 fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
     let t = 2.0 * cross(q.xyz, v);
@@ -78,55 +78,9 @@ fn body_column(shape: vec4<f32>, position: vec3<f32>, rotation: vec4<f32>, xz: v
     let inv = vec4<f32>(-rotation.xyz, rotation.w);
     let o = rotate(inv, vec3<f32>(xz.x, top, xz.y) - position);
     let d = rotate(inv, vec3<f32>(0.0, -1.0, 0.0));
-    let miss = vec2<f32>(1.0, -1.0);
-    var t = vec2<f32>(-1e30, 1e30);
-    if (code == BODY_SPHERE) {
-        let b = dot(o, d);
-        let disc = b * b - (dot(o, o) - shape.x * shape.x);
-        if (disc < 0.0) {
-            return miss;
-        }
-        t = vec2<f32>(-b - sqrt(disc), -b + sqrt(disc));
-    } else if (code == BODY_BOX) {
-        for (var a = 0; a < 3; a++) {
-            if (abs(d[a]) < 1e-6) {
-                if (abs(o[a]) > shape[a]) {
-                    return miss;
-                }
-            } else {
-                let ta = (-shape[a] - o[a]) / d[a];
-                let tb = (shape[a] - o[a]) / d[a];
-                t = vec2<f32>(max(t.x, min(ta, tb)), min(t.y, max(ta, tb)));
-            }
-        }
-    } else {
-        // Cylinder of radius shape.x, half-height shape.y along its y.
-        let a = d.x * d.x + d.z * d.z;
-        let b = o.x * d.x + o.z * d.z;
-        let c = o.x * o.x + o.z * o.z - shape.x * shape.x;
-        if (a < 1e-8) {
-            if (c > 0.0) {
-                return miss;
-            }
-        } else {
-            let disc = b * b - a * c;
-            if (disc < 0.0) {
-                return miss;
-            }
-            t = vec2<f32>((-b - sqrt(disc)) / a, (-b + sqrt(disc)) / a);
-        }
-        if (abs(d.y) < 1e-6) {
-            if (abs(o.y) > shape.y) {
-                return miss;
-            }
-        } else {
-            let ta = (-shape.y - o.y) / d.y;
-            let tb = (shape.y - o.y) / d.y;
-            t = vec2<f32>(max(t.x, min(ta, tb)), min(t.y, max(ta, tb)));
-        }
-    }
+    let t = ray_primitive(code, shape.xyz, o, d);
     if (t.x > t.y) {
-        return miss;
+        return vec2<f32>(1.0, -1.0);
     }
     return vec2<f32>(top - t.y, top - t.x);
 }

@@ -464,18 +464,19 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
     uniforms: || vec![crate::uniforms::Layout::of::<crate::uniforms::SurfaceUniforms>(source())],
 };
 
-impl Technique for WaterPass {
-    fn create(
+impl WaterPass {
+    /// The pass for `scene`, with the layouts the screen targets bind.
+    fn for_scene(
         shared: &crate::technique::Shared,
         scene: &Scene,
+        inputs: wgpu::BindGroupLayout,
+        traced_layout: wgpu::BindGroupLayout,
     ) -> Result<Self, crate::error::RenderError> {
-        let (device, l) = (&shared.device, &shared.layouts);
-        let inputs = WaterPass::inputs_layout(device);
+        let l = &shared.layouts;
         let model = crate::passes::surface::SurfaceKind::of(scene);
-        let traced_layout = crate::passes::raytrace::Traced::layout(device);
         let traced = crate::passes::raytrace::Traced::new(shared, scene, &traced_layout)?;
         Ok(WaterPass::new(
-            device,
+            &shared.device,
             &l.globals,
             &l.surface,
             &inputs,
@@ -484,6 +485,18 @@ impl Technique for WaterPass {
             traced,
             traced_layout,
         ))
+    }
+}
+
+impl Technique for WaterPass {
+    fn create(
+        shared: &crate::technique::Shared,
+        scene: &Scene,
+    ) -> Result<Self, crate::error::RenderError> {
+        let device = &shared.device;
+        let inputs = WaterPass::inputs_layout(device);
+        let traced_layout = crate::passes::raytrace::Traced::layout(device);
+        WaterPass::for_scene(shared, scene, inputs, traced_layout)
     }
 
     /// A new surface model gets pipelines specialised to it; the inputs'
@@ -496,20 +509,8 @@ impl Technique for WaterPass {
     ) -> Result<bool, crate::error::RenderError> {
         let model = crate::passes::surface::SurfaceKind::of(new);
         if model != self.model || !self.traced.fits(old, new) {
-            let (device, l) = (&shared.device, &shared.layouts);
-            let inputs = self.inputs_layout.clone();
-            let traced_layout = self.traced_layout.clone();
-            let traced = crate::passes::raytrace::Traced::new(shared, new, &traced_layout)?;
-            *self = WaterPass::new(
-                device,
-                &l.globals,
-                &l.surface,
-                &inputs,
-                shared.depth_format,
-                model,
-                traced,
-                traced_layout,
-            );
+            let (inputs, traced_layout) = (self.inputs_layout.clone(), self.traced_layout.clone());
+            *self = WaterPass::for_scene(shared, new, inputs, traced_layout)?;
         }
         Ok(false)
     }

@@ -16,7 +16,7 @@
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
 // SKY_CUBE_SIZE are prepended by the pass.
-#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced
+#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, ray_primitive
 
 // Inputs of the water pass (group 2), rebuilt with the render targets. Seen
 // from the air: the scene above the water mirrored (reflection) and the
@@ -236,83 +236,16 @@ struct ObjectHit {
     normal: vec3<f32>,
 }
 
-// The first entry of the ray o + t·d (object space) into a unit primitive:
-// (t, object-space normal); t = NO_ROOT if it misses or starts inside.
+// The first entry of the ray o + t·d (object space) into a unit primitive
+// (ray_primitive's codes, half-size ½): (t, object-space normal); t =
+// NO_ROOT if it misses or starts inside.
 fn hit_primitive(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
-    let miss = vec4<f32>(NO_ROOT, 0.0, 0.0, 0.0);
-    if (shape == 1u) {
-        let a = dot(d, d);
-        let b = dot(o, d);
-        let c = dot(o, o) - 0.25;
-        let disc = b * b - a * c;
-        if (disc < 0.0 || a <= 0.0) {
-            return miss;
-        }
-        let t = (-b - sqrt(disc)) / a;
-        if (t <= 1e-4) {
-            return miss;
-        }
-        return vec4<f32>(t, normalize(o + d * t));
+    let size = vec3<f32>(0.5);
+    let t = ray_primitive(shape, size, o, d);
+    if (t.x > t.y || t.x <= 1e-4) {
+        return vec4<f32>(NO_ROOT, 0.0, 0.0, 0.0);
     }
-    var t0 = -NO_ROOT;
-    var t1 = NO_ROOT;
-    var normal = vec3<f32>(0.0);
-    if (shape == 0u) {
-        for (var k = 0; k < 3; k++) {
-            if (abs(d[k]) < 1e-12) {
-                if (abs(o[k]) > 0.5) {
-                    return miss;
-                }
-            } else {
-                let ta = (-0.5 - o[k]) / d[k];
-                let tb = (0.5 - o[k]) / d[k];
-                let near = min(ta, tb);
-                if (near > t0) {
-                    t0 = near;
-                    normal = vec3<f32>(0.0);
-                    normal[k] = -sign(d[k]);
-                }
-                t1 = min(t1, max(ta, tb));
-            }
-        }
-    } else {
-        // Cylinder: the side, then the caps.
-        let a = d.x * d.x + d.z * d.z;
-        let b = o.x * d.x + o.z * d.z;
-        let c = o.x * o.x + o.z * o.z - 0.25;
-        if (a < 1e-12) {
-            if (c > 0.0) {
-                return miss;
-            }
-        } else {
-            let disc = b * b - a * c;
-            if (disc < 0.0) {
-                return miss;
-            }
-            t0 = (-b - sqrt(disc)) / a;
-            t1 = (-b + sqrt(disc)) / a;
-            let p = o + d * t0;
-            normal = normalize(vec3<f32>(p.x, 0.0, p.z));
-        }
-        if (abs(d.y) < 1e-12) {
-            if (abs(o.y) > 0.5) {
-                return miss;
-            }
-        } else {
-            let ta = (-0.5 - o.y) / d.y;
-            let tb = (0.5 - o.y) / d.y;
-            let near = min(ta, tb);
-            if (near > t0) {
-                t0 = near;
-                normal = vec3<f32>(0.0, -sign(d.y), 0.0);
-            }
-            t1 = min(t1, max(ta, tb));
-        }
-    }
-    if (t0 > t1 || t0 <= 1e-4) {
-        return miss;
-    }
-    return vec4<f32>(t0, normal);
+    return vec4<f32>(t.x, primitive_normal(shape, size, o + d * t.x));
 }
 
 // The first traced object along o + t·d within t_max (world space).
