@@ -573,19 +573,24 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     r.y = abs(r.y);
     let lod = clamp(log2(2.0 * sigma * SKY_CUBE_SIZE / (0.5 * PI)), 0.0, 8.0);
     let sky_reflected = textureSampleLevel(sky_cube, sky_sampler, r, lod).rgb * exposure();
-    // Local reflection (seed 000 §3.1.3): the mirrored scene where the
-    // reflected ray meets a plane above the surface; the sky where it has none.
-    let ruv = clamp(reflection_uv(frame.projective.reflection_view_proj, in.world, r, frame.water.reflection_height, 2000.0), vec2<f32>(0.001), vec2<f32>(0.999));
-    // Sub-pixel roughness spreads reflected rays (the resolved waves already
-    // move the lookup). Mips blur isotropically where real roughness smears
-    // reflections mostly vertically, so a box of half a σ of the unresolved
-    // slopes: distant reflections soften without vanishing.
-    let unresolved = sqrt(frame.surface.unresolved_variance.x + frame.surface.unresolved_variance.y);
-    let local_lod = log2(max(0.5 * unresolved * frame.projective.reflection_texels_per_radian, 1.0));
-    let local = textureSampleLevel(reflection_tex, clamp_sampler, ruv, local_lod);
-    // The texture is cleared to transparent black, so it is premultiplied by
-    // coverage at every mip level.
-    var reflected = local.rgb + (1.0 - local.a) * sky_reflected;
+    // Traced water looks nothing up in the reflection texture (a traced
+    // frame does not draw it): it traces its reflection below.
+    var reflected = sky_reflected;
+    if (RAYTRACE == 0u) {
+        // Local reflection (seed 000 §3.1.3): the mirrored scene where the
+        // reflected ray meets a plane above the surface; the sky where it has none.
+        let ruv = clamp(reflection_uv(frame.projective.reflection_view_proj, in.world, r, frame.water.reflection_height, 2000.0), vec2<f32>(0.001), vec2<f32>(0.999));
+        // Sub-pixel roughness spreads reflected rays (the resolved waves already
+        // move the lookup). Mips blur isotropically where real roughness smears
+        // reflections mostly vertically, so a box of half a σ of the unresolved
+        // slopes: distant reflections soften without vanishing.
+        let unresolved = sqrt(frame.surface.unresolved_variance.x + frame.surface.unresolved_variance.y);
+        let local_lod = log2(max(0.5 * unresolved * frame.projective.reflection_texels_per_radian, 1.0));
+        let local = textureSampleLevel(reflection_tex, clamp_sampler, ruv, local_lod);
+        // The texture is cleared to transparent black, so it is premultiplied by
+        // coverage at every mip level.
+        reflected = local.rgb + (1.0 - local.a) * sky_reflected;
+    }
 
     // Sun glint, shadowed by the scene.
     let l = frame.light.sun_dir;
