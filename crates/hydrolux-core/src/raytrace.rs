@@ -20,6 +20,11 @@
 //! heightfield of it by undoing the displacement at every sample (a
 //! fixed-point iteration, as the white water's particles do). Where a crest
 //! folds over, only one of its layers is kept.
+//!
+//! [`caustics`] traces the sun's photons through the surface to the ground
+//! (the paper's photon texture) for the light the traced ground receives.
+
+pub mod caustics;
 
 /// The surface a ray is traced against: y = height(x, z), with the sign of
 /// y − height telling the sides apart.

@@ -197,6 +197,17 @@ impl Renderer {
             .then(|| t.read_water(self.device(), self.queue()))
     }
 
+    /// The ray-traced ground's caustics after the last frame (the photons
+    /// traced through the surface to the ground, filtered): per cell of
+    /// their window (row = z), the sunlight per horizontal area relative to
+    /// flat water over flat ground (0 in shadow), and the window: world
+    /// (x, z) of its corner, its cell (m), cells per side. `None` when the
+    /// scene does not ray-trace or has no caustics (hydrolux_core
+    /// `raytrace::caustics` is the CPU twin).
+    pub fn read_traced_caustics(&self) -> Option<(Vec<f32>, [f32; 4])> {
+        self.techniques.water.traced.read_caustics(self.device(), self.queue())
+    }
+
     /// The foam field after the last frame or simulation step (foam F
     /// per cell, row = z, col = x) and where its window lies; `None` without
     /// `[whitewater]` foam.

@@ -34,6 +34,7 @@ const MODULES: &[(&str, &str)] = &[
     ("particle", include_str!("passes/whitewater/particle.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
     ("traced", include_str!("passes/raytrace/traced.wgsl")),
+    ("traced_hits", include_str!("passes/raytrace/traced_hits.wgsl")),
 ];
 
 /// The names on a source's `#import` lines, in order.

@@ -44,11 +44,17 @@ const UPWELLING_FRACTION: f32 = 0.15;
 
 // Irradiance on a receiver with normal n, `depth` m under the mean surface.
 fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<f32> {
+    return underwater_irradiance_sun(depth, n, max(dot(n, -frame.light.sun_travel), 0.0) * sun_visibility);
+}
+
+// The same where the sunbeam's cosine on the receiver, its shadow and
+// caustics included, is known (`sun_cosine`: traced ground).
+fn underwater_irradiance_sun(depth: f32, n: vec3<f32>, sun_cosine: f32) -> vec3<f32> {
     let d = max(depth, 0.0);
     let cos_w = max(frame.light.sun_travel_cos, 1e-3);
     let sun_down = frame.light.sun_underwater * transmittance(d / cos_w);
     let sky_down = frame.light.sky_underwater * transmittance(d / DIFFUSE_MEAN_COSINE);
-    let sun = sun_down * max(dot(n, -frame.light.sun_travel), 0.0) * sun_visibility;
+    let sun = sun_down * sun_cosine;
     let sky = sky_down * (0.5 + 0.5 * n.y);
     let up = UPWELLING_FRACTION * (sun_down * cos_w + sky_down) * (0.5 - 0.5 * n.y);
     return sun + sky + up;

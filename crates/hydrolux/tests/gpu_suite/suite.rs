@@ -1893,3 +1893,112 @@ fn traced_water_heightfield_matches_the_cpu_resampling() {
     assert!(rms > 0.1, "waves of {rms} m rms");
     assert!(p99 < 0.01 * rms as f32 + 2e-3, "99% within {p99} m (waves {rms} m rms)");
 }
+
+/// The paper's caustics on the traced ground (passes/raytrace/caustics.wgsl):
+/// on a flat floor they are the layered photon map's floor layer (the same
+/// surface, photons and cells: correlation and mean), they match their CPU
+/// twin (hydrolux_core::raytrace::caustics) on the CPU ocean, and a box in
+/// flat water shades the floor where the refracted sunbeam puts its shadow.
+#[test]
+fn traced_caustics_agree_with_the_photon_caustics_and_trace_shadows() {
+    use hydrolux::core::caustics::{flat_floor_irradiance, refracted_photon};
+    use hydrolux::core::raytrace::caustics::{
+        CausticWindow, Emission, Ground, sun_travel, trace_ground_caustics,
+    };
+    use hydrolux::core::raytrace::MinMaxPyramid;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let s = scene(&[
+        "water.method=raytrace",
+        "caustics.photons=256",
+        "caustics.map_resolution=64",
+        "floor.depth=5",
+        "sun.elevation_deg=55",
+        "ocean.patch_size=16",
+        "ocean.resolution=64",
+        "ocean.cascades=1",
+        "ocean.wind_speed=6",
+        "ocean.fetch_km=20",
+        "ocean.choppiness=0.5",
+        "whitewater.foam=false",
+        "camera.position=[3.3, 4, -2.1]",
+    ]);
+    let mut r = renderer(&ctx, &s);
+    let t = 12.0;
+    r.simulate(&s.camera(), (16, 16), t);
+    let (_, layered) = r.read_caustics().expect("caustics are on");
+    let (traced, w) = r.read_traced_caustics().expect("traced caustics are on");
+    let m = 64usize;
+    assert_eq!((traced.len(), w[3]), (m * m, 64.0));
+    // Centred on the camera in whole cells of the periodic maps.
+    assert!((w[0] - (3.25 - 8.0)).abs() < 1e-4 && (w[1] - (-2.0 - 8.0)).abs() < 1e-4, "{w:?}");
+    let flat = flat_floor_irradiance(s.sun_direction(), s.water.ior);
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for j in 1..m - 1 {
+        for i in 1..m - 1 {
+            let x = w[0] + (i as f32 + 0.5) * w[2];
+            let z = w[1] + (j as f32 + 0.5) * w[2];
+            let cell = |c: f32| ((c / 16.0 + 0.5) * 64.0 - 0.5).round().rem_euclid(64.0) as usize;
+            a.push(traced[j * m + i]);
+            b.push(layered[cell(z) * m + cell(x)] / flat);
+        }
+    }
+    let (ma, mb, corr) = means_and_correlation(&a, &b);
+    assert!(corr > 0.99, "traced and layered caustics correlate only {corr}");
+    assert!((ma - mb).abs() < 0.01 * mb, "means: traced {ma}, layered {mb}");
+    let max = a.iter().cloned().fold(0.0, f32::max);
+    assert!(max > 1.4 * ma, "the waves focus light: max {max}, mean {ma}");
+
+    // The CPU twin on the CPU ocean.
+    let fields = OceanFields::evaluate(&OceanSpectrum::new(&s.ocean_settings()), t);
+    let hf = s.ground_heightfield().expect("ground").expect("a floor");
+    let pyramid = MinMaxPyramid::new(&hf);
+    let ground = Ground { heightfield: &hf, pyramid: &pyramid };
+    let window = CausticWindow { origin: [w[0], w[1]], cell: w[2], m };
+    let (sun, ior) = (s.sun_direction(), s.water.ior);
+    let emission = Emission::covering(&window, 16.0 / 256.0, sun, ior, 5.0);
+    let photon =
+        |x: f32, z: f32| refracted_photon(&fields.sample(x as f64, z as f64), x, z, sun, ior);
+    let cpu = trace_ground_caustics(photon, &ground, |_, _, _| false, &window, &emission, sun, ior);
+    let (mg, mc, corr) = means_and_correlation(&traced, &cpu.factor);
+    assert!(corr > 0.95, "GPU and CPU traced caustics correlate only {corr}");
+    assert!((mg - mc).abs() < 0.02 * mc, "means: GPU {mg}, CPU {mc}");
+
+    // A box in flat water: its shadow, traced through the surface.
+    let s = Scene::load(
+        "ocean",
+        &[
+            "water.method=raytrace",
+            "water.model=flat",
+            "floor.depth=3",
+            "sun.elevation_deg=50",
+            "sun.azimuth_deg=0",
+            "caustics.map_resolution=64",
+            "caustics.photons=256",
+            "ocean.patch_size=16",
+            "camera.position=[0, 4, 0]",
+            "objects=[{primitive=\"box\", position=[0, -1.0, 0], scale=[2.0, 0.2, 2.0]}]",
+        ]
+        .map(String::from),
+    )
+    .expect("valid scene");
+    let mut r = renderer(&ctx, &s);
+    r.simulate(&s.camera(), (16, 16), 0.0);
+    let (light, w) = r.read_traced_caustics().expect("traced caustics are on");
+    let n = w[3] as usize;
+    let at = |x: f32, z: f32| {
+        let i = ((x - w[0]) / w[2]) as usize;
+        let j = ((z - w[1]) / w[2]) as usize;
+        light[j * n + i]
+    };
+    // The slab's underside (y = −1.1) carried down 1.9 m along the beam.
+    let travel = sun_travel(s.sun_direction(), s.water.ior);
+    let c = glam::Vec3::new(0.0, -1.1, 0.0) + travel * (1.9 / -travel.y);
+    for (dx, dz) in [(0.0, 0.0), (0.3, 0.0), (-0.3, 0.0), (0.0, 0.3), (0.0, -0.3)] {
+        let v = at(c.x + dx, c.z + dz);
+        assert!(v < 1e-3, "in the box's shadow at {dx}, {dz}: {v}");
+    }
+    for (dx, dz) in [(1.8, 0.0), (-1.8, 0.0), (0.0, 1.8), (0.0, -1.8), (4.0, 3.0)] {
+        let v = at(c.x + dx, c.z + dz);
+        assert!((v - 1.0).abs() < 2e-3, "lit at {dx}, {dz}: {v}");
+    }
+}

@@ -33,6 +33,9 @@ uniform! { TracedParams;
         pub ground_albedo: [f32; 4],
         pub ground_pattern: [f32; 4],
         pub flags: [f32; 4],
+        pub caustics: [f32; 4],
+        pub emission: [f32; 4],
+        pub emission_count: [u32; 4],
     }
 }
 
@@ -116,6 +119,10 @@ pub fn source() -> String {
     shaders::compose("", include_str!("raytrace.wgsl"))
 }
 
+pub fn caustics_source() -> String {
+    shaders::compose("", include_str!("caustics.wgsl"))
+}
+
 /// Where the water's window lies for a camera at (x, z): whole cells, centred.
 pub fn water_window(camera_xz: [f32; 2]) -> [f32; 2] {
     let half = (WATER_CELLS / 2) as f32 * WATER_CELL_M;
@@ -139,6 +146,8 @@ pub struct Traced {
     pub group: wgpu::BindGroup,
     /// Traced objects (by `[[objects]]` index) and their GPU copy.
     objects: Vec<(usize, TracedObject)>,
+    /// Whether an object moved since the caustics were last traced.
+    objects_moved: bool,
     objects_buffer: wgpu::Buffer,
     resample: wgpu::ComputePipeline,
     reduce: wgpu::ComputePipeline,
@@ -147,6 +156,26 @@ pub struct Traced {
     level_groups: Vec<wgpu::BindGroup>,
     probe: wgpu::ComputePipeline,
     probe_layout: wgpu::BindGroupLayout,
+    caustics: TracedCaustics,
+}
+
+/// The photons traced to the ground (`caustics.wgsl`; twin hydrolux-core
+/// `raytrace::caustics`).
+struct TracedCaustics {
+    /// Cells per side of the window (0: no traced caustics).
+    cells: u32,
+    /// How deep the ground goes under the mean level (m): how far up-sun
+    /// photons must start.
+    depth: f32,
+    /// The light the traced ground reads, and the photons' fixed-point sums.
+    light: wgpu::Buffer,
+    clear: wgpu::ComputePipeline,
+    trace: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    /// The window and emission last traced (not again while they, the
+    /// surface and the objects stay).
+    last: Option<([f32; 4], [f32; 4])>,
 }
 
 impl Traced {
@@ -160,6 +189,7 @@ impl Traced {
                 storage_entry(1, fs, true),
                 storage_entry(2, fs, true),
                 storage_entry(3, fs, true),
+                storage_entry(4, fs, true),
             ],
         })
     }
@@ -198,6 +228,17 @@ impl Traced {
             })
         };
         let heights = storage("traced heights", 4 * heights_len as u64);
+        // Traced caustics: over the caustic maps' cells, when there are
+        // caustics and ground to receive them.
+        let caustic_cells = if tracing && has_ground && scene.has_caustics() {
+            scene.caustics.map_resolution
+        } else {
+            0
+        };
+        let caustic_len = 4 * (caustic_cells * caustic_cells).max(1) as u64;
+        let ground_light = storage("traced ground light", caustic_len);
+        let photon_sum = storage("traced photon sums", caustic_len);
+        let ground_depth = (-ground.range().0).max(0.0);
         let bounds = storage("traced bounds", 8 * bounds_len as u64);
         queue.write_buffer(&heights, 0, bytemuck::cast_slice(&ground.heights));
         let flat: Vec<[f32; 2]> = pyramid.levels.concat();
@@ -240,6 +281,9 @@ impl Traced {
                 pattern,
             ],
             flags: [has_ground as u32 as f32, TRACE_REACH, objects.len() as f32, 0.0],
+            caustics: [0.0; 4],
+            emission: [0.0; 4],
+            emission_count: [0; 4],
         };
         let buffer = uniform_buffer(device, "traced", &uniforms);
         fn whole(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
@@ -253,6 +297,7 @@ impl Traced {
                 whole(1, &heights),
                 whole(2, &bounds),
                 whole(3, &objects_buffer),
+                whole(4, &ground_light),
             ],
         });
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -313,7 +358,46 @@ impl Traced {
                 })
             })
             .collect();
+        let caustic_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("traced caustics"),
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, true),
+                storage_entry(2, cs, true),
+                storage_entry(3, cs, true),
+                storage_entry(4, cs, false),
+                storage_entry(5, cs, false),
+            ],
+        });
+        let caustic_module = shader(device, "traced caustics", &caustics_source());
+        let caustic_pipeline = |entry: &str| {
+            let layouts = [&shared.layouts.frame_only, &shared.layouts.surface, &caustic_layout];
+            compute_pipeline_with(device, entry, &caustic_module, entry, &layouts, &constants)
+        };
+        let caustics = TracedCaustics {
+            cells: caustic_cells,
+            depth: ground_depth,
+            clear: caustic_pipeline("caustic_clear"),
+            trace: caustic_pipeline("caustic_trace"),
+            resolve: caustic_pipeline("caustic_resolve"),
+            group: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("traced caustics"),
+                layout: &caustic_layout,
+                entries: &[
+                    whole(0, &buffer),
+                    whole(1, &heights),
+                    whole(2, &bounds),
+                    whole(3, &objects_buffer),
+                    whole(4, &ground_light),
+                    whole(5, &photon_sum),
+                ],
+            }),
+            light: ground_light,
+            last: None,
+        };
         Ok(Traced {
+            caustics,
+            objects_moved: false,
             method,
             uniforms,
             buffer,
@@ -336,7 +420,9 @@ impl Traced {
             && (self.method == WaterMethod::Projective
                 || (new.floor == old.floor
                     && new.water.model == old.water.model
-                    && new.objects == old.objects))
+                    && new.objects == old.objects
+                    && new.caustics == old.caustics
+                    && new.has_caustics() == old.has_caustics()))
     }
 
     /// Put the traced objects where they are now (moving bodies).
@@ -350,44 +436,118 @@ impl Traced {
         }
         for (index, o) in &mut self.objects {
             if let Some(m) = geometry.object_model(*index) {
-                o.inverse_model = m.inverse().to_cols_array_2d();
+                let inverse = m.inverse().to_cols_array_2d();
+                self.objects_moved |= inverse != o.inverse_model;
+                o.inverse_model = inverse;
             }
         }
         let gpu: Vec<TracedObject> = self.objects.iter().map(|(_, o)| *o).collect();
         queue.write_buffer(&self.objects_buffer, 0, bytemuck::cast_slice(&gpu));
     }
 
-    /// Resample the water around the camera and rebuild its pyramid (only
-    /// when tracing).
+    /// Resample the water around the camera and rebuild its pyramid, then
+    /// trace the sun's photons to the ground (only when tracing).
     pub fn record(
         &mut self,
-        queue: &wgpu::Queue,
+        frame: &crate::technique::FrameContext,
         encoder: &mut wgpu::CommandEncoder,
-        surface: &wgpu::BindGroup,
-        camera_xz: [f32; 2],
-        timer: Option<&mut crate::timing::GpuTimer>,
+        mut timer: Option<&mut crate::timing::GpuTimer>,
     ) {
         if self.method != WaterMethod::Raytrace {
             return;
         }
-        let origin = water_window(camera_xz);
+        let queue = &frame.shared.queue;
+        let camera = frame.plan.camera.position;
+        let origin = water_window([camera.x, camera.z]);
         self.uniforms.water.place = [origin[0], origin[1], WATER_CELL_M, 0.0];
+        let caustics_due = self.plan_caustics(frame);
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&self.uniforms));
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("traced water"),
-            timestamp_writes: timer.and_then(|t| t.compute_writes("traced water")),
-        });
-        let n = WATER_CELLS + 1;
-        pass.set_pipeline(&self.resample);
-        pass.set_bind_group(0, &self.compute_group, &[]);
-        pass.set_bind_group(1, surface, &[]);
-        pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
-        pass.set_pipeline(&self.reduce);
-        for (k, group) in self.level_groups.iter().enumerate() {
-            let side = WATER_CELLS >> k;
-            pass.set_bind_group(1, group, &[]);
-            pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("traced water"),
+                timestamp_writes: timer
+                    .as_deref_mut()
+                    .and_then(|t| t.compute_writes("traced water")),
+            });
+            let n = WATER_CELLS + 1;
+            pass.set_pipeline(&self.resample);
+            pass.set_bind_group(0, &self.compute_group, &[]);
+            pass.set_bind_group(1, &frame.bound.surface, &[]);
+            pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
+            pass.set_pipeline(&self.reduce);
+            for (k, group) in self.level_groups.iter().enumerate() {
+                let side = WATER_CELLS >> k;
+                pass.set_bind_group(1, group, &[]);
+                pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
+            }
         }
+        if !caustics_due {
+            return;
+        }
+        let c = &self.caustics;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("traced caustics"),
+            timestamp_writes: timer.and_then(|t| t.compute_writes("traced caustics")),
+        });
+        pass.set_bind_group(0, &frame.shared.frame_only, &[]);
+        pass.set_bind_group(1, &frame.bound.surface, &[]);
+        pass.set_bind_group(2, &c.group, &[]);
+        pass.set_pipeline(&c.clear);
+        pass.dispatch_workgroups((c.cells * c.cells).div_ceil(64), 1, 1);
+        pass.set_pipeline(&c.trace);
+        let [nx, nz, _, _] = self.uniforms.emission_count;
+        pass.dispatch_workgroups(nx.div_ceil(8), nz.div_ceil(8), 1);
+        pass.set_pipeline(&c.resolve);
+        pass.dispatch_workgroups(c.cells.div_ceil(8), c.cells.div_ceil(8), 1);
+    }
+
+    /// Set the traced caustics' window and photons for this frame; whether
+    /// they are to be traced again (the surface or the objects moved, the
+    /// window moved, the maps are stale).
+    fn plan_caustics(&mut self, frame: &crate::technique::FrameContext) -> bool {
+        use hydrolux_core::raytrace::caustics::{Emission, window_for};
+        let (scene, plan) = (frame.scene, frame.plan);
+        let Some(layered) = plan.caustics.as_ref().filter(|_| self.caustics.cells > 0) else {
+            self.uniforms.caustics = [0.0; 4];
+            self.caustics.last = None;
+            return false;
+        };
+        let camera = plan.camera.position;
+        let window = window_for(scene, [camera.x, camera.z]);
+        let spacing = window.side() / scene.caustics.photons as f32;
+        let emission = Emission::covering(
+            &window,
+            spacing,
+            scene.sun_direction(),
+            scene.water.ior,
+            self.caustics.depth,
+        );
+        let w = [window.origin[0], window.origin[1], window.cell, window.m as f32];
+        let e = [emission.origin[0], emission.origin[1], spacing, (spacing / window.cell).powi(2)];
+        self.uniforms.caustics = w;
+        self.uniforms.emission = e;
+        self.uniforms.emission_count = [emission.count[0] as u32, emission.count[1] as u32, 0, 0];
+        let due = layered.due || self.objects_moved || self.caustics.last != Some((w, e));
+        self.caustics.last = Some((w, e));
+        self.objects_moved = false;
+        due
+    }
+
+    /// The traced caustics' light per cell of their window (row = z), and
+    /// the window (x, z of its corner, cell, cells per side); `None` when
+    /// there are none.
+    pub fn read_caustics(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Option<(Vec<f32>, [f32; 4])> {
+        let c = &self.caustics;
+        if c.cells == 0 || self.uniforms.caustics[3] == 0.0 {
+            return None;
+        }
+        let n = (c.cells * c.cells) as usize;
+        let bytes = read_buffer(device, queue, &c.light, 4 * n as u64);
+        Some((bytemuck::cast_slice(&bytes).to_vec(), self.uniforms.caustics))
     }
 
     /// Trace `rays` (origin, direction, reach) against the ground on the
@@ -454,6 +614,7 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
         vec![
             ("raytrace".to_string(), source()),
             ("raytrace/resample".to_string(), resample_source()),
+            ("raytrace/caustics".to_string(), caustics_source()),
         ]
     },
     uniforms: || {

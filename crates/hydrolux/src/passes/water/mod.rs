@@ -523,10 +523,8 @@ impl Technique for WaterPass {
         timer: Option<&mut crate::timing::GpuTimer>,
     ) {
         if stage == Stage::Simulate && frame.plan.has_water {
-            let c = frame.plan.camera.position;
-            let q = &frame.shared.queue;
-            self.traced.move_objects(q, &frame.shared.geometry);
-            self.traced.record(q, encoder, &frame.bound.surface, [c.x, c.z], timer);
+            self.traced.move_objects(&frame.shared.queue, &frame.shared.geometry);
+            self.traced.record(frame, encoder, timer);
         }
     }
 

@@ -16,7 +16,7 @@
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
 // SKY_CUBE_SIZE are prepended by the pass.
-#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, ray_primitive
+#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits
 
 // Inputs of the water pass (group 2), rebuilt with the render targets. Seen
 // from the air: the scene above the water mirrored (reflection) and the
@@ -40,6 +40,7 @@ override RAYTRACE: u32 = 0u;
 @group(3) @binding(1) var<storage, read> hf_heights: array<f32>;
 @group(3) @binding(2) var<storage, read> hf_bounds: array<vec2<f32>>;
 @group(3) @binding(3) var<storage, read> traced_objects: array<TracedObject>;
+@group(3) @binding(4) var<storage, read> ground_light: array<f32>;
 
 struct VsOut {
     @invariant @builtin(position) clip: vec4<f32>,
@@ -213,56 +214,6 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
 
 // ---------------------------------------------------------------- traced
 
-// Where a traced ray first meets the ground (t; NO_ROOT: nowhere).
-fn trace_ground(o: vec3<f32>, d: vec3<f32>) -> f32 {
-    if (traced.flags.x == 0.0) {
-        return NO_ROOT;
-    }
-    return trace_heightfield(traced.ground, o, d, traced.flags.y);
-}
-
-// The ground's normal at world (x, z), from its heightfield.
-fn ground_normal(x: f32, z: f32) -> vec3<f32> {
-    let e = traced.ground.place.z;
-    let hx = hf_height(traced.ground, x + e, z) - hf_height(traced.ground, x - e, z);
-    let hz = hf_height(traced.ground, x, z + e) - hf_height(traced.ground, x, z - e);
-    return normalize(vec3<f32>(-hx, 2.0 * e, -hz));
-}
-
-// A traced object's first hit: t (NO_ROOT: none), which, and its normal.
-struct ObjectHit {
-    t: f32,
-    index: u32,
-    normal: vec3<f32>,
-}
-
-// The first entry of the ray o + t·d (object space) into a unit primitive
-// (ray_primitive's codes, half-size ½): (t, object-space normal); t =
-// NO_ROOT if it misses or starts inside.
-fn hit_primitive(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
-    let size = vec3<f32>(0.5);
-    let t = ray_primitive(shape, size, o, d);
-    if (t.x > t.y || t.x <= 1e-4) {
-        return vec4<f32>(NO_ROOT, 0.0, 0.0, 0.0);
-    }
-    return vec4<f32>(t.x, primitive_normal(shape, size, o + d * t.x));
-}
-
-// The first traced object along o + t·d within t_max (world space).
-fn trace_objects(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> ObjectHit {
-    var best = ObjectHit(NO_ROOT, 0u, vec3<f32>(0.0, 1.0, 0.0));
-    let count = u32(traced.flags.z);
-    for (var i = 0u; i < count; i++) {
-        let inv = traced_objects[i].inverse_model;
-        let h = hit_primitive(traced_objects[i].shape.x, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
-        if (h.x < best.t && h.x <= t_max) {
-            // World normal: the inverse transpose, i.e. n·M⁻¹.
-            best = ObjectHit(h.x, i, normalize((vec4<f32>(h.yzw, 0.0) * inv).xyz));
-        }
-    }
-    return best;
-}
-
 // How much of the pattern's second colour shows at q (normal n) over a
 // footprint of `footprint` metres: the procedural pattern as the geometry
 // pass draws it (on the plane facing the dominant normal axis; grout lines
@@ -291,16 +242,35 @@ fn pattern_at(q: vec3<f32>, n: vec3<f32>, tile: f32, kind: f32, footprint: f32) 
     return mix(f32((i32(c.x) + i32(c.y)) & 1), 0.5, far);
 }
 
+// The sunbeam's cosine on traced ground at q (normal n) under the water,
+// shadow and caustics included: the traced photons' light where their
+// window covers q (factor × n_y × the flat beam's cosine: the photons'
+// density per horizontal area holds the slope's own cosine), elsewhere the
+// layered caustic maps and the shadow map.
+fn ground_sun_cosine(q: vec3<f32>, n: vec3<f32>) -> f32 {
+    let light = traced_ground_light(q);
+    if (light >= 0.0) {
+        return light * n.y * frame.light.sun_travel_cos;
+    }
+    return max(dot(n, -frame.light.sun_travel), 0.0) * sun_visibility(q, n) * caustic_factor(q);
+}
+
 // What a Lambertian surface of albedo `albedo` at q (normal n) sends back
 // (as the geometry pass shades it): below the mean level the light field
-// under the surface with the caustics and the sun's shadow, above it sun
-// and sky.
-fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
-    let visibility = sun_visibility(q, n);
+// under the surface with the caustics and the sun's shadow (for the ground,
+// the traced photons'), above it sun and sky.
+fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, ground: bool) -> vec3<f32> {
     var irradiance: vec3<f32>;
     if (q.y < 0.0) {
-        irradiance = underwater_irradiance(-q.y, n, visibility * caustic_factor(q));
+        var sun_cosine: f32;
+        if (ground) {
+            sun_cosine = ground_sun_cosine(q, n);
+        } else {
+            sun_cosine = max(dot(n, -frame.light.sun_travel), 0.0) * sun_visibility(q, n) * caustic_factor(q);
+        }
+        irradiance = underwater_irradiance_sun(-q.y, n, sun_cosine);
     } else {
+        let visibility = sun_visibility(q, n);
         let l = frame.light.sun_dir;
         let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
         irradiance = frame.light.sun_illuminance * max(dot(n, l), 0.0) * visibility
@@ -314,14 +284,14 @@ fn object_radiance(o: vec3<f32>, d: vec3<f32>, hit: ObjectHit, footprint: f32) -
     let obj = traced_objects[hit.index];
     let q = o + d * hit.t;
     let w = pattern_at(q, hit.normal, obj.albedo.w, obj.pattern.w, footprint);
-    return lit_radiance(q, hit.normal, mix(obj.albedo.rgb, obj.pattern.rgb, w));
+    return lit_radiance(q, hit.normal, mix(obj.albedo.rgb, obj.pattern.rgb, w), false);
 }
 
 // The light the ground sends back at q, seen over `footprint` metres.
 fn ground_radiance(q: vec3<f32>, footprint: f32) -> vec3<f32> {
     let n = ground_normal(q.x, q.z);
     let w = pattern_at(q, vec3<f32>(0.0, 1.0, 0.0), traced.ground_albedo.w, traced.ground_pattern.w, footprint);
-    return lit_radiance(q, n, mix(traced.ground_albedo.rgb, traced.ground_pattern.rgb, w));
+    return lit_radiance(q, n, mix(traced.ground_albedo.rgb, traced.ground_pattern.rgb, w), true);
 }
 
 // What a traced ray o + t·d meets first, ground (within t_ground) or an
