@@ -32,8 +32,9 @@ pub struct SceneArgs {
     /// Override a scene parameter: --set section.key=value (TOML value; a bare word is a string). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Show an intermediate texture instead of the final image: final,
-    /// reflection, refraction, depth, normals, shadow, medium or caustics (= --set render.view=KIND).
+    /// Show a debug view instead of the final image (= --set render.view=KIND): final,
+    /// reflection, refraction, depth, normals, shadow, medium, caustics, ripples, foam, fresnel, or
+    /// error (the per-pixel ΔE of the projective water against ray tracing, as heat).
     #[arg(long, value_name = "KIND")]
     pub view: Option<String>,
 }

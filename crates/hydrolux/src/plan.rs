@@ -153,7 +153,7 @@ impl FramePlan {
         // Ray-traced water looks nothing up in them (the debug views still
         // show them).
         let traced = s.water.method == hydrolux_core::scene::WaterMethod::Raytrace
-            && s.render.view == DebugView::Final;
+            && matches!(s.render.view, DebugView::Final | DebugView::Error);
         let offscreen = Offscreen {
             air: has_water && y > -reach && !traced,
             water: has_water && y < reach && !traced,
@@ -334,6 +334,8 @@ fn debug_view_index(view: DebugView) -> u32 {
         DebugView::Ripples => 8,
         DebugView::Foam => 9,
         DebugView::Fresnel => 10,
+        // Each of its two drawings is a final image.
+        DebugView::Error => 0,
     }
 }
 

@@ -8,7 +8,8 @@
 
 use crate::error::RenderError;
 use crate::passes::{
-    caustics, geometry, godrays, mips, probe, raytrace, sky, surface, tonemap, water, water_object,
+    caustics, geometry, godrays, mips, probe, raytrace, sky, surface, tonemap, truth, water,
+    water_object,
 };
 use crate::technique::{Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
@@ -69,6 +70,7 @@ macro_rules! registry {
             FRAME_INFO,
             probe::INFO,
             raytrace::INFO,
+            truth::INFO,
             mips::INFO,
             crate::targets::MEDIUM_COPY_INFO,
         ];

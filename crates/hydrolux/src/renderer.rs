@@ -20,7 +20,7 @@ use crate::uniforms::FrameUniforms;
 use hydrolux_core::camera::Camera;
 use hydrolux_core::clock::SimulationClock;
 use hydrolux_core::projective::ClipPlane;
-use hydrolux_core::scene::Scene;
+use hydrolux_core::scene::{DebugView, Scene};
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
 
 /// What one frame needs beyond the scene: where to draw, and when.
@@ -64,6 +64,8 @@ pub struct Renderer {
     clock: SimulationClock,
     /// Size of the caller's target in the last frame.
     output_size: (u32, u32),
+    /// The error view's second drawing and its pass (`render.view = "error"`).
+    truth: Option<Box<crate::passes::truth::TruthView>>,
 }
 
 /// Fixed step of stateful simulations (s): 120 Hz.
@@ -98,7 +100,7 @@ impl Renderer {
         caps.check_supported()?;
         let requested = scene.clone();
         let quality = scene.render.quality.resolve(caps.cpu);
-        let scene = &quality.apply(scene);
+        let scene = &crate::passes::truth::projective(&quality.apply(scene));
         let layouts = Layouts::new(device);
         let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
         let samplers = GlobalSamplers {
@@ -195,7 +197,9 @@ impl Renderer {
             clock: SimulationClock::new(SIMULATION_STEP_S, SIMULATION_BATCH)
                 .expect("valid clock constants"),
             output_size: (0, 0),
+            truth: None,
         };
+        r.update_truth(scene)?;
         r.update_sky();
         Ok(r)
     }
@@ -275,7 +279,7 @@ impl Renderer {
             || "applying the scene".into(),
             || {
                 let quality = scene.render.quality.resolve(self.shared.caps.cpu);
-                self.apply_scene(&quality.apply(scene))?;
+                self.apply_scene(&crate::passes::truth::projective(&quality.apply(scene)))?;
                 self.quality = quality;
                 self.requested = scene.clone();
                 Ok(())
@@ -313,9 +317,27 @@ impl Renderer {
             &l.surface,
             crate::passes::surface::SurfaceKind::of(scene),
         );
+        if let Some(truth) = self.truth.as_mut().filter(|_| scene.render.view == DebugView::Error) {
+            truth.set_scene(&self.shared, &self.scene, scene)?;
+        }
+        self.update_truth(scene)?;
         self.scene = scene.clone();
         self.last_plan = None;
         self.update_sky();
+        Ok(())
+    }
+
+    /// The error view's traced drawing exists exactly while `scene` (as
+    /// drawn) asks for it.
+    fn update_truth(&mut self, scene: &Scene) -> Result<(), RenderError> {
+        let wanted = scene.render.view == DebugView::Error;
+        if !wanted {
+            self.truth = None;
+        } else if self.truth.is_none() {
+            let truth =
+                crate::passes::truth::TruthView::new(&self.shared, scene, &self.techniques.water)?;
+            self.truth = Some(Box::new(truth));
+        }
         Ok(())
     }
 
@@ -555,7 +577,25 @@ impl Renderer {
         }
         self.output_size = input.size;
         let frame = (input.camera, size, input.time);
-        self.run(encoder, frame, Some(input.target), &Stage::ALL);
+        let Some(mut truth) = self.truth.take() else {
+            self.run(encoder, frame, Some(input.target), &Stage::ALL);
+            return;
+        };
+        // The error view: the frame projective, then ray traced at the same
+        // time (no simulation steps) with the traced water swapped in, then
+        // their difference.
+        use hydrolux_core::scene::WaterMethod;
+        let [projective, traced] = truth.images(&self.shared.device, input.size);
+        self.run(encoder, frame, Some(&projective), &Stage::ALL);
+        std::mem::swap(&mut self.techniques.water, &mut truth.water);
+        self.scene.water.method = WaterMethod::Raytrace;
+        let timing = std::mem::replace(&mut self.timing, false);
+        self.run(encoder, frame, Some(&traced), &Stage::ALL);
+        self.timing = timing;
+        self.scene.water.method = WaterMethod::Projective;
+        std::mem::swap(&mut self.techniques.water, &mut truth.water);
+        truth.record(encoder, input.target);
+        self.truth = Some(truth);
     }
 }
 

@@ -50,7 +50,7 @@ choice!(TerrainKind: None, Noise, Heightmap);
 choice!(Pattern: None, Tiles, Checker);
 choice!(Primitive: Box, Sphere, Cylinder, Plane);
 choice!(Tonemap: Aces, Clamp);
-choice!(DebugView: Final, Reflection, Refraction, Depth, Normals, Shadow, Medium, Caustics, Ripples, Foam, Fresnel);
+choice!(DebugView: Final, Reflection, Refraction, Depth, Normals, Shadow, Medium, Caustics, Ripples, Foam, Fresnel, Error);
 choice!(CausticMethod: Photons, Beam, Procedural, Off);
 choice!(GodRayMethod: Lines, March, Off);
 choice!(RippleEdges: Walls, Open);

@@ -486,6 +486,15 @@ impl Scene {
                 allowed: "must be 1 to 64".into(),
             });
         }
+        if self.render.view == super::DebugView::Error && self.water.model == WaterModel::None {
+            return Err(SceneError::OutOfRange {
+                key: "render.view".into(),
+                value: "\"error\"".into(),
+                allowed: "the error view compares the water's two methods: the scene has no water \
+                          (water.model = \"none\"); choose another view"
+                    .into(),
+            });
+        }
         if let Some(i) = self
             .objects
             .iter()

@@ -675,6 +675,11 @@ pub enum DebugView {
     /// green = 1 (the rest grey): `hydrolux compare` reads it to split its
     /// error into reflection- and refraction-dominated pixels.
     Fresnel,
+    /// What the projective approximations cost (issue #16's truth mode):
+    /// the frame drawn both ways, projective and ray traced, and per pixel
+    /// their CIELAB difference ΔE*ab as heat (black 0, red 10, yellow 20,
+    /// white 40).
+    Error,
 }
 
 impl Default for Scene {

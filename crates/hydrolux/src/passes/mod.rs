@@ -19,6 +19,7 @@ pub mod ripples;
 pub mod sky;
 pub mod surface;
 pub mod tonemap;
+pub mod truth;
 pub mod water;
 pub mod water_object;
 pub mod whitewater;

@@ -2002,3 +2002,42 @@ fn traced_caustics_agree_with_the_photon_caustics_and_trace_shadows() {
         assert!((v - 1.0).abs() < 2e-3, "lit at {dx}, {dz}: {v}");
     }
 }
+
+/// The error view (`render.view = "error"`, the viewer's truth mode) is the
+/// heat of ΔE*ab between the projective and the traced frame, per pixel, as
+/// hydrolux-core `compare` computes it from the two frames rendered apart;
+/// and drawing the frame twice does not step the simulation twice (the
+/// pool's interactive water and ball move).
+#[test]
+fn error_view_is_the_heat_of_the_two_methods_difference() {
+    use hydrolux::core::compare::{delta_e, heat};
+    use hydrolux::core::scene::{DebugView, WaterMethod};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let base = Scene::load("pool", &[]).expect("built-in");
+    let (size, t) = ((96, 64), 1.5);
+    let frame = |s: &Scene| {
+        let mut r = renderer(&ctx, s);
+        let target = HeadlessTarget::new(&ctx.device, size);
+        target.render(&mut r, s.camera(), t).expect("frame")
+    };
+    let mut s = base.clone();
+    s.water.method = WaterMethod::Projective;
+    let projective = frame(&s);
+    s.water.method = WaterMethod::Raytrace;
+    let traced = frame(&s);
+    s.render.view = DebugView::Error;
+    let error = frame(&s);
+    let (mut off, mut hot, n) = (0, 0, (size.0 * size.1) as usize);
+    for p in 0..n {
+        let rgb = |v: &[u8]| [v[4 * p], v[4 * p + 1], v[4 * p + 2]];
+        let e = delta_e(rgb(&projective), rgb(&traced));
+        let want = heat(e);
+        let got = rgb(&error);
+        if want.iter().zip(&got).any(|(a, b)| a.abs_diff(*b) > 2) {
+            off += 1;
+        }
+        hot += (e > 3.0) as usize;
+    }
+    assert!(hot > n / 50, "the methods differ somewhere in the pool: {hot} of {n} pixels");
+    assert!(off <= n / 200, "{off} of {n} pixels off the CPU's heat");
+}

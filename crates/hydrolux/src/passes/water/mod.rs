@@ -165,7 +165,7 @@ pub struct WaterPass {
     model: crate::passes::surface::SurfaceKind,
     /// What `water.method = "raytrace"` traces (group 3; stand-ins otherwise).
     pub traced: crate::passes::raytrace::Traced,
-    traced_layout: wgpu::BindGroupLayout,
+    pub traced_layout: wgpu::BindGroupLayout,
 }
 
 /// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
@@ -466,7 +466,7 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
 
 impl WaterPass {
     /// The pass for `scene`, with the layouts the screen targets bind.
-    fn for_scene(
+    pub(crate) fn for_scene(
         shared: &crate::technique::Shared,
         scene: &Scene,
         inputs: wgpu::BindGroupLayout,
