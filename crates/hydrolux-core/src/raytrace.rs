@@ -290,6 +290,10 @@ fn first_root(c0: f32, c1: f32, c2: f32, t0: f32, t1: f32) -> Option<f32> {
     None
 }
 
+/// The most pyramid steps a ray takes by default (`water.trace_steps`): no
+/// ray a test or scene has thrown needs as many.
+pub const MAX_TRACE_STEPS: u32 = 4096;
+
 /// The first crossing of `ray` (from whichever side it starts on) with the
 /// heightfield within `t_max`, walking the min/max pyramid: exact for the
 /// bilinear heightfield, in time about logarithmic in its size for rays
@@ -299,6 +303,19 @@ pub fn trace_hierarchical(
     pyramid: &MinMaxPyramid,
     ray: &Ray,
     t_max: f32,
+) -> Option<Hit> {
+    trace_hierarchical_within(hf, pyramid, ray, t_max, MAX_TRACE_STEPS)
+}
+
+/// [`trace_hierarchical`] with a budget of `steps` pyramid steps (the
+/// quality tiers' `water.trace_steps`): a ray that spends it without a hit
+/// is taken to miss the heightfield (`None`).
+pub fn trace_hierarchical_within(
+    hf: &Heightfield,
+    pyramid: &MinMaxPyramid,
+    ray: &Ray,
+    t_max: f32,
+    steps: u32,
 ) -> Option<Hit> {
     let s = side(hf, ray);
     let top = pyramid.levels.len() - 1;
@@ -347,7 +364,7 @@ pub fn trace_hierarchical(
     let mut t = t_in;
     let mut level = top;
     let mut guard = 0;
-    while t < t_out && guard < 4096 {
+    while t < t_out && guard < steps {
         guard += 1;
         let size = hf.cell * (1u64 << level) as f32;
         // The block the ray is in just past t.
@@ -381,6 +398,10 @@ pub fn trace_hierarchical(
             return Some(Hit { t: r, position: ray.at(r) });
         }
         t = t_exit;
+    }
+    if t < t_out {
+        // The budget is spent short of the grid's far side.
+        return None;
     }
     if t_out < t_max
         && let Some(h) = wall(t_out, hf.outside)

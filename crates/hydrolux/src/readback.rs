@@ -189,7 +189,8 @@ impl Renderer {
     }
 
     /// The ray-traced water's heightfield after the last frame (row = z,
-    /// 257 × 257 samples 0.25 m apart) and its first sample's world (x, z);
+    /// (water.trace_resolution + 1)² samples over 64 m) and its first
+    /// sample's world (x, z);
     /// `None` when the scene does not ray-trace.
     pub fn read_traced_water(&self) -> Option<(Vec<f32>, [f32; 2])> {
         let t = &self.techniques.water.traced;

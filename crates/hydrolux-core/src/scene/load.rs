@@ -680,6 +680,25 @@ fn expected_from(message: &str) -> String {
 mod tests {
     use super::*;
 
+    /// The quality tiers choose the tracer's budget and its water's cells.
+    #[test]
+    fn quality_tiers_choose_the_trace_budget() {
+        use super::super::Quality;
+        let s = Scene::load("lake", &["water.method=raytrace".into()]).expect("lake");
+        let w = |q: Quality| {
+            let a = q.apply(&s);
+            (a.water.trace_resolution, a.water.trace_steps)
+        };
+        assert_eq!(w(Quality::High), (256, 4096), "high is the scene as written");
+        assert_eq!(w(Quality::Low), (128, 256));
+        assert_eq!(w(Quality::Medium), (256, 1024));
+        assert_eq!(w(Quality::Ultra), (512, 4096));
+        let bad = Scene::load("lake", &["water.trace_resolution=100".into()]).unwrap_err();
+        assert!(bad.to_string().contains("water.trace_resolution"), "{bad}");
+        let bad = Scene::load("lake", &["water.trace_steps=8".into()]).unwrap_err();
+        assert!(bad.to_string().contains("water.trace_steps"), "{bad}");
+    }
+
     #[test]
     fn builtins_load_and_validate() {
         for b in BUILTIN_SCENES {

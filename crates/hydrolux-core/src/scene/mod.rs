@@ -214,6 +214,15 @@ pub struct WaterDesc {
     pub refraction: RefractionLookup,
     /// Projective lookups or ray tracing for reflections and refractions.
     pub method: WaterMethod,
+    /// `method = "raytrace"`: cells per side of the water's traced
+    /// heightfield over its 64 m window around the camera (a power of two,
+    /// 64 to 1024: 256 is 25 cm cells); finer follows shorter waves.
+    pub trace_resolution: u32,
+    /// `method = "raytrace"`: the most pyramid steps one ray may take
+    /// through a heightfield before it is taken to miss it (16 to 8192; a
+    /// ray that clears a heightfield takes a few dozen, one grazing wave
+    /// crests a few hundred).
+    pub trace_steps: u32,
     /// `refraction = "plane"`: depth of the lookup plane (m).
     pub refraction_depth: f32,
     /// `refraction = "depth"`: clamp of dv (m).
@@ -603,13 +612,16 @@ impl Quality {
     /// written. Lower tiers cap what costs most per frame; `ultra` raises
     /// the floors of the textures that alias first:
     /// - low: caustics ≤ 128 photons per side on ≤ 128² maps, ≤ 2 layers;
+    ///   traced water ≤ 128 cells, ≤ 256 steps a ray;
     ///   shadow map ≤ 1024²; reflections ≤ 0.25× the output; god rays ≤ ¼
     ///   resolution; ocean N ≤ 128; interactive water ≤ 64 cells; foam ≤ 128
     ///   cells, ≤ 16k particles, ≤ 10 steps/s over ≤ 6 s of memory; ½ resolution.
     /// - medium: caustics ≤ 256 photons on ≤ 256² maps; shadow map ≤ 2048²;
+    ///   traced water ≤ 256 cells, ≤ 1024 steps a ray;
     ///   interactive water ≤ 128 cells; ≤ 64k particles; ¾ resolution.
     /// - ultra: caustic maps ≥ 512², photons ≥ 1024 per side, shadow map
     ///   ≥ 4096², reflections at the output's resolution, ≥ 1M particles,
+    ///   traced water ≥ 512 cells (12.5 cm),
     ///   foam ≥ 512 cells.
     pub fn apply(self, scene: &Scene) -> Scene {
         let mut s = scene.clone();
@@ -620,6 +632,8 @@ impl Quality {
                 cap_u(&mut s.caustics.photons, 128);
                 cap_u(&mut s.caustics.map_resolution, 128);
                 cap_u(&mut s.caustics.layers, 2);
+                cap_u(&mut s.water.trace_resolution, 128);
+                cap_u(&mut s.water.trace_steps, 256);
                 cap_u(&mut s.render.shadow_resolution, 1024);
                 cap_f(&mut s.render.reflection_resolution, 0.25);
                 cap_f(&mut s.godrays.resolution, 0.25);
@@ -636,6 +650,8 @@ impl Quality {
                 cap_u(&mut s.caustics.photons, 256);
                 cap_u(&mut s.caustics.map_resolution, 256);
                 cap_u(&mut s.render.shadow_resolution, 2048);
+                cap_u(&mut s.water.trace_resolution, 256);
+                cap_u(&mut s.water.trace_steps, 1024);
                 cap_u(&mut s.ripples.resolution, 128);
                 cap_u(&mut s.whitewater.budget, 65_536);
             }
@@ -644,6 +660,7 @@ impl Quality {
                 s.caustics.photons = s.caustics.photons.max(1024);
                 s.render.shadow_resolution = s.render.shadow_resolution.max(4096);
                 s.render.reflection_resolution = 1.0;
+                s.water.trace_resolution = s.water.trace_resolution.max(512);
                 s.whitewater.budget = s.whitewater.budget.max(1 << 20);
                 s.whitewater.resolution = s.whitewater.resolution.max(512);
             }
@@ -900,6 +917,8 @@ impl Default for WaterDesc {
             simple_attenuation: 0.25,
             refraction: RefractionLookup::Depth,
             method: WaterMethod::Projective,
+            trace_resolution: 256,
+            trace_steps: 4096,
             refraction_depth: 2.0,
             refraction_max: 8.0,
             reflection_height: 1.5,
@@ -923,6 +942,20 @@ impl WaterDesc {
                 (0.0..=1.0).contains(v),
                 "must be in [0, 1]",
             )?;
+        }
+        if !(64..=1024).contains(&w.trace_resolution) || !w.trace_resolution.is_power_of_two() {
+            return Err(SceneError::OutOfRange {
+                key: "water.trace_resolution".into(),
+                value: w.trace_resolution.to_string(),
+                allowed: "must be a power of two from 64 to 1024".into(),
+            });
+        }
+        if !(16..=8192).contains(&w.trace_steps) {
+            return Err(SceneError::OutOfRange {
+                key: "water.trace_steps".into(),
+                value: w.trace_steps.to_string(),
+                allowed: "must be 16 to 8192".into(),
+            });
         }
         if w.model == WaterModel::Heightfield && w.heightfield.is_empty() {
             return Err(SceneError::OutOfRange {

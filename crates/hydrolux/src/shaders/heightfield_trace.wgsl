@@ -16,7 +16,8 @@ struct Heightfield {
     // height beyond the sampled square
     place: vec4<f32>,
     // x cells per side at level 0 (a power of two), y samples per side n,
-    // z the pyramid's top level
+    // z the pyramid's top level, w the most pyramid steps a ray takes
+    // (water.trace_steps; spent without a hit, the ray misses)
     size: vec4<u32>,
     // x first sample in hf_heights, y first bound in hf_bounds
     base: vec4<u32>,
@@ -170,7 +171,7 @@ fn trace_heightfield(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) ->
     }
     var t = t_in;
     var level = top;
-    for (var guard = 0; guard < 4096 && t < t_out; guard++) {
+    for (var guard = 0u; guard < hf.size.w && t < t_out; guard++) {
         let size = hf.place.z * f32(1u << level);
         let p = o + d * (t + nudge);
         let n = i32(hf.size.x >> level);
@@ -206,6 +207,10 @@ fn trace_heightfield(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) ->
             return r;
         }
         t = t_exit;
+    }
+    if (t < t_out) {
+        // The budget is spent short of the grid's far side.
+        return NO_ROOT;
     }
     if (t_out < t_max && s * (o.y + t_out * d.y - hf.place.w) < 0.0) {
         return t_out;

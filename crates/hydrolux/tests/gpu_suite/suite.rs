@@ -1741,7 +1741,9 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
 /// same first hits.
 #[test]
 fn traced_ground_hits_match_the_cpu_tracer() {
-    use hydrolux::core::raytrace::{MinMaxPyramid, Ray, trace_dense, trace_hierarchical};
+    use hydrolux::core::raytrace::{
+        MinMaxPyramid, Ray, trace_dense, trace_hierarchical, trace_hierarchical_within,
+    };
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let s = Scene::load("lake", &["water.method=raytrace".to_string()]).expect("lake");
     let r = renderer(&ctx, &s);
@@ -1786,6 +1788,29 @@ fn traced_ground_hits_match_the_cpu_tracer() {
     assert!(hits > 200, "{hits} of {} rays hit the terrain", rays.len());
     assert!(worst < 1e-3, "hit distances differ by up to {worst} (relative)");
     assert!(dense_agree * 10 + 20 >= hits, "the dense march agrees on {dense_agree} of ~{} checked", hits / 10);
+
+    // A budget of steps (the quality tiers' water.trace_steps): rays that
+    // spend it miss, on the GPU as on the CPU.
+    let budget = 24;
+    let s = Scene::load("lake", &["water.method=raytrace".into(), format!("water.trace_steps={budget}")])
+        .expect("lake");
+    let r = renderer(&ctx, &s);
+    let gpu = r.probe_traced_ground(&rays).expect("the scene ray-traces");
+    let (mut cut, mut differ) = (0, 0);
+    for ((o, d, reach), g) in rays.iter().zip(&gpu) {
+        let ray = Ray { origin: *o, dir: *d };
+        let cpu = trace_hierarchical_within(&hf, &pyramid, &ray, *reach, budget).map(|h| h.t);
+        let full = trace_hierarchical(&hf, &pyramid, &ray, *reach);
+        cut += (full.is_some() && cpu.is_none()) as usize;
+        let same = match (cpu, g) {
+            (Some(c), Some(g)) => (c - g).abs() < 1e-3 * c.max(1.0),
+            (None, None) => true,
+            _ => false,
+        };
+        differ += !same as usize;
+    }
+    assert!(cut > 20, "a budget of {budget} steps cuts only {cut} rays short");
+    assert!(differ * 100 <= rays.len(), "{differ} rays differ between GPU and CPU with the budget");
 }
 
 /// A red box on a white floor under flat water, seen at an angle with

@@ -102,12 +102,10 @@ fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
         .collect()
 }
 
-/// Cells per side of the water's heightfield window, and their size (m):
-/// the finest ring of the water's clipmap, over 64 m around the camera
+/// Side of the water's heightfield window (m): 64 m around the camera
 /// (where a reflected ray can meet the next wave; beyond, the water is
-/// traced as its mean level).
-pub const WATER_CELLS: u32 = 256;
-pub const WATER_CELL_M: f32 = 0.25;
+/// traced as its mean level), in `water.trace_resolution` cells.
+pub const WATER_WINDOW_M: f32 = 64.0;
 /// The furthest a traced ray goes (m).
 pub const TRACE_REACH: f32 = 2000.0;
 
@@ -123,10 +121,11 @@ pub fn caustics_source() -> String {
     shaders::compose("", include_str!("caustics.wgsl"))
 }
 
-/// Where the water's window lies for a camera at (x, z): whole cells, centred.
-pub fn water_window(camera_xz: [f32; 2]) -> [f32; 2] {
-    let half = (WATER_CELLS / 2) as f32 * WATER_CELL_M;
-    camera_xz.map(|c| (c / WATER_CELL_M).round() * WATER_CELL_M - half)
+/// Where the water's window of `cells` cells lies for a camera at (x, z):
+/// whole cells, centred.
+pub fn water_window(camera_xz: [f32; 2], cells: u32) -> [f32; 2] {
+    let cell = WATER_WINDOW_M / cells as f32;
+    camera_xz.map(|c| (c / cell).round() * cell - 0.5 * WATER_WINDOW_M)
 }
 
 /// Entries of a pyramid with `side` cells at level 0 (all its levels).
@@ -210,7 +209,9 @@ impl Traced {
             .unwrap_or_else(|| Heightfield::sampled([0.0, 0.0], 1.0, 2, -1.0e6, |_, _| -1.0e6));
         let pyramid = MinMaxPyramid::new(&ground);
         let ground_side = pyramid.side as u32;
-        let water_side = if tracing { WATER_CELLS } else { 2 };
+        let water_side = if tracing { scene.water.trace_resolution } else { 2 };
+        let water_cell = WATER_WINDOW_M / water_side as f32;
+        let steps = scene.water.trace_steps;
         let water_n = water_side + 1;
         // Heights: the ground's samples, then the water's; bounds likewise.
         let ground_samples = ground.heights.len() as u32;
@@ -260,12 +261,12 @@ impl Traced {
         let uniforms = TracedUniforms {
             ground: HeightfieldUniforms {
                 place: [ground.origin[0], ground.origin[1], ground.cell, ground.outside],
-                size: [ground_side, ground.n as u32, ground_side.ilog2(), 0],
+                size: [ground_side, ground.n as u32, ground_side.ilog2(), steps],
                 base: [0, 0, 0, 0],
             },
             water: HeightfieldUniforms {
-                place: [0.0, 0.0, WATER_CELL_M, 0.0],
-                size: [water_side, water_n, water_side.ilog2(), 0],
+                place: [0.0, 0.0, water_cell, 0.0],
+                size: [water_side, water_n, water_side.ilog2(), steps],
                 base: [ground_samples, ground_bounds, 0, 0],
             },
             ground_albedo: [
@@ -422,6 +423,8 @@ impl Traced {
                     && new.water.model == old.water.model
                     && new.objects == old.objects
                     && new.caustics == old.caustics
+                    && new.water.trace_resolution == old.water.trace_resolution
+                    && new.water.trace_steps == old.water.trace_steps
                     && new.has_caustics() == old.has_caustics()))
     }
 
@@ -458,8 +461,10 @@ impl Traced {
         }
         let queue = &frame.shared.queue;
         let camera = frame.plan.camera.position;
-        let origin = water_window([camera.x, camera.z]);
-        self.uniforms.water.place = [origin[0], origin[1], WATER_CELL_M, 0.0];
+        let cells = self.uniforms.water.size[0];
+        let origin = water_window([camera.x, camera.z], cells);
+        self.uniforms.water.place[0] = origin[0];
+        self.uniforms.water.place[1] = origin[1];
         let caustics_due = self.plan_caustics(frame);
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&self.uniforms));
         {
@@ -469,14 +474,14 @@ impl Traced {
                     .as_deref_mut()
                     .and_then(|t| t.compute_writes("traced water")),
             });
-            let n = WATER_CELLS + 1;
+            let n = cells + 1;
             pass.set_pipeline(&self.resample);
             pass.set_bind_group(0, &self.compute_group, &[]);
             pass.set_bind_group(1, &frame.bound.surface, &[]);
             pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
             pass.set_pipeline(&self.reduce);
             for (k, group) in self.level_groups.iter().enumerate() {
-                let side = WATER_CELLS >> k;
+                let side = cells >> k;
                 pass.set_bind_group(1, group, &[]);
                 pass.dispatch_workgroups(side.div_ceil(8), side.div_ceil(8), 1);
             }
