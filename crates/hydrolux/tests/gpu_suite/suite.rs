@@ -1819,8 +1819,35 @@ fn traced_ground_hits_match_the_cpu_tracer() {
 /// ray cast per pixel), where the projective lookup only approximates it.
 #[test]
 fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
-    use hydrolux::core::optics::{IOR_AIR, IOR_WATER, refract};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    // A box…
+    let (lo, hi) = (glam::Vec3::new(-0.2, -2.0, -0.6), glam::Vec3::new(1.0, -1.0, 0.2));
+    let hits_box = |o: glam::Vec3, d: glam::Vec3| {
+        let (t0, t1) = ((lo - o) / d, (hi - o) / d);
+        let near = t0.min(t1).max_element();
+        let far = t0.max(t1).min_element();
+        near <= far && far > 0.0
+    };
+    let object = "{primitive=\"box\", position=[0.4, -1.5, -0.2], scale=[1.2, 1.0, 0.8], material={albedo=[0.8, 0.05, 0.05]}}";
+    snell_places_a_traced_object(&ctx, object, hits_box);
+    // …and a plane (seen from above, its front).
+    let hits_plane = |o: glam::Vec3, d: glam::Vec3| {
+        let p = o + d * ((-0.6 - o.y) / d.y);
+        p.x.abs() < 0.7 && (p.z + 0.2).abs() < 0.45
+    };
+    let object = "{primitive=\"plane\", position=[0.0, -0.6, -0.2], scale=[1.4, 1.0, 0.9], material={albedo=[0.8, 0.05, 0.05]}}";
+    snell_places_a_traced_object(&ctx, object, hits_plane);
+}
+
+/// Render `object` (red) under flat water over a white floor, traced, and
+/// check its pixels are those whose view ray refracted by Snell's law
+/// `hits` it.
+fn snell_places_a_traced_object(
+    ctx: &GpuContext,
+    object: &str,
+    hits: impl Fn(glam::Vec3, glam::Vec3) -> bool,
+) {
+    use hydrolux::core::optics::{IOR_AIR, IOR_WATER, refract};
     let s = Scene::load(
         "ocean",
         &[
@@ -1836,12 +1863,12 @@ fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
             "camera.position=[0, 3, 3.5]",
             "camera.look_at=[0, -1.5, 0]",
             "camera.fov_y_deg=50",
-            "objects=[{primitive=\"box\", position=[0.4, -1.5, -0.2], scale=[1.2, 1.0, 0.8], material={albedo=[0.8, 0.05, 0.05]}}]",
+            &format!("objects=[{object}]"),
         ]
         .map(String::from),
     )
     .expect("valid scene");
-    let mut r = renderer(&ctx, &s);
+    let mut r = renderer(ctx, &s);
     let (w, h) = (96u32, 64u32);
     let target = HeadlessTarget::new(&ctx.device, (w, h));
     target.render(&mut r, s.camera(), 0.0).expect("frame");
@@ -1852,13 +1879,6 @@ fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
     let up = right.cross(forward);
     let tan = (cam.fov_y_deg.to_radians() / 2.0).tan();
     let aspect = hw as f32 / hh as f32;
-    let (lo, hi) = (glam::Vec3::new(-0.2, -2.0, -0.6), glam::Vec3::new(1.0, -1.0, 0.2));
-    let hits_box = |o: glam::Vec3, d: glam::Vec3| {
-        let (t0, t1) = ((lo - o) / d, (hi - o) / d);
-        let near = t0.min(t1).max_element();
-        let far = t0.max(t1).min_element();
-        near <= far && far > 0.0
-    };
     let (mut agree, mut predicted, mut seen) = (0, 0, 0);
     for y in 0..hh {
         for x in 0..hw {
@@ -1871,10 +1891,10 @@ fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
             if d.y < 0.0 {
                 let p = cam.position + d * (-cam.position.y / d.y);
                 let t = refract(d, glam::Vec3::Y, IOR_AIR, IOR_WATER).expect("into water");
-                red = hits_box(p, t);
+                red = hits(p, t);
             }
             let c = hdr[(y * hw + x) as usize];
-            // Red light is what the box sends back; the water and the floor are cyan.
+            // Red light is what the object sends back; the water and the floor are cyan.
             let gpu_red = c[0] > c[1];
             predicted += red as u32;
             seen += gpu_red as u32;
@@ -1882,11 +1902,11 @@ fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
         }
     }
     let total = hw * hh;
-    assert!(predicted > 150, "the box covers {predicted} pixels");
+    assert!(predicted > 150, "{object} covers {predicted} pixels");
     assert!(seen.abs_diff(predicted) < predicted / 3, "{seen} red pixels, {predicted} predicted");
     assert!(
         agree as f32 > 0.97 * total as f32,
-        "traced: {seen} red pixels, Snell's law puts the box in {predicted}; they agree on {agree} of {total}"
+        "traced: {seen} red pixels, Snell's law puts {object} in {predicted}; they agree on {agree} of {total}"
     );
 }
 

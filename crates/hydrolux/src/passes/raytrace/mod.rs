@@ -49,7 +49,7 @@ pub(crate) struct TracedObject {
     pub albedo: [f32; 4],
     /// rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
     pub pattern: [f32; 4],
-    /// x the shape: 0 box, 1 sphere, 2 cylinder (unit primitives)
+    /// x the shape: 0 sphere, 1 box, 2 cylinder (unit primitives), 3 plane
     pub shape: [u32; 4],
 }
 
@@ -57,6 +57,8 @@ pub(crate) struct TracedObject {
 const SHAPE_SPHERE: u32 = 0;
 const SHAPE_BOX: u32 = 1;
 const SHAPE_CYLINDER: u32 = 2;
+/// A plane (traced_hits.wgsl `TRACED_PLANE`), not one of ray_primitive's.
+const SHAPE_PLANE: u32 = 3;
 
 fn pattern_code(p: Pattern) -> f32 {
     match p {
@@ -66,9 +68,9 @@ fn pattern_code(p: Pattern) -> f32 {
     }
 }
 
-/// The scene's objects rays can be traced against: opaque boxes, spheres
-/// and cylinders (their unit primitives, transformed), by `[[objects]]`
-/// index. Meshes, planes and refractive objects are not traced.
+/// The scene's objects rays can be traced against: opaque boxes, spheres,
+/// cylinders and planes (their unit primitives, transformed), by
+/// `[[objects]]` index. Meshes and refractive objects are not traced.
 fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
     use hydrolux_core::scene::Primitive;
     scene
@@ -81,7 +83,7 @@ fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
                 Primitive::Box => SHAPE_BOX,
                 Primitive::Sphere => SHAPE_SPHERE,
                 Primitive::Cylinder => SHAPE_CYLINDER,
-                Primitive::Plane => return None,
+                Primitive::Plane => SHAPE_PLANE,
             };
             let m = &o.material;
             Some((

@@ -32,6 +32,7 @@ struct TracedObject {
     albedo: vec4<f32>,
     // rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
     pattern: vec4<f32>,
-    // x the shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER (ray_primitive.wgsl)
+    // x the shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER
+    // (ray_primitive.wgsl) or TRACED_PLANE (traced_hits.wgsl)
     shape: vec4<u32>,
 }

@@ -27,12 +27,39 @@ struct ObjectHit {
     normal: vec3<f32>,
 }
 
+// Shape code of a traced plane: the unit square |x|, |z| ≤ ½ at y = 0,
+// facing +y (drawn one-sided, as the geometry pass culls its back).
+const TRACED_PLANE: u32 = 3u;
+
+// Where the ray o + t·d (object space) is inside a traced shape: (t_in,
+// t_out) as ray_primitive gives them; a plane is the one point it crosses.
+fn traced_interval(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
+    if (shape != TRACED_PLANE) {
+        return ray_primitive(shape, vec3<f32>(0.5), o, d);
+    }
+    if (abs(d.y) < 1e-8) {
+        return vec2<f32>(1.0, -1.0);
+    }
+    let t = -o.y / d.y;
+    let p = o.xz + d.xz * t;
+    if (any(abs(p) > vec2<f32>(0.5))) {
+        return vec2<f32>(1.0, -1.0);
+    }
+    return vec2<f32>(t, t);
+}
+
 // The first entry of the ray o + t·d (object space) into a unit primitive
-// (ray_primitive's codes, half-size ½): (t, object-space normal); t =
-// NO_ROOT if it misses or starts inside.
+// (ray_primitive's codes, half-size ½) or a plane: (t, object-space
+// normal); t = NO_ROOT if it misses, starts inside or meets a plane's back.
 fn hit_primitive(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let size = vec3<f32>(0.5);
-    let t = ray_primitive(shape, size, o, d);
+    let t = traced_interval(shape, o, d);
+    if (shape == TRACED_PLANE) {
+        if (t.x > t.y || t.x <= 1e-4 || o.y <= 0.0) {
+            return vec4<f32>(NO_ROOT, 0.0, 0.0, 0.0);
+        }
+        return vec4<f32>(t.x, 0.0, 1.0, 0.0);
+    }
     if (t.x > t.y || t.x <= 1e-4) {
         return vec4<f32>(NO_ROOT, 0.0, 0.0, 0.0);
     }
@@ -60,7 +87,7 @@ fn objects_block(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
     let count = u32(traced.flags.z);
     for (var i = 0u; i < count; i++) {
         let inv = traced_objects[i].inverse_model;
-        let t = ray_primitive(traced_objects[i].shape.x, vec3<f32>(0.5), (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
+        let t = traced_interval(traced_objects[i].shape.x, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
         if (t.x <= t.y && t.y > 0.0 && t.x < t_max) {
             return true;
         }

@@ -252,13 +252,36 @@ fn ground_sun_cosine(q: vec3<f32>, n: vec3<f32>) -> f32 {
     if (light >= 0.0) {
         return light * n.y * frame.light.sun_travel_cos;
     }
-    return max(dot(n, -frame.light.sun_travel), 0.0) * sun_visibility(q, n) * caustic_factor(q);
+    return max(dot(n, -frame.light.sun_travel), 0.0) * traced_sun_visibility(q, n) * caustic_factor(q);
+}
+
+// Whether the sun reaches q (normal n) on traced ground or a traced object,
+// by a traced shadow ray: under the mean level up the flat-refracted
+// sunbeam to it, then along the sun's direction; the ground and the traced
+// objects block it (meshes cast no shadow in traced frames). The photons'
+// window (ground_sun_cosine) is exact under waves; this ray is for flat
+// water.
+fn traced_sun_visibility(q: vec3<f32>, n: vec3<f32>) -> f32 {
+    var o = q + n * 0.02;
+    if (o.y < 0.0) {
+        let up = -frame.light.sun_travel;
+        let t_surface = -o.y / max(up.y, 1e-3);
+        if (trace_ground(o, up) < t_surface || objects_block(o, up, t_surface)) {
+            return 0.0;
+        }
+        o += up * t_surface;
+    }
+    let l = frame.light.sun_dir;
+    if (trace_ground(o, l) != NO_ROOT || objects_block(o, l, traced.flags.y)) {
+        return 0.0;
+    }
+    return 1.0;
 }
 
 // What a Lambertian surface of albedo `albedo` at q (normal n) sends back
 // (as the geometry pass shades it): below the mean level the light field
-// under the surface with the caustics and the sun's shadow (for the ground,
-// the traced photons'), above it sun and sky.
+// under the surface with the caustics and the sun's traced shadow (for the
+// ground, the traced photons'), above it sun and sky.
 fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, ground: bool) -> vec3<f32> {
     var irradiance: vec3<f32>;
     if (q.y < 0.0) {
@@ -266,11 +289,11 @@ fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, ground: bool) -> 
         if (ground) {
             sun_cosine = ground_sun_cosine(q, n);
         } else {
-            sun_cosine = max(dot(n, -frame.light.sun_travel), 0.0) * sun_visibility(q, n) * caustic_factor(q);
+            sun_cosine = max(dot(n, -frame.light.sun_travel), 0.0) * traced_sun_visibility(q, n) * caustic_factor(q);
         }
         irradiance = underwater_irradiance_sun(-q.y, n, sun_cosine);
     } else {
-        let visibility = sun_visibility(q, n);
+        let visibility = traced_sun_visibility(q, n);
         let l = frame.light.sun_dir;
         let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
         irradiance = frame.light.sun_illuminance * max(dot(n, l), 0.0) * visibility
