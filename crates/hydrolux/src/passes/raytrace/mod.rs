@@ -78,7 +78,7 @@ fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
         .iter()
         .enumerate()
         .filter(|(_, o)| o.mesh.is_empty() && o.material.ior <= 0.0)
-        .filter_map(|(i, o)| {
+        .map(|(i, o)| {
             let shape = match o.primitive {
                 Primitive::Box => SHAPE_BOX,
                 Primitive::Sphere => SHAPE_SPHERE,
@@ -86,20 +86,18 @@ fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
                 Primitive::Plane => SHAPE_PLANE,
             };
             let m = &o.material;
-            Some((
-                i,
-                TracedObject {
-                    inverse_model: Scene::object_transform(o).inverse().to_cols_array_2d(),
-                    albedo: [m.albedo[0], m.albedo[1], m.albedo[2], m.tile_size],
-                    pattern: [
-                        m.pattern_color[0],
-                        m.pattern_color[1],
-                        m.pattern_color[2],
-                        pattern_code(m.pattern),
-                    ],
-                    shape: [shape, 0, 0, 0],
-                },
-            ))
+            let object = TracedObject {
+                inverse_model: Scene::object_transform(o).inverse().to_cols_array_2d(),
+                albedo: [m.albedo[0], m.albedo[1], m.albedo[2], m.tile_size],
+                pattern: [
+                    m.pattern_color[0],
+                    m.pattern_color[1],
+                    m.pattern_color[2],
+                    pattern_code(m.pattern),
+                ],
+                shape: [shape, 0, 0, 0],
+            };
+            (i, object)
         })
         .collect()
 }
