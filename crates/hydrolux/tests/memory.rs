@@ -1,7 +1,7 @@
 //! Memory stays flat however long Hydrolux renders: scenes that between
 //! them run every technique (FFT ocean, caustics, offscreen views, god rays
-//! under water, refractive objects in fog), a few hundred tiny frames in
-//! all, resident memory measured after a warm-up and at the end. (Its own
+//! under water, refractive objects in fog, ray tracing with a moving camera,
+//! the error view), a few hundred tiny frames in all, resident memory measured after a warm-up and at the end. (Its own
 //! test binary, so no other test allocates meanwhile.) The 10,000-frame soak
 //! of every scene is in BENCHMARKS.md.
 //!
@@ -25,13 +25,31 @@ fn memory_is_flat_over_hundreds_of_frames() {
     let target = HeadlessTarget::new(&ctx.device, (32, 24));
     let (warm_up, frames) = (30, 120);
     let mut report = Vec::new();
-    for name in ["pool", "underwater", "water_dragon", "ocean"] {
-        let scene = Scene::load(name, &[]).expect("built-in scene");
+    // The ray-traced lake with its camera circling (the traced windows move
+    // every frame), and the error view (two drawings a frame).
+    let cases: [(&str, &[&str], bool); 6] = [
+        ("pool", &[], false),
+        ("underwater", &[], false),
+        ("water_dragon", &[], false),
+        ("ocean", &[], false),
+        ("lake", &["water.method=raytrace"], true),
+        ("pool", &["render.view=error"], false),
+    ];
+    for (name, sets, moving) in cases {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let scene = Scene::load(name, &sets).expect("built-in scene");
         let mut r = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)
             .expect("renderer");
-        let camera = scene.camera();
+        let name = std::iter::once(name.to_string()).chain(sets).collect::<Vec<_>>().join(" ");
         let mut after_warm_up = 0.0;
         for i in 0..frames {
+            let mut camera = scene.camera();
+            if moving {
+                let a = i as f32 * 0.05;
+                let offset = glam::Vec3::new(a.cos(), 0.0, a.sin()) * (3.0 + 0.2 * i as f32);
+                camera.position += offset;
+                camera.look_at += offset;
+            }
             let index = target.submit(&mut r, camera, i as f64 / 30.0).expect("frame");
             ctx.device
                 .poll(hydrolux::wgpu::PollType::Wait {
