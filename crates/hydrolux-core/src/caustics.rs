@@ -174,7 +174,7 @@ pub fn flat_floor_irradiance(sun_dir: Vec3, ior: f32) -> f32 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::waves::ocean::{OceanFields, OceanSettings, OceanSpectrum};
     use crate::waves::spectrum::{SeaState, SpectrumKind};
@@ -204,7 +204,9 @@ mod tests {
         assert!((flat_floor_irradiance(Vec3::Y, 1.333) - 0.9796).abs() < 1e-3);
     }
 
-    fn ocean(t: f64) -> OceanFields {
+    /// A small choppy FFT ocean over a 16 m patch at time `t` (the caustic
+    /// tests' surface, here and in `raytrace::caustics`).
+    pub(crate) fn ocean(t: f64) -> OceanFields {
         let s = OceanSettings {
             sea: SeaState {
                 kind: SpectrumKind::Jonswap,

@@ -303,30 +303,9 @@ pub fn correlation(a: &[f32], b: &[f32]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::caustics::tests::ocean;
     use crate::caustics::{PhotonSettings, refracted_photon, trace_floor_caustics};
     use crate::waves::SurfaceSample;
-    use crate::waves::ocean::{OceanFields, OceanSettings, OceanSpectrum};
-    use crate::waves::spectrum::{SeaState, SpectrumKind};
-
-    fn ocean(t: f64) -> OceanFields {
-        let s = OceanSettings {
-            sea: SeaState {
-                kind: SpectrumKind::Jonswap,
-                wind_speed: 6.0,
-                wind_direction: 0.4,
-                fetch: 20_000.0,
-                depth: 50.0,
-                peak_enhancement: 3.3,
-                spreading: 8.0,
-            },
-            patch_size: 16.0,
-            resolution: 64,
-            cascades: 1,
-            choppiness: 0.5,
-            seed: 3,
-        };
-        OceanFields::evaluate(&OceanSpectrum::new(&s), t)
-    }
 
     fn flat_ground(depth: f32) -> (Heightfield, MinMaxPyramid) {
         let hf = Heightfield::sampled([-1.0, -1.0], 2.0, 2, -depth, |_, _| -depth);

@@ -90,27 +90,8 @@ impl TonemapPass {
         groups: [&wgpu::BindGroup; 3],
         timer: Option<&mut GpuTimer>,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("tonemap"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timer.and_then(|t| t.render_writes("tonemap")),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        for (i, group) in groups.into_iter().enumerate() {
-            pass.set_bind_group(i as u32, group, &[]);
-        }
-        pass.draw(0..3, 0..1);
+        let writes = timer.and_then(|t| t.render_writes("tonemap"));
+        draw_fullscreen(encoder, "tonemap", target, &self.pipeline, &groups, writes);
     }
 }
 

@@ -95,24 +95,10 @@ impl TruthView {
     /// The two images' views (projective, traced) at `size`.
     pub fn images(&mut self, device: &wgpu::Device, size: (u32, u32)) -> [wgpu::TextureView; 2] {
         if self.images.as_ref().map(|i| i.size) != Some(size) {
+            let usage =
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
             let image = |label| {
-                device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some(label),
-                        size: wgpu::Extent3d {
-                            width: size.0.max(1),
-                            height: size.1.max(1),
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format: self.format,
-                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                            | wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    })
-                    .create_view(&Default::default())
+                texture_2d(device, label, size, self.format, usage).create_view(&Default::default())
             };
             let views = [image("error view: projective"), image("error view: traced")];
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -139,25 +125,7 @@ impl TruthView {
         let Some(images) = &self.images else {
             return;
         };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("error view"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &images.group, &[]);
-        pass.draw(0..3, 0..1);
+        draw_fullscreen(encoder, "error view", target, &self.pipeline, &[&images.group], None);
     }
 }
 
