@@ -219,9 +219,8 @@ pub struct WaterDesc {
     /// 64 to 1024: 256 is 25 cm cells); finer follows shorter waves.
     pub trace_resolution: u32,
     /// `method = "raytrace"`: the most pyramid steps one ray may take
-    /// through a heightfield before it is taken to miss it (16 to 8192; a
-    /// ray that clears a heightfield takes a few dozen, one grazing wave
-    /// crests a few hundred).
+    /// through a heightfield before it is taken to miss it (16 to 8192; on
+    /// the lake's 256² terrain 600 rays down to grazing need at most 52).
     pub trace_steps: u32,
     /// `refraction = "plane"`: depth of the lookup plane (m).
     pub refraction_depth: f32,
