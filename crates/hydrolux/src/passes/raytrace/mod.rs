@@ -178,7 +178,8 @@ struct TracedCaustics {
 }
 
 impl Traced {
-    /// The water shader's group 3: the uniforms, the heights, the bounds.
+    /// The water shader's group 3: the uniforms, the heights, the bounds,
+    /// the traced objects and the light the photons left on the ground.
     pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         let fs = wgpu::ShaderStages::FRAGMENT;
         device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
