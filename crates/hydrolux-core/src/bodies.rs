@@ -73,6 +73,21 @@ impl Shape {
         [reach(0), reach(2)]
     }
 
+    /// Moment of inertia per unit mass (m²) about a horizontal axis through
+    /// the centre, upright (the mean of the two for a box).
+    pub fn tilt_inertia_per_mass(&self) -> f64 {
+        match *self {
+            Shape::Sphere { radius } => 0.4 * radius * radius,
+            Shape::Box { half } => {
+                let (x, y, z) = (2.0 * half.x, 2.0 * half.y, 2.0 * half.z);
+                0.5 * ((y * y + z * z) + (x * x + y * y)) / 12.0
+            }
+            Shape::Cylinder { radius, half_height } => {
+                (3.0 * radius * radius + 4.0 * half_height * half_height) / 12.0
+            }
+        }
+    }
+
     /// Radius of a sphere around the shape.
     pub fn bounding_radius(&self) -> f64 {
         match *self {
@@ -194,6 +209,10 @@ pub struct Submerged {
     pub centroid: DVec3,
     /// Area (m²) of the body's cut by the water surface.
     pub waterplane: f64,
+    /// Second moment of that cut about its own centre (m⁴), the mean of
+    /// its two horizontal axes: how stiffly the water rights the body
+    /// (ρ·g·I is the metacentric part of the roll stiffness).
+    pub waterplane_inertia: f64,
 }
 
 /// Columns per side of the footprint grid buoyancy is integrated over.
@@ -209,6 +228,8 @@ pub fn submerged(shape: &Shape, pose: &Pose, water: &dyn Fn(f64, f64) -> f64) ->
     let area = cell[0] * cell[1];
     let mut s = Submerged::default();
     let mut moment = DVec3::ZERO;
+    // Σx, Σz, Σx², Σz² over the waterplane's columns (times their area).
+    let mut plane = [0.0f64; 4];
     for j in 0..n {
         for i in 0..n {
             let x = pose.position.x - half[0] + (i as f64 + 0.5) * cell[0];
@@ -224,11 +245,22 @@ pub fn submerged(shape: &Shape, pose: &Pose, water: &dyn Fn(f64, f64) -> f64) ->
             moment += DVec3::new(x, 0.5 * (y0 + top), z) * v;
             if h > y0 && h < y1 {
                 s.waterplane += area;
+                let (dx, dz) = (x - pose.position.x, z - pose.position.z);
+                plane[0] += dx * area;
+                plane[1] += dz * area;
+                plane[2] += dx * dx * area;
+                plane[3] += dz * dz * area;
             }
         }
     }
     if s.volume > 0.0 {
         s.centroid = moment / s.volume;
+    }
+    if s.waterplane > 0.0 {
+        let a = s.waterplane;
+        let ix = plane[3] - plane[1] * plane[1] / a;
+        let iz = plane[2] - plane[0] * plane[0] / a;
+        s.waterplane_inertia = 0.5 * (ix + iz).max(0.0);
     }
     s
 }
@@ -264,6 +296,10 @@ const DRAG_BLUFF: f64 = 1.0;
 /// radiates as waves (the interactive water carries the waves, but not
 /// their reaction on the body).
 const HEAVE_DAMPING: f64 = 0.15;
+/// Damping of roll and pitch, as a fraction of critical: the waves a
+/// rocking body radiates and the eddies at its bilge keels (0.05–0.2 for
+/// boats and boxes; drag at the centre of buoyancy does not see rotation).
+const ROLL_DAMPING: f64 = 0.15;
 
 /// The scene's moving bodies in a rapier3d world with its static objects
 /// and floor.
@@ -405,6 +441,11 @@ impl BodyWorld {
             .collect()
     }
 
+    /// Body `i`'s kinetic energy, translation and rotation (J).
+    pub fn kinetic_energy(&self, i: usize) -> f64 {
+        self.bodies.get(i).map_or(0.0, |b| self.set[b.handle].kinetic_energy() as f64)
+    }
+
     pub fn poses(&self) -> Vec<Pose> {
         self.bodies.iter().map(|b| self.pose_of(b)).collect()
     }
@@ -434,7 +475,11 @@ impl BodyWorld {
                 rb.set_linvel(v3(b.velocity), true);
                 continue;
             }
+            // Forces and torques are both user forces that rapier keeps
+            // from step to step: each step's buoyancy and drag replace the
+            // last's (a torque left standing pumps energy into the body).
             rb.reset_forces(true);
+            rb.reset_torques(true);
             let sub = submerged(&b.shape, &pose, &|x, z| water(i, x, z));
             if sub.volume <= 0.0 {
                 continue;
@@ -451,6 +496,15 @@ impl BodyWorld {
             let heave = -2.0 * HEAVE_DAMPING * (stiffness * mass).sqrt() * v.y;
             let force = DVec3::Y * (WATER_DENSITY * g * sub.volume + heave) + drag;
             rb.add_force_at_point(v3(force), v3(sub.centroid), true);
+            // Roll and pitch: ρ·g·I_waterplane is their stiffness (the
+            // metacentric part), the body's inertia about a horizontal axis
+            // their mass.
+            let tilt_stiffness = WATER_DENSITY * g * sub.waterplane_inertia;
+            let tilt_inertia = mass * b.shape.tilt_inertia_per_mass();
+            let w = dv3(rb.angvel());
+            let rocking = DVec3::new(w.x, 0.0, w.z);
+            let roll = -2.0 * ROLL_DAMPING * (tilt_stiffness * tilt_inertia).sqrt() * rocking;
+            rb.add_torque(v3(roll), true);
         }
         self.pipeline.step(
             rp::Vector::new(0.0, -g as f32, 0.0),
@@ -626,5 +680,93 @@ mod tests {
         }
         let y = world.poses()[0].position.y;
         assert!((y - (-2.0 + 0.25)).abs() < 0.02, "resting on the floor at y = {y}");
+    }
+
+    fn one_body(object: &str) -> Scene {
+        Scene::from_toml(
+            &format!("[water]\nmodel = \"flat\"\n[floor]\ndepth = 3.0\n[[objects]]\n{object}dynamic = true\n"),
+            "test",
+            &[],
+        )
+        .unwrap()
+    }
+
+    const SPHERE: &str = "primitive = \"sphere\"\nposition = [0.0, 0.1, 0.0]\nscale = [0.5, 0.5, 0.5]\ndensity = 600.0\n";
+    const BOX: &str = "primitive = \"box\"\nposition = [0.0, 0.1, 0.0]\nscale = [1.0, 0.3, 0.6]\ndensity = 500.0\n";
+    const CYLINDER: &str = "primitive = \"cylinder\"\nposition = [0.0, 0.1, 0.0]\n\
+                            scale = [0.8, 0.4, 0.8]\ndensity = 500.0\n";
+
+    /// A body settled on still water and pushed sideways at 1.5 m/s only
+    /// loses energy to drag (the torque of last step's buoyancy was once
+    /// kept and added to: bodies sped up and spun).
+    #[test]
+    fn a_pushed_body_only_loses_energy_on_still_water() {
+        for (name, object) in [("sphere", SPHERE), ("box", BOX), ("cylinder", CYLINDER)] {
+            let scene = one_body(object);
+            let dt = 1.0 / 60.0;
+            let mut world = BodyWorld::new(&scene, dt).unwrap();
+            for _ in 0..60 * 10 {
+                world.step(&|_, x, z| flat(x, z));
+            }
+            let p = world.poses()[0].position;
+            world.pull(0, p + DVec3::new(1.5 * 0.1, 0.0, 0.0), 0.1);
+            let start = world.kinetic_energy(0);
+            let mut lowest = start;
+            for k in 0..60 * 10 {
+                world.step(&|_, x, z| flat(x, z));
+                let e = world.kinetic_energy(0);
+                // Heave and roll trade a little energy with the buoyancy's
+                // potential; kinetic energy never climbs past 1% of the start
+                // above its lowest so far.
+                assert!(
+                    e <= lowest + 0.01 * start,
+                    "{name}: kinetic energy rose to {e:.4} J from {lowest:.4} J at step {k}"
+                );
+                lowest = lowest.min(e);
+            }
+            let end = world.kinetic_energy(0);
+            let state = world.states(&flat)[0];
+            assert!(
+                end < 0.02 * start,
+                "{name}: after 10 s it keeps {end:.4} J of {start:.4} J ({:?} m/s, {:?} rad/s)",
+                state.velocity,
+                state.angular_velocity
+            );
+            assert!(
+                state.angular_velocity.length() < 0.2,
+                "{name}: spins {:?}",
+                state.angular_velocity
+            );
+        }
+    }
+
+    /// A stable body started tilted rocks and comes to rest upright.
+    #[test]
+    fn a_tilted_stable_body_comes_to_rest_upright() {
+        for (name, object) in [("sphere", SPHERE), ("box", BOX), ("cylinder", CYLINDER)] {
+            let object = format!("{object}rotation_deg = [10.0, 0.0, 5.0]\n");
+            let scene = one_body(&object);
+            let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+            let mut worst: f64 = 0.0;
+            for _ in 0..60 * 20 {
+                world.step(&|_, x, z| flat(x, z));
+                let up = world.poses()[0].rotation * DVec3::Y;
+                worst = worst.max(up.angle_between(DVec3::Y));
+            }
+            let p = world.poses()[0];
+            let tilt = (p.rotation * DVec3::Y).angle_between(DVec3::Y).to_degrees();
+            let state = world.states(&flat)[0];
+            if name != "sphere" {
+                assert!(tilt < 1.0, "{name}: still tilted {tilt:.2}° after 20 s");
+                // It rocked back, never over: never past its starting tilt.
+                assert!(worst.to_degrees() < 12.0, "{name}: swung to {:.1}°", worst.to_degrees());
+            }
+            assert!(
+                state.angular_velocity.length() < 0.05 && state.velocity.length() < 0.02,
+                "{name}: still moving {:?} m/s, {:?} rad/s",
+                state.velocity,
+                state.angular_velocity
+            );
+        }
     }
 }
