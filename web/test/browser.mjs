@@ -63,6 +63,43 @@ for (const [i, scene] of scenes.entries()) {
   console.log(`${scene}: ${JSON.stringify(state)} errors=${errors.length} ${((Date.now() - started) / 1000).toFixed(1)} s`);
   if (state.error) break;
 }
+// Then every scene runs, as a person leaves the page open: unpaused for
+// PLAY_SECONDS of simulated time (the clock at PLAY_SCALE× real time, so a
+// slow software adapter gets there in a few frames), with the pointer
+// dragged across the view (on the pool: ripples, a pulled ball). Any
+// console error fails the scene (the pool once crashed on its second
+// frame: a blocking readback a browser cannot do).
+const PLAY_SECONDS = 3, PLAY_SCALE = 10;
+for (const entry of report) {
+  if (entry.state.error) break;
+  const scene = entry.scene;
+  const started = Date.now();
+  errors = [];
+  await page.evaluate((s) => window.hydrolux_show(s), scene);
+  await page.waitForFunction((s) => window.hydrolux.scene === s, scene, { timeout: 240000, polling: 100 });
+  await page.evaluate((k) => window.hydrolux_play(k), PLAY_SCALE);
+  let played = null;
+  try {
+    // Drag across the middle of the view while it runs.
+    await page.mouse.move(w * 0.45, h * 0.6);
+    await page.mouse.down();
+    for (let i = 1; i <= 4; i++) {
+      await page.mouse.move(w * (0.45 + 0.05 * i), h * (0.6 + 0.03 * i), { steps: 2 });
+      await sleep(200);
+    }
+    await page.mouse.up();
+    await page.waitForFunction(
+      (t) => window.hydrolux && (window.hydrolux.error || window.hydrolux.time >= t),
+      PLAY_SECONDS, { timeout: 300000, polling: 250 });
+  } catch (e) {
+    errors.push(`timed out running: ${e.message.split("\n")[0]}`);
+  }
+  played = await page.evaluate(() => ({ time: window.hydrolux.time, frames: window.hydrolux.scene_frames, error: window.hydrolux.error }));
+  await page.evaluate(() => window.hydrolux_play(0));
+  entry.played = { ...played, errors, seconds: (Date.now() - started) / 1000 };
+  console.log(`${scene} running: ${JSON.stringify(entry.played)}`);
+  if (played.error) break;
+}
 await browser.close();
 writeFileSync(`${outdir}/report.json`, JSON.stringify(report, null, 1));
 

@@ -153,10 +153,13 @@ pub fn run(a: BenchArgs) -> Result<()> {
         }
         if timestamps {
             println!("passes    (GPU timestamps, median ms)");
+            // One column for the times, however long the passes' names.
+            let width = pass_medians.iter().map(|p| p.0.chars().count()).max().unwrap_or(0).max(3);
             for (n, v) in &pass_medians {
-                println!("  {n:<16} {v:8.3}");
+                println!("  {n:<width$} {v:8.3}");
             }
-            println!("  {:<16} {:8.3}", "sum", pass_medians.iter().map(|p| p.1).sum::<f64>());
+            let sum = pass_medians.iter().map(|p| p.1).sum::<f64>();
+            println!("  {:<width$} {sum:8.3}", "sum");
         } else {
             println!("passes    unavailable: the adapter has no timestamp queries");
         }

@@ -26,9 +26,9 @@ pub struct CompareArgs {
     pub scene: SceneArgs,
     #[command(flatten)]
     pub size: crate::SizeArgs,
-    /// Simulation time of the frame, seconds.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub time: f64,
+    /// Simulation time of the frame, seconds [default: the scene's start_time].
+    #[arg(long, allow_negative_numbers = true)]
+    pub time: Option<f64>,
     /// Where to write: OUT-projective.png, OUT-raytrace.png and OUT-error.png
     /// (ΔE: black 0, red 10, yellow 20, white 40 and more).
     #[arg(long, default_value = "compare")]
@@ -44,13 +44,15 @@ fn with_suffix(out: &Path, suffix: &str) -> PathBuf {
 fn scene_with(args: &SceneArgs, sets: &[&str]) -> Result<Scene> {
     let mut a = args.clone();
     a.set.extend(sets.iter().map(|s| s.to_string()));
-    a.load()
+    a.load_offline()
 }
 
 pub fn run(a: CompareArgs) -> Result<()> {
     a.size.check()?;
-    if !a.time.is_finite() {
-        bail!("--time {}: must be a finite number of seconds", a.time);
+    if let Some(t) = a.time
+        && !t.is_finite()
+    {
+        bail!("--time {t}: must be a finite number of seconds");
     }
     if a.scene.view.is_some() {
         bail!(
@@ -66,6 +68,7 @@ pub fn run(a: CompareArgs) -> Result<()> {
         bail!("--scene {}: it has no water to compare", a.scene.scene);
     }
     let traced = scene_with(&a.scene, &["water.method=raytrace"])?;
+    let time = a.time.unwrap_or(projective.start_time);
     // Nothing drawn over the surface (god rays, fog) may change the view's values.
     let fresnel = scene_with(
         &a.scene,
@@ -76,7 +79,7 @@ pub fn run(a: CompareArgs) -> Result<()> {
     let target = HeadlessTarget::new(&ctx.device, (w, h));
     let frame = |scene: &Scene| -> Result<(Vec<u8>, Renderer)> {
         let mut r = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, scene)?;
-        let pixels = target.render(&mut r, scene.camera(), a.time)?;
+        let pixels = target.render(&mut r, scene.camera(), time)?;
         Ok((pixels, r))
     };
     let (p_pixels, _) = frame(&projective)?;
@@ -117,7 +120,7 @@ pub fn run(a: CompareArgs) -> Result<()> {
     staged.publish()?;
     println!(
         "compare   {} {w}×{h} at t = {} s: water.method projective against raytrace (ΔE*ab of the displayed colours)",
-        a.scene.scene, a.time
+        a.scene.scene, time
     );
     let line = |name: &str, s: ErrorStats| {
         let share = 100.0 * s.pixels as f64 / (w * h) as f64;

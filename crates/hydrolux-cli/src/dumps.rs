@@ -34,7 +34,20 @@ pub enum DumpKind {
     Particles,
 }
 
-pub const KINDS: &str = "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics, ripples, bodies, foam, particles";
+/// Every dump kind, in the order `--help` lists them (one list for the
+/// help, the messages and the parser's test).
+macro_rules! dump_kinds {
+    () => {
+        "height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics, ripples, bodies, foam, particles"
+    };
+}
+pub const KINDS: &str = dump_kinds!();
+/// `render --help`'s text for `--dump`, from the same list.
+pub const HELP: &str = concat!(
+    "Write an internal buffer: KIND=FILE.npy|FILE.exr (bodies: FILE.json) with KIND one of ",
+    dump_kinds!(),
+    ". Repeatable."
+);
 
 #[derive(Clone, Debug)]
 pub struct Dump {
@@ -284,4 +297,18 @@ pub fn write(dump: &Dump, renderer: &Renderer, staged: &mut output::Staged) -> R
         (n, n, c, data)
     };
     staged.float(&dump.path, dump.format, &FloatImage { width, height, channels, data: &data })
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every kind the help names parses, and the help names every kind.
+    #[test]
+    fn the_help_lists_every_dump_kind() {
+        for kind in super::KINDS.split(", ") {
+            let file = if kind == "bodies" { "b.json" } else { "x.npy" };
+            super::parse(&format!("{kind}={file}")).unwrap_or_else(|e| panic!("{kind}: {e}"));
+            assert!(super::HELP.contains(kind), "{kind}");
+        }
+        assert_eq!(super::KINDS.split(", ").count(), 12);
+    }
 }

@@ -67,6 +67,20 @@ impl SceneArgs {
         }
         Ok(Scene::load(&self.scene, &sets)?)
     }
+
+    /// The scene for an offline picture (`render`, `compare`): as written,
+    /// i.e. `render.quality = "auto"` is `high` whatever the adapter, since
+    /// a still waits for its frame (the viewer, the web page and `bench`
+    /// keep `auto`: `low` on software adapters). A tier given with `--set`
+    /// or in the scene file is kept.
+    pub fn load_offline(&self) -> Result<Scene> {
+        let mut scene = self.load()?;
+        let given = self.set.iter().any(|s| s.trim_start().starts_with("render.quality"));
+        if !given && scene.render.quality == hydrolux::core::scene::Quality::Auto {
+            scene.render.quality = hydrolux::core::scene::Quality::High;
+        }
+        Ok(scene)
+    }
 }
 
 #[derive(Subcommand)]
@@ -128,11 +142,13 @@ fn info() -> Result<()> {
 }
 
 fn scenes() {
+    // One column for the descriptions, however long the names.
+    let width = BUILTIN_SCENES.iter().map(|b| b.name.len()).max().unwrap_or(0);
     for b in BUILTIN_SCENES {
         let desc = Scene::load(b.name, &[])
             .map(|s| s.description)
             .unwrap_or_else(|e| format!("(broken: {e})"));
-        println!("{:<10} {desc}", b.name);
+        println!("{:<width$}  {desc}", b.name);
     }
 }
 

@@ -20,9 +20,9 @@ pub struct RenderArgs {
     pub out: PathBuf,
     #[command(flatten)]
     pub size: crate::SizeArgs,
-    /// Simulation time of the (first) frame, seconds.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub time: f64,
+    /// Simulation time of the (first) frame, seconds [default: the scene's start_time].
+    #[arg(long, allow_negative_numbers = true)]
+    pub time: Option<f64>,
     /// Number of frames; more than one writes OUT_0000.png, OUT_0001.png, …
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub frames: u32,
@@ -40,8 +40,7 @@ pub struct RenderArgs {
     /// Video bitrate instead of --crf, bits per second with an optional k or M (e.g. 8M).
     #[arg(long)]
     pub bitrate: Option<String>,
-    /// Write an internal buffer: KIND=FILE.npy|FILE.exr with KIND one of height, displacement, normals, jacobian, hdr, caustics, godrays, object_caustics. Repeatable.
-    #[arg(long = "dump", value_name = "KIND=FILE")]
+    #[arg(long = "dump", value_name = "KIND=FILE", help = crate::dumps::HELP)]
     pub dump: Vec<String>,
 }
 
@@ -63,8 +62,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if !(a.fps.is_finite() && a.fps > 0.0) {
         bail!("--fps {}: must be a positive number", a.fps);
     }
-    if !a.time.is_finite() {
-        bail!("--time {}: must be a finite number of seconds", a.time);
+    if let Some(t) = a.time
+        && !t.is_finite()
+    {
+        bail!("--time {t}: must be a finite number of seconds");
     }
     let container = Container::of(&a.out);
     let format = match container {
@@ -90,7 +91,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         outputs.push((format!("--dump {text}"), key));
     }
-    let scene = a.scene.load()?;
+    let scene = a.scene.load_offline()?;
+    let start = a.time.unwrap_or(scene.start_time);
     for d in &dumps {
         dumps::check(d, &scene)?;
     }
@@ -134,8 +136,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
     });
     for i in range.clone() {
         // Each frame's outputs (image and dumps) appear together or not at all.
-        let written =
-            frame(&a, &dumps, format, &scene, &mut renderer, &target, i, numbering, &mut video);
+        let written = frame(
+            &a,
+            start,
+            &dumps,
+            format,
+            &scene,
+            &mut renderer,
+            &target,
+            i,
+            numbering,
+            &mut video,
+        );
         if let Err(e) = written {
             if let Some(bar) = &progress {
                 bar.abandon();
@@ -198,6 +210,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 #[allow(clippy::too_many_arguments)]
 fn frame(
     a: &RenderArgs,
+    start: f64,
     dumps: &[Dump],
     format: Format,
     scene: &hydrolux::core::scene::Scene,
@@ -207,7 +220,7 @@ fn frame(
     numbering: u32,
     video: &mut Option<VideoWriter>,
 ) -> Result<()> {
-    let time = a.time + i as f64 / a.fps;
+    let time = start + i as f64 / a.fps;
     let pixels = target.render(renderer, scene.camera(), time)?;
     let out = numbered(&a.out, i, numbering);
     let mut staged = Staged::new();

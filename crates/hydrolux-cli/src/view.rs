@@ -4,7 +4,9 @@
 //!
 //! Keys: W A S D fly, Q/E down/up, Shift faster, right mouse drag (or arrow
 //! keys) to look, Space pause, [ and ] time scale, V next debug view,
-//! P screenshot, Esc quit.
+//! P screenshot, Tab fold or unfold the panel, Esc quit. The water is drawn
+//! beside the panel, not under it: into an image the size of the rest of
+//! the window, copied in next to the panel.
 
 use crate::SceneArgs;
 use anyhow::{Context, Result};
@@ -33,6 +35,9 @@ pub struct ViewArgs {
     pub frames: Option<u64>,
 }
 
+/// How long a key's or a screenshot's status line stays in the panel (s).
+const STATUS_SECONDS: f32 = 4.0;
+
 struct Gfx {
     window: Arc<Window>,
     surface: wgpu::Surface<'static>,
@@ -42,6 +47,11 @@ struct Gfx {
     egui_ctx: egui::Context,
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
+    /// The image the water is drawn into (the window beside the panel),
+    /// when the window's surface takes copies; else it is drawn on the
+    /// surface, under the panel.
+    image: Option<(wgpu::Texture, (u32, u32))>,
+    can_copy: bool,
 }
 
 struct Viewer {
@@ -61,7 +71,13 @@ struct Viewer {
     frames: u64,
     screenshot_requested: bool,
     status: String,
+    status_at: Instant,
     fatal: Option<anyhow::Error>,
+    /// The last frame's submission, waited for before the next is submitted.
+    in_flight: Option<wgpu::SubmissionIndex>,
+    /// The panel's width in pixels (0 folded): the view starts right of it.
+    panel_px: u32,
+    panel_open: bool,
 }
 
 impl Viewer {
@@ -95,13 +111,18 @@ impl Viewer {
         let size = window.inner_size();
         let caps = surface.get_capabilities(&ctx.adapter);
         let format = caps.formats.iter().copied().find(|f| f.is_srgb()).unwrap_or(caps.formats[0]);
+        let can_copy = caps.usages.contains(wgpu::TextureUsages::COPY_DST);
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage: if can_copy {
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST
+            } else {
+                wgpu::TextureUsages::RENDER_ATTACHMENT
+            },
             format,
             width: size.width.max(1),
             height: size.height.max(1),
             present_mode: wgpu::PresentMode::AutoVsync,
-            desired_maximum_frame_latency: 2,
+            desired_maximum_frame_latency: 1,
             alpha_mode: caps.alpha_modes[0],
             view_formats: vec![],
             color_space: wgpu::SurfaceColorSpace::Auto,
@@ -128,6 +149,8 @@ impl Viewer {
             egui_ctx,
             egui_state,
             egui_renderer,
+            image: None,
+            can_copy,
         });
         self.last_frame = Instant::now();
         Ok(())
@@ -142,6 +165,7 @@ impl Viewer {
                     self.editor.error = Some(e.to_string());
                     return;
                 }
+                self.editor.accepted(&s);
                 self.scene = s;
                 self.editor.error = None;
             }
@@ -153,7 +177,7 @@ impl Viewer {
     /// god-ray method), and apply it.
     fn cycle_option(&mut self, section: &str, key: &str, names: &[String]) {
         let next = self.editor.cycle(section, key, names);
-        self.status = format!("{section}.{key}: {next}");
+        self.say(format!("{section}.{key}: {next}"));
         self.apply_table();
     }
 
@@ -169,15 +193,29 @@ impl Viewer {
             self.camera = FlyCamera::from_scene(&self.scene.camera());
         }
         self.screenshot_requested |= actions.screenshot;
-        if !self.status.is_empty() {
+        // What a key or a screenshot just did, for a few seconds (a line
+        // that stayed said "render.view: reflection" long after the view
+        // was switched back in the panel).
+        if !self.status.is_empty() && self.status_at.elapsed().as_secs_f32() < STATUS_SECONDS {
             ui.label(&self.status);
         }
         let mut changed = self.editor.choices_ui(ui);
+        if let Some(hint) = self.editor.hint(&self.scene) {
+            ui.colored_label(egui::Color32::from_rgb(240, 200, 110), hint);
+        }
+        ui.label("Tab folds this panel");
         ui.separator();
         changed |= self.editor.sections_ui(ui);
         if changed {
+            self.status.clear();
             self.apply_table();
         }
+    }
+
+    /// Show `text` in the panel for [`STATUS_SECONDS`].
+    fn say(&mut self, text: String) {
+        self.status = text;
+        self.status_at = Instant::now();
     }
 
     fn update_camera(&mut self, dt: f32) {
@@ -193,11 +231,21 @@ impl Viewer {
         self.camera.fly(motion, dt);
     }
 
-    /// The cursor in normalised device coordinates, and the view's aspect.
+    /// Where the water is drawn in the window: x offset and size (px).
+    fn view_rect(&self, g: &Gfx) -> (u32, (u32, u32)) {
+        let left =
+            if g.can_copy { self.panel_px.min(g.config.width.saturating_sub(16)) } else { 0 };
+        (left, ((g.config.width - left).max(1), g.config.height.max(1)))
+    }
+
+    /// The cursor in normalised device coordinates of the view, and the
+    /// view's aspect.
     fn cursor_ndc(&self) -> ([f32; 2], f32) {
         let Some(g) = &self.gfx else { return ([0.0, 0.0], 1.0) };
-        let (w, h) = (g.config.width.max(1) as f64, g.config.height.max(1) as f64);
-        let ndc = [(2.0 * self.cursor.0 / w - 1.0) as f32, (1.0 - 2.0 * self.cursor.1 / h) as f32];
+        let (left, (w, h)) = self.view_rect(g);
+        let (w, h) = (w as f64, h as f64);
+        let x = self.cursor.0 - left as f64;
+        let ndc = [(2.0 * x / w - 1.0) as f32, (1.0 - 2.0 * self.cursor.1 / h) as f32];
         (ndc, (w / h) as f32)
     }
 
@@ -249,9 +297,15 @@ impl Viewer {
         let view = frame.texture.create_view(&Default::default());
         let raw = g.egui_state.take_egui_input(&g.window);
         let egui_ctx = g.egui_ctx.clone();
+        let mut panel_right = 0.0;
         let mut out = egui_ctx.run_ui(raw, |ui| {
-            egui::Panel::left("scene").default_size(300.0).show(ui, |ui| self.panel(ui));
+            if self.panel_open {
+                let shown =
+                    egui::Panel::left("scene").default_size(300.0).show(ui, |ui| self.panel(ui));
+                panel_right = shown.response.rect.max.x;
+            }
         });
+        self.panel_px = (panel_right * out.pixels_per_point).ceil() as u32;
         g.egui_state.handle_platform_output(&g.window, out.platform_output);
         // The panel edits `self.scene` while the graphics are borrowed for
         // this frame; hand the edit to the renderer now. A scene it cannot
@@ -274,15 +328,44 @@ impl Viewer {
         }
         let mut encoder = g.ctx.device.create_command_encoder(&Default::default());
         let camera = self.camera.camera();
-        g.renderer.render(
-            &mut encoder,
-            &FrameInput {
-                target: &view,
-                size: (g.config.width, g.config.height),
-                camera,
-                time: self.clock.sim_time,
-            },
-        );
+        let (left, size) = self.view_rect(g);
+        if g.can_copy {
+            if g.image.as_ref().map(|i| i.1) != Some(size) {
+                let texture = g.ctx.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("viewer image"),
+                    size: wgpu::Extent3d {
+                        width: size.0,
+                        height: size.1,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: g.config.format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                });
+                g.image = Some((texture, size));
+            }
+            let image = &g.image.as_ref().expect("made above").0;
+            let image_view = image.create_view(&Default::default());
+            let time = self.clock.sim_time;
+            let input = FrameInput { target: &image_view, size, camera, time };
+            g.renderer.render(&mut encoder, &input);
+            encoder.copy_texture_to_texture(
+                image.as_image_copy(),
+                wgpu::TexelCopyTextureInfo {
+                    texture: &frame.texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x: left, y: 0, z: 0 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+            );
+        } else {
+            let time = self.clock.sim_time;
+            g.renderer.render(&mut encoder, &FrameInput { target: &view, size, camera, time });
+        }
         g.egui_renderer.update_buffers(&g.ctx.device, &g.ctx.queue, &mut encoder, &jobs, &screen);
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -297,9 +380,18 @@ impl Viewer {
             });
             g.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
         }
-        g.ctx.queue.submit([encoder.finish()]);
+        let submitted = g.ctx.queue.submit([encoder.finish()]);
         if let Some(e) = g.ctx.take_error() {
             anyhow::bail!("GPU error while drawing the viewer's frame: {e}");
+        }
+        // At most one frame in flight: on a slow adapter queued frames made
+        // every key and drag show seconds late. The next frame is recorded
+        // while this one runs; it waits for this one before it is drawn.
+        if let Some(previous) = self.in_flight.replace(submitted) {
+            let _ = g
+                .ctx
+                .device
+                .poll(wgpu::PollType::Wait { submission_index: Some(previous), timeout: None });
         }
         g.ctx.queue.present(frame);
         for id in &out.textures_delta.free {
@@ -311,16 +403,17 @@ impl Viewer {
         let last = self.args.frames.is_some_and(|n| self.frames >= n);
         if self.screenshot_requested || last {
             self.screenshot_requested = false;
-            self.status =
+            let said =
                 self.screenshot(g, camera).unwrap_or_else(|e| format!("screenshot failed: {e:#}"));
-            eprintln!("{}", self.status);
+            eprintln!("{said}");
+            self.say(said);
         }
         Ok(())
     }
 
     /// Render the current view (without the panel) at window size to a PNG.
     fn screenshot(&mut self, g: &mut Gfx, camera: Camera) -> Result<String> {
-        let (w, h) = (g.config.width, g.config.height);
+        let (_, (w, h)) = self.view_rect(g);
         let mut r =
             Renderer::new(&g.ctx.device, &g.ctx.queue, hydrolux::headless::FORMAT, &self.scene)?;
         let target = hydrolux::headless::HeadlessTarget::new(&g.ctx.device, (w, h));
@@ -346,7 +439,14 @@ impl ApplicationHandler for Viewer {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(g) = &mut self.gfx else { return };
-        let consumed = g.egui_state.on_window_event(&g.window, &event).consumed;
+        let mut consumed = g.egui_state.on_window_event(&g.window, &event).consumed;
+        if let WindowEvent::KeyboardInput { .. } = &event {
+            // Keys are the panel's only while a text field has the focus
+            // (egui keeps a clicked slider, combo box or button focused,
+            // and took every key: P, Space and the first Esc did nothing
+            // until the view was clicked). Esc in a field leaves the field.
+            consumed = g.egui_ctx.text_edit_focused();
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) if size.width > 0 && size.height > 0 => {
@@ -371,6 +471,7 @@ impl ApplicationHandler for Viewer {
                                 self.clock.time_scale = (self.clock.time_scale * 2.0).min(64.0)
                             }
                             KeyCode::KeyP => self.screenshot_requested = true,
+                            KeyCode::Tab => self.panel_open = !self.panel_open,
                             KeyCode::KeyN => self.clock.step(),
                             KeyCode::KeyR => self.clock.restart(),
                             KeyCode::KeyB => {
@@ -463,6 +564,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
             "cannot open a window: {why} (set DISPLAY or WAYLAND_DISPLAY to a running display, or render headless with `hydrolux render`)"
         )
     })?;
+    let clock = Playback::at(scene.start_time, false);
     let mut viewer = Viewer {
         editor: SceneEditor::new(&scene),
         camera: FlyCamera::from_scene(&scene.camera()),
@@ -474,12 +576,16 @@ pub fn run(args: ViewArgs) -> Result<()> {
         last_cursor: None,
         pointer: Pointer::default(),
         cursor: (0.0, 0.0),
-        clock: Playback { sim_time: 0.0, time_scale: 1.0, paused: false, frame_ms: 0.0 },
+        clock,
         last_frame: Instant::now(),
         frames: 0,
         screenshot_requested: false,
         status: String::new(),
+        status_at: Instant::now(),
         fatal: None,
+        in_flight: None,
+        panel_px: 0,
+        panel_open: true,
     };
     event_loop.run_app(&mut viewer).context("window event loop failed")?;
     match viewer.fatal {

@@ -289,6 +289,10 @@ pub struct BodyState {
     pub submerged: f64,
 }
 
+/// The fastest a hand moves a body through the water (m/s): the viewer's
+/// drag pulls no faster.
+pub const MAX_PULL_SPEED: f64 = 4.0;
+
 /// Drag coefficient of a sphere at the Reynolds numbers of a floating ball.
 const DRAG_SPHERE: f64 = 0.47;
 const DRAG_BLUFF: f64 = 1.0;
@@ -491,7 +495,11 @@ impl BodyWorld {
             let radius = b.shape.bounding_radius();
             let cd = if matches!(b.shape, Shape::Sphere { .. }) { DRAG_SPHERE } else { DRAG_BLUFF };
             let area = std::f64::consts::PI * radius * radius * fraction;
-            let drag = -0.5 * WATER_DENSITY * cd * area * v.length() * v;
+            // Quadratic drag, at most what stops the body in one step (an
+            // explicit step of a stiffer drag would reverse it and grow).
+            let stop = mass * v.length() / self.params.dt as f64;
+            let drag = -(0.5 * WATER_DENSITY * cd * area * v.length_squared()).min(stop)
+                * v.normalize_or_zero();
             let stiffness = WATER_DENSITY * g * sub.waterplane;
             let heave = -2.0 * HEAVE_DAMPING * (stiffness * mass).sqrt() * v.y;
             let force = DVec3::Y * (WATER_DENSITY * g * sub.volume + heave) + drag;
@@ -535,12 +543,16 @@ impl BodyWorld {
     }
 
     /// Move body `i` towards `target` (the viewer's drag): its velocity is
-    /// set to cover the distance in `over` seconds.
+    /// set to cover the distance in `over` seconds, at most
+    /// [`MAX_PULL_SPEED`] (a drag towards the horizon once threw the ball
+    /// through the pool at tens of m/s, and its wake and spray whitened the
+    /// whole pool).
     pub fn pull(&mut self, i: usize, target: DVec3, over: f64) {
         let Some(b) = self.bodies.get(i) else { return };
         let pose = self.pose_of(b);
         let rb = &mut self.set[b.handle];
-        rb.set_linvel(v3((target - pose.position) / over.max(1e-3)), true);
+        let v = ((target - pose.position) / over.max(1e-3)).clamp_length_max(MAX_PULL_SPEED);
+        rb.set_linvel(v3(v), true);
         rb.set_angvel(rp::Vector::ZERO, true);
     }
 }

@@ -54,16 +54,80 @@ impl SceneEditor {
         Ok(s)
     }
 
-    /// Every section, collapsible; true if a value changed.
+    /// Every section, collapsible (those that shape what the scene shows
+    /// open: the sun, the water, and the waves its model draws); true if
+    /// a value changed.
     pub fn sections_ui(&mut self, ui: &mut Ui) -> bool {
+        let open_sections = self.open_sections();
         let mut changed = false;
         egui::ScrollArea::vertical().show(ui, |ui| {
             for (section, value) in self.table.iter_mut() {
-                let open = matches!(section.as_str(), "ocean" | "sun" | "water");
+                let open = open_sections.contains(&section.as_str());
                 changed |= edit_entry(ui, section, section, section, value, open);
             }
         });
         changed
+    }
+
+    /// The sections that open at first: `sun`, `water`, and the one that
+    /// makes the waves (`ocean` for fft, `sines`, `ripples` for the
+    /// interactive water).
+    pub fn open_sections(&self) -> Vec<&'static str> {
+        let water = self.table.get("water");
+        let model = water.and_then(|w| w.get("model")).and_then(Value::as_str).unwrap_or("fft");
+        let dynamic = water.and_then(|w| w.get("dynamic")).and_then(Value::as_bool) == Some(true);
+        let mut open = vec!["sun", "water"];
+        match model {
+            "fft" => open.push("ocean"),
+            "sines" => open.push("sines"),
+            _ => {}
+        }
+        if dynamic {
+            open.push("ripples");
+        }
+        open
+    }
+
+    /// The edit was taken and gave `scene`: show what it resolved to where
+    /// the table holds derived values (a named medium's coefficients, which
+    /// otherwise kept showing the previous medium's numbers).
+    pub fn accepted(&mut self, scene: &Scene) {
+        let named = self.get("water", "medium").is_some_and(|m| m != "custom");
+        if !named {
+            return;
+        }
+        let resolved = scene.to_table();
+        for key in ["absorption", "scattering"] {
+            let Some(v) = resolved.get("water").and_then(|w| w.get(key)).cloned() else {
+                continue;
+            };
+            for table in [&mut self.table, &mut self.loaded] {
+                if let Some(Value::Table(w)) = table.get_mut("water") {
+                    w.insert(key.into(), v.clone());
+                }
+            }
+        }
+    }
+
+    /// A line that says why the scene looks as it does after an edit whose
+    /// effect surprises (`water.model = "fft"` draws the `[ocean]` section's
+    /// sea, whatever the scene is), or `None`.
+    pub fn hint(&self, scene: &Scene) -> Option<String> {
+        use hydrolux_core::scene::WaterModel;
+        (scene.water.model == WaterModel::Fft && self.loaded_model() != Some("fft")).then(|| {
+            format!(
+                "water.model = fft draws the [ocean] section's sea: wind {:.1} m/s \
+                 (ocean.wind_speed), waves of up to {:.1} m significant height when fully \
+                 developed; lower the wind for calm water",
+                scene.ocean.wind_speed,
+                // Pierson–Moskowitz: Hs = 0.21·U²/g.
+                0.21 * scene.ocean.wind_speed * scene.ocean.wind_speed / 9.81
+            )
+        })
+    }
+
+    fn loaded_model(&self) -> Option<&str> {
+        self.loaded.get("water")?.get("model")?.as_str()
     }
 
     /// The string value of `section.key`, if set.

@@ -15,6 +15,8 @@ pub use pointer::Pointer;
 /// The clock a viewer shows and steers.
 pub struct Playback {
     pub sim_time: f64,
+    /// Where the scene opens and `restart` goes back to (its `start_time`).
+    pub start: f64,
     pub time_scale: f64,
     pub paused: bool,
     /// Smoothed frame time (ms).
@@ -22,15 +24,21 @@ pub struct Playback {
 }
 
 impl Playback {
+    /// A clock at `start` (s), running unless `paused`.
+    pub fn at(start: f64, paused: bool) -> Self {
+        Playback { sim_time: start, start, time_scale: 1.0, paused, frame_ms: 0.0 }
+    }
+
     /// One simulation step forward, pausing.
     pub fn step(&mut self) {
         self.paused = true;
         self.sim_time += 1.0 / 60.0;
     }
 
-    /// Back to t = 0.
+    /// Back to where the scene opens (its `start_time`; the simulation
+    /// starts over from t = 0 and catches up to it).
     pub fn restart(&mut self) {
-        self.sim_time = 0.0;
+        self.sim_time = self.start;
     }
 }
 
@@ -61,7 +69,12 @@ pub fn header_ui(ui: &mut egui::Ui, p: &mut Playback, screenshot_label: &str) ->
             p.paused = !p.paused;
         }
         actions.step = ui.button("step").on_hover_text("one step of 1/60 s").clicked();
-        actions.restart = ui.button("restart").on_hover_text("t = 0: still water").clicked();
+        let hint = if p.start > 0.0 {
+            format!("back to the scene's start, t = {} s (run from still water at t = 0)", p.start)
+        } else {
+            "t = 0: still water".to_string()
+        };
+        actions.restart = ui.button("restart").on_hover_text(hint).clicked();
     });
     ui.add(egui::Slider::new(&mut p.time_scale, 0.0..=4.0).text("time ×"));
     ui.horizontal(|ui| {

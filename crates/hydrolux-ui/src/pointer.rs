@@ -8,7 +8,7 @@ use hydrolux::Renderer;
 use hydrolux::core::camera::Camera;
 
 /// Crater a pointer press makes (m): radius and depth.
-pub const RIPPLE_RADIUS: f32 = 0.04;
+pub const RIPPLE_RADIUS: f32 = hydrolux::core::scene::POINTER_RADIUS;
 pub const RIPPLE_STRENGTH: f32 = 0.008;
 
 /// The ray under a point of the view: `ndc` in [−1, 1]² (y up), `aspect`

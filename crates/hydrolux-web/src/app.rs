@@ -16,7 +16,8 @@ pub struct Options {
     pub scene: String,
     /// `set=section.key=value`, repeatable: as `--set` on the command line.
     pub sets: Vec<String>,
-    pub time: f64,
+    /// Simulated time to open at (`time=`; the scene's `start_time` if absent).
+    pub time: Option<f64>,
     pub paused: bool,
     pub panel: bool,
     pub size: Option<(u32, u32)>,
@@ -38,10 +39,7 @@ impl Options {
                 .as_ref()
                 .map(|p| p.get_all("set").iter().filter_map(|v| v.as_string()).collect())
                 .unwrap_or_default(),
-            time: get("time")
-                .and_then(|t| t.parse().ok())
-                .filter(|t: &f64| t.is_finite())
-                .unwrap_or(0.0),
+            time: get("time").and_then(|t| t.parse().ok()).filter(|t: &f64| t.is_finite()),
             paused: get("paused").as_deref() == Some("1"),
             panel: get("ui").as_deref() != Some("0"),
             size: num("width").zip(num("height")),
@@ -53,6 +51,16 @@ impl Options {
 thread_local! {
     /// A scene asked for from JavaScript (`hydrolux_show`), taken by the next frame.
     static REQUESTED: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+    /// A time scale asked for from JavaScript (`hydrolux_play`).
+    static PLAY: std::cell::Cell<Option<f64>> = const { std::cell::Cell::new(None) };
+}
+
+/// Run the clock at `time_scale` × real time (unpausing it), as the
+/// panel's play button and slider do; for scripts: the browser test runs
+/// every scene for seconds of simulated time on a slow software adapter.
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn hydrolux_play(time_scale: f64) {
+    PLAY.with(|p| p.set(Some(time_scale).filter(|s| s.is_finite() && *s >= 0.0)));
 }
 
 /// Show a built-in scene from its start (time, camera), as the scene picker
@@ -126,6 +134,8 @@ pub struct WebApp {
     readback: Option<Readback>,
     /// The frame count when the current scene was first shown.
     shown_at: u64,
+    /// A press on the water or a body (ripples, pulling).
+    pointer: hydrolux_ui::Pointer,
 }
 
 impl WebApp {
@@ -163,12 +173,7 @@ impl WebApp {
         Ok(WebApp {
             editor: SceneEditor::new(&scene),
             camera: FlyCamera::from_scene(&scene.camera()),
-            clock: Playback {
-                sim_time: options.time,
-                time_scale: 1.0,
-                paused: options.paused,
-                frame_ms: 0.0,
-            },
+            clock: Playback::at(options.time.unwrap_or(scene.start_time), options.paused),
             gpu,
             renderer,
             scene,
@@ -181,6 +186,7 @@ impl WebApp {
             uncaught,
             readback: None,
             shown_at: 0,
+            pointer: hydrolux_ui::Pointer::default(),
         })
     }
 
@@ -194,6 +200,7 @@ impl WebApp {
                     self.editor.error = Some(e.to_string());
                     return;
                 }
+                self.editor.accepted(&s);
                 self.scene = s;
                 self.editor.error = None;
             }
@@ -208,7 +215,8 @@ impl WebApp {
                 self.camera = FlyCamera::from_scene(&s.camera());
                 self.scene_name = name.into();
                 self.scene = s;
-                self.clock.sim_time = self.options.time;
+                self.clock.start = self.options.time.unwrap_or(self.scene.start_time);
+                self.clock.sim_time = self.clock.start;
                 self.shown_at = self.frames;
                 if let Ok(r) = &mut self.renderer
                     && let Err(e) = r.set_scene(&self.scene)
@@ -300,7 +308,13 @@ impl WebApp {
             self.start_screenshot(false);
         }
         let mut changed = self.editor.choices_ui(ui);
-        ui.label("drag: look · wheel / pinch: move · W A S D Q E: fly (Shift: fast)");
+        if let Some(hint) = self.editor.hint(&self.scene) {
+            ui.colored_label(egui::Color32::from_rgb(240, 200, 110), hint);
+        }
+        ui.label(
+            "drag: look (on the water: ripples; on the ball: pull it) · B: drop the ball · \
+             wheel / pinch: move · W A S D Q E: fly (Shift: fast)",
+        );
         ui.separator();
         changed |= self.editor.sections_ui(ui);
         if changed {
@@ -358,7 +372,35 @@ impl WebApp {
         self.gpu.queue.submit([encoder.finish()]);
         let points = egui::vec2(size.0 as f32 / ppp, size.1 as f32 / ppp);
         let response = ui.add(egui::Image::new((id, points)).sense(egui::Sense::click_and_drag()));
-        if response.dragged() {
+        // The pointer as in the viewer (hydrolux_ui::pointer): a press on the
+        // water draws ripples, on a moving body pulls it; elsewhere a drag
+        // looks around. B drops the ball in under the pointer.
+        let rect = response.rect;
+        let ndc_of = |p: egui::Pos2| {
+            [
+                2.0 * (p.x - rect.min.x) / rect.width().max(1.0) - 1.0,
+                1.0 - 2.0 * (p.y - rect.min.y) / rect.height().max(1.0),
+            ]
+        };
+        let aspect = rect.width().max(1.0) / rect.height().max(1.0);
+        let at = response.interact_pointer_pos().or(response.hover_pos());
+        if let (Some(p), Ok(renderer)) = (at, &mut self.renderer) {
+            if response.drag_started() {
+                self.pointer.press(renderer, &camera, ndc_of(p), aspect);
+            } else if response.dragged() && self.pointer.grabbing() {
+                self.pointer.drag(renderer, &camera, ndc_of(p), aspect);
+            }
+            if response.hovered()
+                && !ui.ctx().egui_wants_keyboard_input()
+                && ui.input(|i| i.key_pressed(egui::Key::B))
+            {
+                hydrolux_ui::pointer::drop_ball(renderer, &camera, ndc_of(p), aspect);
+            }
+        }
+        if response.drag_stopped() {
+            self.pointer.release();
+        }
+        if response.dragged() && !self.pointer.grabbing() {
             let d = response.drag_delta() * ppp;
             self.camera.drag(d.x, d.y);
         }
@@ -486,6 +528,10 @@ impl eframe::App for WebApp {
         let dt = dt.min(0.1);
         let ctx = ui.ctx().clone();
         self.fly(&ctx, dt as f32);
+        if let Some(scale) = PLAY.with(|p| p.take()) {
+            self.clock.paused = false;
+            self.clock.time_scale = scale;
+        }
         if !self.clock.paused {
             self.clock.sim_time += dt * self.clock.time_scale;
         }

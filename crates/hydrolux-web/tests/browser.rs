@@ -7,8 +7,10 @@
 //! screenshot through egui and the canvas) and as it rendered it (read
 //! back from its texture), matches the native render of the same scene,
 //! camera and time on this machine's default adapter with the golden-image
-//! metric and tolerances (mean ΔE ≤ 1.5, 99th percentile ≤ 8). A browser
-//! without WebGPU gets a message in the page saying why the page cannot run.
+//! metric and tolerances (mean ΔE ≤ 1.5, 99th percentile ≤ 8). Then every
+//! scene runs unpaused for 3 s of simulated time with the pointer dragged
+//! across it, without a console error. A browser without WebGPU gets a
+//! message in the page saying why the page cannot run.
 //!
 //! Needs chromium, node and npm (CI installs them; see .ci/run).
 
@@ -144,6 +146,24 @@ fn every_scene_runs_in_headless_chromium_and_looks_as_it_does_natively() {
         if !errors.is_empty() || state["error"].is_string() {
             failures.push(format!("{name}: {errors:?} {}", state["error"]));
             continue;
+        }
+        // Run unpaused with the pointer dragged across it (web/test/browser.mjs).
+        let played = &entry["played"];
+        let played_errors: Vec<&str> = played["errors"]
+            .as_array()
+            .map(|a| a.iter().filter_map(|e| e.as_str()).collect())
+            .unwrap_or_default();
+        let played_time = played["time"].as_f64().unwrap_or(0.0);
+        eprintln!(
+            "{name:14} running: to t = {played_time:.1} s in {} frames, {:.0} s",
+            played["frames"],
+            played["seconds"].as_f64().unwrap_or(f64::NAN)
+        );
+        if !played_errors.is_empty() || played["error"].is_string() || played_time < 3.0 {
+            failures.push(format!(
+                "{name} running: {played_errors:?} {} (reached t = {played_time} s)",
+                played["error"]
+            ));
         }
         assert!(frames >= 5.0 && frame_ms.is_finite() && frame_ms > 0.0, "{name}: {state}");
         assert!(state["adapter"].as_str().unwrap_or("").contains("WebGpu"), "{name}: {state}");

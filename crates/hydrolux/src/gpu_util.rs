@@ -291,6 +291,87 @@ pub fn read_buffer(
     map_and_read(device, &staging)
 }
 
+/// A copy of a buffer to the CPU that does not block the frame: `request`
+/// records the copy and maps it; `take` hands the bytes over once the map
+/// has completed. Native code may wait for it (`wait`: a copy submitted a
+/// step earlier, done long since); a browser cannot block, so there `take`
+/// answers `None` until the page's event loop has delivered the map.
+pub struct AsyncReadback {
+    staging: wgpu::Buffer,
+    size: u64,
+    /// 0 idle, 1 mapping, 2 mapped, 3 failed (device lost).
+    state: std::sync::Arc<std::sync::atomic::AtomicU8>,
+}
+
+impl AsyncReadback {
+    pub fn new(device: &wgpu::Device, label: &str, size: u64) -> Self {
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        AsyncReadback { staging, size, state: Default::default() }
+    }
+
+    /// Whether a copy is on its way.
+    pub fn in_flight(&self) -> bool {
+        self.state.load(std::sync::atomic::Ordering::Acquire) != 0
+    }
+
+    /// Copy `source` (its first `size` bytes) after the work submitted so
+    /// far and start mapping it; false if the last copy is still in flight.
+    pub fn request(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        source: &wgpu::Buffer,
+    ) -> bool {
+        use std::sync::atomic::Ordering;
+        if self.in_flight() {
+            return false;
+        }
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(source, 0, &self.staging, 0, self.size);
+        queue.submit([encoder.finish()]);
+        self.state.store(1, Ordering::Release);
+        let state = self.state.clone();
+        self.staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            state.store(if r.is_ok() { 2 } else { 3 }, Ordering::Release);
+        });
+        true
+    }
+
+    /// The bytes of the last request once mapped (waiting for them if
+    /// `wait`, which a browser ignores), or `None` (none requested, not
+    /// mapped yet, or the device was lost).
+    pub fn take(&self, device: &wgpu::Device, wait: bool) -> Option<Vec<u8>> {
+        use std::sync::atomic::Ordering;
+        if !self.in_flight() {
+            return None;
+        }
+        let poll = if wait && !cfg!(target_arch = "wasm32") {
+            wgpu::PollType::wait_indefinitely()
+        } else {
+            wgpu::PollType::Poll
+        };
+        let _ = device.poll(poll);
+        match self.state.load(Ordering::Acquire) {
+            2 => {
+                let bytes = self.staging.slice(..).get_mapped_range().ok().map(|m| m.to_vec());
+                self.staging.unmap();
+                self.state.store(0, Ordering::Release);
+                bytes
+            }
+            3 => {
+                self.state.store(0, Ordering::Release);
+                None
+            }
+            _ => None,
+        }
+    }
+}
+
 /// Map a MAP_READ buffer, wait, and copy its contents out.
 pub fn map_and_read(device: &wgpu::Device, staging: &wgpu::Buffer) -> Vec<u8> {
     let slice = staging.slice(..);

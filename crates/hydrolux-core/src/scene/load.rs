@@ -466,6 +466,15 @@ impl Scene {
     /// (N against buffer sizes) are checked by the renderer, which knows the
     /// device.
     pub fn validate(&self) -> Result<(), SceneError> {
+        if !(self.start_time.is_finite()
+            && (0.0..=super::MAX_START_TIME_S).contains(&self.start_time))
+        {
+            return Err(SceneError::OutOfRange {
+                key: "start_time".into(),
+                value: self.start_time.to_string(),
+                allowed: format!("must be 0 to {} s", super::MAX_START_TIME_S),
+            });
+        }
         self.camera.validate()?;
         self.sun.validate()?;
         self.sky.validate()?;
@@ -697,6 +706,49 @@ mod tests {
         assert!(bad.to_string().contains("water.trace_resolution"), "{bad}");
         let bad = Scene::load("lake", &["water.trace_steps=8".into()]).unwrap_err();
         assert!(bad.to_string().contains("water.trace_steps"), "{bad}");
+    }
+
+    /// A tier may coarsen the interactive water, but never past the size
+    /// of what disturbs it: the pool's 4 cm drips and the pointer's crater
+    /// stay resolved at `low` (4 m / 128 cells = 3.1 cm ≤ 4 cm).
+    #[test]
+    fn quality_tiers_keep_the_ripples_that_make_a_scene() {
+        use super::super::Quality;
+        let pool = Scene::load("pool", &[]).expect("pool");
+        assert_eq!(pool.ripple_cells_needed(), 128);
+        for q in [Quality::Low, Quality::Medium, Quality::High] {
+            let r = q.apply(&pool).ripples;
+            assert!(r.extent / r.resolution as f32 <= 0.04, "{q:?}: {} cells", r.resolution);
+        }
+        // A wide open sea whose cells are coarser than the pointer's crater,
+        // with nothing scripted: the tiers coarsen it (the wake's 16 m
+        // Kelvin waves stay resolved by 1 m cells).
+        let wake = Scene::load("wake", &[]).expect("wake");
+        assert_eq!(wake.ripple_cells_needed(), 16);
+        assert_eq!(Quality::Low.apply(&wake).ripples.resolution, 64);
+        // A 0.5 m drop on it needs 64 m / 0.5 m = 128 cells.
+        let dropped = Scene::load(
+            "wake",
+            &["drops=[{time=1.0,position=[0.0,0.0],radius=0.5,strength=0.1}]".into()],
+        )
+        .expect("a drop");
+        assert_eq!(Quality::Low.apply(&dropped).ripples.resolution, 128);
+    }
+
+    /// `start_time` opens a scene where its point shows; out of range is one line.
+    #[test]
+    fn scenes_open_at_their_start_time() {
+        for (name, t) in
+            [("pool", 2.0), ("harbor", 4.0), ("wake", 7.0), ("storm", 20.0), ("ocean", 0.0)]
+        {
+            assert_eq!(Scene::load(name, &[]).unwrap().start_time, t, "{name}");
+        }
+        let s = Scene::load("pool", &["start_time=5".into()]).expect("a top-level key");
+        assert_eq!(s.start_time, 5.0);
+        for bad in ["start_time=-1", "start_time=1e9", "start_time=nan"] {
+            let e = Scene::load("pool", &[bad.into()]).unwrap_err().to_string();
+            assert!(e.contains("start_time") && e.contains("3600"), "{bad}: {e}");
+        }
     }
 
     #[test]

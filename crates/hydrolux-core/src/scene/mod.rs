@@ -14,7 +14,9 @@ pub use choices::{Choice, enumerated_keys};
 pub use geometry::{FLOOR_EXTENT, SceneObject};
 pub use load::{SceneError, WORLD_EXTENT_M, apply_override, parse_override};
 use load::{range, validate_material, vec3_range};
-pub use ripples::{CLOCK_HZ, DropDesc, EmitterDesc, MAX_DROPS_PER_STEP, RippleEdges, RipplesDesc};
+pub use ripples::{
+    CLOCK_HZ, DropDesc, EmitterDesc, MAX_DROPS_PER_STEP, POINTER_RADIUS, RippleEdges, RipplesDesc,
+};
 pub use whitewater::WhitewaterDesc;
 
 use crate::camera::Camera;
@@ -24,11 +26,19 @@ use crate::waves::ocean::OceanSettings;
 use crate::waves::spectrum::{SeaState, SpectrumKind};
 use serde::{Deserialize, Serialize};
 
+/// The latest `start_time` a scene may set (s).
+pub const MAX_START_TIME_S: f64 = 3600.0;
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Scene {
     /// One line saying what the scene shows (listed by `hydrolux scenes`).
     pub description: String,
+    /// Simulated time (s) the scene opens at where no time is given
+    /// (`render` without `--time`, the viewer, the web page, `bench`
+    /// without `--start`): where what it shows is under way (a wake, a
+    /// splash, breaking seas). 0 to [`MAX_START_TIME_S`].
+    pub start_time: f64,
     pub camera: CameraDesc,
     pub sun: SunDesc,
     pub sky: SkyDesc,
@@ -615,6 +625,8 @@ impl Quality {
     ///   shadow map ≤ 1024²; reflections ≤ 0.25× the output; god rays ≤ ¼
     ///   resolution; ocean N ≤ 128; interactive water ≤ 64 cells; foam ≤ 128
     ///   cells, ≤ 16k particles, ≤ 10 steps/s over ≤ 6 s of memory; ½ resolution.
+    ///   The interactive water is never coarser than what its drops and the
+    ///   pointer's crater need ([`Scene::ripple_cells_needed`]).
     /// - medium: caustics ≤ 256 photons on ≤ 256² maps; shadow map ≤ 2048²;
     ///   traced water ≤ 256 cells, ≤ 1024 steps a ray;
     ///   interactive water ≤ 128 cells; ≤ 64k particles; ¾ resolution.
@@ -637,7 +649,7 @@ impl Quality {
                 cap_f(&mut s.render.reflection_resolution, 0.25);
                 cap_f(&mut s.godrays.resolution, 0.25);
                 cap_u(&mut s.ocean.resolution, 128);
-                cap_u(&mut s.ripples.resolution, 64);
+                cap_u(&mut s.ripples.resolution, 64.max(scene.ripple_cells_needed()));
                 cap_u(&mut s.whitewater.resolution, 128);
                 cap_u(&mut s.whitewater.budget, 16_384);
                 cap_f(&mut s.whitewater.memory, 6.0);
@@ -651,7 +663,7 @@ impl Quality {
                 cap_u(&mut s.render.shadow_resolution, 2048);
                 cap_u(&mut s.water.trace_resolution, 256);
                 cap_u(&mut s.water.trace_steps, 1024);
-                cap_u(&mut s.ripples.resolution, 128);
+                cap_u(&mut s.ripples.resolution, 128.max(scene.ripple_cells_needed()));
                 cap_u(&mut s.whitewater.budget, 65_536);
             }
             Quality::Ultra => {
@@ -683,7 +695,7 @@ pub enum DebugView {
     /// The floor caustic map (over the patch, letterboxed).
     Caustics,
     /// The interactive water's height on the surface (red up, blue down,
-    /// saturating at ±5 mm), shaded by its slopes; the rest in grey.
+    /// on a signed log scale from 0.5 mm to 0.5 m), shaded by its slopes; the rest in grey.
     Ripples,
     /// The foam's cover on the surface (white), over the water in grey.
     Foam,
@@ -702,6 +714,7 @@ impl Default for Scene {
     fn default() -> Self {
         Scene {
             description: String::new(),
+            start_time: 0.0,
             camera: CameraDesc::default(),
             sun: SunDesc::default(),
             sky: SkyDesc::default(),

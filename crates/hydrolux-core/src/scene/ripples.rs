@@ -58,6 +58,36 @@ impl Default for RipplesDesc {
     }
 }
 
+/// Radius (m) of the crater a pointer press makes on the interactive water
+/// (the viewer's and the web page's left drag).
+pub const POINTER_RADIUS: f32 = 0.04;
+
+impl Scene {
+    /// The fewest cells per side the interactive water may have and still
+    /// show what disturbs it: a cell no wider than the smallest scripted
+    /// drop or rain drop, nor than the pointer's crater ([`POINTER_RADIUS`])
+    /// where the scene's own cells resolve it; a power of two, at most the
+    /// scene's own `ripples.resolution` (16 when nothing small disturbs it).
+    /// Quality tiers coarsen the water no further: a crater narrower than a
+    /// cell is smeared to nothing (the pool's drips would vanish).
+    pub fn ripple_cells_needed(&self) -> u32 {
+        let r = &self.ripples;
+        let pointer = (r.extent / r.resolution as f32 <= POINTER_RADIUS).then_some(POINTER_RADIUS);
+        let smallest = self
+            .drops
+            .iter()
+            .map(|d| d.radius)
+            .chain(self.emitters.iter().map(|e| e.radius))
+            .chain(pointer)
+            .fold(f32::INFINITY, f32::min);
+        if !smallest.is_finite() {
+            return 16.min(r.resolution);
+        }
+        let cells = (r.extent / smallest.max(1e-6)).ceil().clamp(16.0, 512.0) as u32;
+        cells.next_power_of_two().min(r.resolution)
+    }
+}
+
 /// Rate of the clock the simulations step on (Hz; `SIMULATION_STEP_S` in the renderer).
 pub const CLOCK_HZ: u32 = 120;
 

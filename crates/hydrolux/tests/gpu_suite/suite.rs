@@ -293,12 +293,14 @@ fn golden_images() {
 }
 
 /// `lake` and `coastal` with `water.method = "raytrace"`: reflections and
-/// refractions traced against their terrains and the waves.
+/// refractions traced against their terrains and the waves; and the `pool`
+/// at 2 s, its ball half under the moving interactive water (its lower half
+/// squeezed under the waterline as Snell's law puts it).
 #[test]
 fn golden_images_ray_traced() {
-    for name in ["lake", "coastal"] {
+    for (name, time) in [("lake", 10.0), ("coastal", 10.0), ("pool", 2.0)] {
         let s = Scene::load(name, &["water.method=raytrace".to_string()]).expect("built-in");
-        let (px, _) = render(&s, (160, 90), 10.0);
+        let (px, _) = render(&s, (160, 90), time);
         golden::check(&format!("{name}-raytrace"), 160, 90, &px);
     }
 }
@@ -1829,24 +1831,60 @@ fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
         near <= far && far > 0.0
     };
     let object = "{primitive=\"box\", position=[0.4, -1.5, -0.2], scale=[1.2, 1.0, 0.8], material={albedo=[0.8, 0.05, 0.05]}}";
-    snell_places_a_traced_object(&ctx, object, hits_box);
+    let nothing_above = |_: glam::Vec3, _: glam::Vec3| false;
+    let (_, _) = snell_places_a_traced_object(&ctx, object, nothing_above, hits_box, 150);
     // …and a plane (seen from above, its front).
     let hits_plane = |o: glam::Vec3, d: glam::Vec3| {
         let p = o + d * ((-0.6 - o.y) / d.y);
         p.x.abs() < 0.7 && (p.z + 0.2).abs() < 0.45
     };
     let object = "{primitive=\"plane\", position=[0.0, -0.6, -0.2], scale=[1.4, 1.0, 0.9], material={albedo=[0.8, 0.05, 0.05]}}";
-    snell_places_a_traced_object(&ctx, object, hits_plane);
+    let (_, _) = snell_places_a_traced_object(&ctx, object, nothing_above, hits_plane, 150);
+}
+
+/// A ball floating half under flat water (the pool's, issue #26): seen
+/// from above at a slant, Snell's law squeezes its lower half into a thin
+/// band under the waterline (rays bend down, towards the normal); the
+/// projective approximation draws it far larger. The traced frame must
+/// show that band where a CPU ray cast puts it, no more and no less.
+#[test]
+fn a_half_submerged_sphere_is_traced_where_snells_law_puts_it() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let (c, r) = (glam::Vec3::new(0.0, 0.0, -0.2), 0.6f32);
+    let sphere_t = move |o: glam::Vec3, d: glam::Vec3| {
+        let oc = o - c;
+        let b = oc.dot(d);
+        let disc = b * b - (oc.length_squared() - r * r);
+        (disc >= 0.0).then(|| -b - disc.sqrt()).filter(|&t| t > 0.0)
+    };
+    // Above the water the view ray meets the ball before the water.
+    let above = move |o: glam::Vec3, d: glam::Vec3| {
+        sphere_t(o, d).is_some_and(|t| (o + d * t).y >= 0.0)
+    };
+    let below = move |o: glam::Vec3, d: glam::Vec3| sphere_t(o, d).is_some();
+    let object = "{primitive=\"sphere\", position=[0.0, 0.0, -0.2], scale=[1.2, 1.2, 1.2], material={albedo=[0.8, 0.05, 0.05]}}";
+    let (band, shown) = snell_places_a_traced_object(&ctx, object, above, below, 40);
+    assert!(band >= 10, "Snell's law puts the lower half in {band} pixels");
+    assert!(
+        shown as f32 >= 0.8 * band as f32,
+        "the traced frame shows the lower half in {shown} of the {band} pixels Snell's law puts it"
+    );
 }
 
 /// Render `object` (red) under flat water over a white floor, traced, and
 /// check its pixels are those whose view ray refracted by Snell's law
 /// `hits` it.
+/// `above(eye, d)`: the view ray meets the object above the water;
+/// `hits(p, t)`: the refracted ray from the water at p meets it. Returns
+/// how many pixels show it through the water alone by the ray cast, and
+/// how many of those the traced frame shows it in.
 fn snell_places_a_traced_object(
     ctx: &GpuContext,
     object: &str,
+    above: impl Fn(glam::Vec3, glam::Vec3) -> bool,
     hits: impl Fn(glam::Vec3, glam::Vec3) -> bool,
-) {
+    least: u32,
+) -> (u32, u32) {
     use hydrolux::core::optics::{IOR_AIR, IOR_WATER, refract};
     let s = Scene::load(
         "ocean",
@@ -1880,6 +1918,7 @@ fn snell_places_a_traced_object(
     let tan = (cam.fov_y_deg.to_radians() / 2.0).tan();
     let aspect = hw as f32 / hh as f32;
     let (mut agree, mut predicted, mut seen) = (0, 0, 0);
+    let (mut through, mut through_seen) = (0, 0);
     for y in 0..hh {
         for x in 0..hw {
             let ndc = glam::Vec2::new(
@@ -1887,27 +1926,30 @@ fn snell_places_a_traced_object(
                 1.0 - (y as f32 + 0.5) / hh as f32 * 2.0,
             );
             let d = (forward + ndc.x * tan * aspect * right + ndc.y * tan * up).normalize();
-            let mut red = false;
-            if d.y < 0.0 {
+            let mut red = above(cam.position, d);
+            if d.y < 0.0 && !red {
                 let p = cam.position + d * (-cam.position.y / d.y);
                 let t = refract(d, glam::Vec3::Y, IOR_AIR, IOR_WATER).expect("into water");
                 red = hits(p, t);
+                through += red as u32;
             }
             let c = hdr[(y * hw + x) as usize];
             // Red light is what the object sends back; the water and the floor are cyan.
             let gpu_red = c[0] > c[1];
+            through_seen += (red && gpu_red && !above(cam.position, d)) as u32;
             predicted += red as u32;
             seen += gpu_red as u32;
             agree += (red == gpu_red) as u32;
         }
     }
     let total = hw * hh;
-    assert!(predicted > 150, "{object} covers {predicted} pixels");
+    assert!(predicted > least, "{object} covers {predicted} pixels");
     assert!(seen.abs_diff(predicted) < predicted / 3, "{seen} red pixels, {predicted} predicted");
     assert!(
         agree as f32 > 0.97 * total as f32,
         "traced: {seen} red pixels, Snell's law puts {object} in {predicted}; they agree on {agree} of {total}"
     );
+    (through, through_seen)
 }
 
 /// The ray-traced water's heightfield, resampled on the GPU from the FFT

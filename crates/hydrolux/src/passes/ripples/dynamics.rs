@@ -68,6 +68,10 @@ pub struct Dynamics {
     /// The surface model's waves, for buoyancy (sines; flat water is 0).
     sines: Option<SineWaves>,
     seen: Option<HeightsSeen>,
+    /// The heights' copy on its way to the CPU (made at the last sync step).
+    readback: Option<crate::gpu_util::AsyncReadback>,
+    /// Where the water's window was when that copy was made.
+    readback_origin: [f64; 2],
     /// Each body's smoothed water level from the interactive water (m).
     levels: Vec<f64>,
     /// Clock steps followed since the initial state, and per step of ours.
@@ -103,6 +107,8 @@ impl Dynamics {
             scales,
             sines,
             seen: None,
+            readback: None,
+            readback_origin: [0.0; 2],
             levels: Vec::new(),
             clock_steps: 0,
             stride: (CLOCK_HZ / scene.ripples.rate.max(1)) as u64,
@@ -148,6 +154,8 @@ impl Dynamics {
             self.settle_water(queue);
         }
         self.seen = None;
+        // A copy of the old water still on its way is dropped with its buffer.
+        self.readback = None;
         self.levels.clear();
         self.clock_steps = 0;
     }
@@ -196,14 +204,33 @@ impl Dynamics {
         }
     }
 
-    fn read_back(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
+    /// A sync step: take the heights copied at the last one (bodies float
+    /// on them from now), then copy the heights now for the next. In a
+    /// browser a copy that has not arrived yet is waited for at the next
+    /// frame's sync step instead.
+    fn sync(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
         let (Some(r), Some(_)) = (&self.ripples, &self.bodies) else { return };
+        let readback = self.readback.take().unwrap_or_else(|| r.heights_readback(device));
+        if let Some(bytes) = readback.take(device, true) {
+            self.take_heights(bytemuck::cast_slice(&bytes).to_vec());
+        }
+        if let Some(r) = &self.ripples
+            && r.request_heights(device, queue, &readback)
+        {
+            let g = r.settings.grid;
+            self.readback_origin = [0, 1].map(|a| r.window.low_edge(&g, a));
+        }
+        self.readback = Some(readback);
+    }
+
+    fn take_heights(&mut self, heights: Vec<f32>) {
+        let Some(r) = &self.ripples else { return };
         let g = r.settings.grid;
         self.seen = Some(HeightsSeen {
-            heights: r.read_heights(device, queue),
+            heights,
             cells: g.cells,
             cell: g.cell_size,
-            origin: [0, 1].map(|a| r.window.low_edge(&g, a)),
+            origin: self.readback_origin,
             walls: g.boundary == RippleBoundary::Walls,
         });
         let raw = self.ring_levels(self.bodies.as_ref().expect("bodies"));
@@ -244,7 +271,7 @@ impl Dynamics {
         while k < count {
             let step = first + k;
             if syncing && step.is_multiple_of(SYNC_STEPS) {
-                self.read_back(device, queue);
+                self.sync(device, queue);
             }
             let mut end = (k + MAX_STEPS as u64).min(count);
             if syncing {

@@ -478,6 +478,23 @@ impl RipplePass {
         pass.dispatch_workgroups(f, 1, 1);
     }
 
+    /// A readback of the heights that does not block (`request_heights`).
+    pub fn heights_readback(&self, device: &wgpu::Device) -> crate::gpu_util::AsyncReadback {
+        let n = self.settings.grid.cells as u64;
+        crate::gpu_util::AsyncReadback::new(device, "ripples heights readback", n * n * 4)
+    }
+
+    /// Start copying the heights now to `readback` (false if its last copy
+    /// is still on its way).
+    pub fn request_heights(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        readback: &crate::gpu_util::AsyncReadback,
+    ) -> bool {
+        readback.request(device, queue, &self.heights)
+    }
+
     /// Heights over the domain (m), row = z, col = x (`cells` × `cells`).
     pub fn read_heights(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<f32> {
         let n = self.settings.grid.cells as u64;

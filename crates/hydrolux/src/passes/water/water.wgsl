@@ -412,8 +412,6 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
     return shafts + sun_in_scatter(0.0, t_dir, reach, s) + sky_in_scatter(0.0, t_dir, s);
 }
 
-// `render.view = "ripples"`: the interactive water's height (red up, blue
-// down, saturating at ±5 mm) lit by the surface's normal.
 // What a foam layer lets through from above, seen from below.
 const FOAM_BELOW: f32 = 0.1;
 
@@ -423,12 +421,17 @@ fn foam_view(foam: f32, n: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(mix(vec3<f32>(0.02, 0.05, 0.1), vec3<f32>(1.0), foam) * light, 1.0);
 }
 
+// `render.view = "ripples"`: the interactive water's height (red up, blue
+// down) on a signed log scale from 0.5 mm to 0.5 m (a linear ±5 mm scale
+// turned the pool solid orange: the ball alone lifts its level by 1.2 cm),
+// lit by the surface's normal so that waves show on any level.
 fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
     var r = zero_sample();
     add_ripples(&r, p, 0.0);
-    let t = tanh(r.disp.y / 0.005);
+    let h = r.disp.y;
+    let t = sign(h) * min(log(1.0 + abs(h) / 0.0005) / log(1001.0), 1.0);
     let hue = mix(vec3<f32>(0.85), select(vec3<f32>(0.15, 0.35, 1.0), vec3<f32>(1.0, 0.25, 0.1), t > 0.0), abs(t));
-    let light = 0.35 + 0.65 * max(dot(n, normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0);
+    let light = 0.2 + 0.8 * pow(max(dot(n, normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0), 4.0);
     return vec4<f32>(hue * light, 1.0);
 }
 
