@@ -411,13 +411,27 @@ impl Viewer {
         Ok(())
     }
 
-    /// Render the current view (without the panel) at window size to a PNG.
+    /// The current view (without the panel) to a PNG: the image on screen
+    /// read back, or where the window cannot take copies, the view rendered
+    /// again at its size by a new renderer (which steps its simulations
+    /// from t = 0 to now).
     fn screenshot(&mut self, g: &mut Gfx, camera: Camera) -> Result<String> {
         let (_, (w, h)) = self.view_rect(g);
-        let mut r =
-            Renderer::new(&g.ctx.device, &g.ctx.queue, hydrolux::headless::FORMAT, &self.scene)?;
-        let target = hydrolux::headless::HeadlessTarget::new(&g.ctx.device, (w, h));
-        let px = target.render(&mut r, camera, self.clock.sim_time)?;
+        let px = match &g.image {
+            Some((image, size)) if *size == (w, h) => {
+                hydrolux::headless::read_rgba8(&g.ctx.device, &g.ctx.queue, image)
+            }
+            _ => {
+                let mut r = Renderer::new(
+                    &g.ctx.device,
+                    &g.ctx.queue,
+                    hydrolux::headless::FORMAT,
+                    &self.scene,
+                )?;
+                let target = hydrolux::headless::HeadlessTarget::new(&g.ctx.device, (w, h));
+                target.render(&mut r, camera, self.clock.sim_time)?
+            }
+        };
         let name = (0..)
             .map(|i| format!("hydrolux-screenshot-{i:03}.png"))
             .find(|n| !std::path::Path::new(n).exists())

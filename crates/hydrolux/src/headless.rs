@@ -8,6 +8,22 @@ use hydrolux_core::camera::Camera;
 
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
+/// The pixels of an 8-bit RGBA or BGRA texture (a window's format), as
+/// tightly packed RGBA8 (submits and waits): the viewer's screenshot of
+/// what it shows.
+pub fn read_rgba8(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Vec<u8> {
+    let mut px = read_texture(device, queue, texture, 4);
+    if matches!(
+        texture.format(),
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    ) {
+        for p in px.chunks_exact_mut(4) {
+            p.swap(0, 2);
+        }
+    }
+    px
+}
+
 pub struct HeadlessTarget {
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,
