@@ -932,3 +932,52 @@ fn ripples_and_bodies_dumps_hold_the_water_and_the_ball() {
     assert_eq!(ball["orientation"].as_array().unwrap().len(), 4);
     assert!(ball["submerged_volume"].as_f64().unwrap() > 0.0);
 }
+
+/// `render` without `--time` and `render.quality` draws the scene as
+/// written at its `start_time` (the gallery's command is what a user
+/// types): the pool at 2 s, at `high` (its frame at the output's size)
+/// even on a software adapter; `--time` and `render.quality` still win.
+#[test]
+fn render_draws_the_scene_as_written_at_its_start_time() {
+    let dir = scratch("defaults");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "pool",
+            "--set",
+            "caustics.method=\"off\"",
+            "--width",
+            "32",
+            "--height",
+            "18",
+            "--dump",
+            "bodies=b.json",
+            "--dump",
+            "hdr=h.npy",
+            "--out",
+            "p.png",
+        ];
+        args.extend_from_slice(extra);
+        let (code, err) = hydrolux(&args, &dir);
+        assert_eq!(code, 0, "{err}");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("b.json")).unwrap()).unwrap();
+        let npy = std::fs::read(dir.join("h.npy")).unwrap();
+        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
+        (json["time"].as_f64().unwrap(), header)
+    };
+    let (time, header) = run(&[]);
+    assert_eq!(time, 2.0, "the pool opens at its start_time");
+    assert!(header.contains("'shape': (18, 32, 3)"), "drawn at the output's size: {header}");
+    let (time, header) = run(&["--time", "0.5", "--set", "render.quality=\"low\""]);
+    assert_eq!(time, 0.5);
+    assert!(header.contains("'shape': (9, 16, 3)"), "low draws at half: {header}");
+    // The help names every dump kind.
+    let out = Command::new(env!("CARGO_BIN_EXE_hydrolux")).args(["render", "--help"]).output();
+    let help = String::from_utf8_lossy(&out.expect("run hydrolux").stdout).to_string();
+    for kind in ["ripples", "bodies", "foam", "particles", "object_caustics"] {
+        assert!(help.contains(kind), "render --help lacks {kind}");
+    }
+}

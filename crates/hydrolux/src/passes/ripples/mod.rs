@@ -33,7 +33,12 @@ uniform! { RippleParams;
 }
 
 pub fn source() -> String {
-    shaders::compose("", include_str!("ripples.wgsl"))
+    use hydrolux_core::waves::ripples::{BREAKING_RELAX, BREAKING_SLOPE};
+    // Breaking's constants from the CPU twin's, not copied by hand.
+    let consts = format!(
+        "const BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\n"
+    );
+    shaders::compose(&consts, include_str!("ripples.wgsl"))
 }
 
 /// Format of the surface's ripple texture (h, ∂h/∂x, ∂h/∂z): storage-writable

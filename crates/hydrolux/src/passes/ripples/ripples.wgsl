@@ -201,6 +201,22 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     let d = domain_cell(g);
     let w = world_of(d);
     var s = state(g);
+    // Breaking: the water trades height with neighbours it stands steeper
+    // than the limiting Stokes wave against (twin: waves::ripples::breaking;
+    // BREAKING_SLOPE and BREAKING_RELAX are the twin's, set by ripples/mod.rs).
+    let most = BREAKING_SLOPE * params.space.x;
+    var give = 0.0;
+    let around = array<vec2<u32>, 4>(
+        vec2<u32>((g.x + 1u) % f, g.y),
+        vec2<u32>((g.x + f - 1u) % f, g.y),
+        vec2<u32>(g.x, (g.y + 1u) % f),
+        vec2<u32>(g.x, (g.y + f - 1u) % f),
+    );
+    for (var j = 0; j < 4; j++) {
+        let dh = s.x - state(around[j]).x;
+        give += sign(dh) * max(abs(dh) - most, 0.0);
+    }
+    s.x -= BREAKING_RELAX * give;
     // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's worth.
     for (var b = 0; b < params.bodies.y; b++) {
         s.y -= params.physics.x * body_depth(moves[params.bodies.x + b], w) * params.space.y;
