@@ -928,7 +928,7 @@ mod tests {
         let v0 = sim.volume();
         let steps = |seconds: f64| (seconds / settings.dt) as usize;
         let highest = |sim: &RippleSim| sim.heights().iter().fold(0.0f64, |m, h| m.max(*h));
-        let mut step = |sim: &mut RippleSim, world: &mut BodyWorld| {
+        let step = |sim: &mut RippleSim, world: &mut BodyWorld| {
             let before = world.poses();
             world.step(&|_, _, _| 0.0);
             sim.step_with(&[], &world.moves_since(&before));
