@@ -80,6 +80,10 @@ pub struct Dynamics {
     dt: f64,
     /// The bodies' initial world, for resets.
     scene: Scene,
+    /// The water was set (at rest around the bodies) but not yet written to
+    /// the surface's texture: a frame at t = 0 takes no step, and showed
+    /// flat water the next frame's hollow then popped into.
+    unpublished: bool,
 }
 
 impl Dynamics {
@@ -101,7 +105,7 @@ impl Dynamics {
                 scene.sines.gerstner as f64,
             )
         });
-        let d = Dynamics {
+        let mut d = Dynamics {
             ripples,
             bodies,
             scales,
@@ -114,6 +118,7 @@ impl Dynamics {
             stride: (CLOCK_HZ / scene.ripples.rate.max(1)) as u64,
             dt,
             scene: scene.clone(),
+            unpublished: false,
         };
         d.settle_water(queue);
         Some(d)
@@ -121,11 +126,26 @@ impl Dynamics {
 
     /// The water at rest around the bodies where they start (no rings from
     /// bodies appearing at t = 0).
-    fn settle_water(&self, queue: &wgpu::Queue) {
+    fn settle_water(&mut self, queue: &wgpu::Queue) {
         let (Some(r), Some(world)) = (&self.ripples, &self.bodies) else { return };
         let moves = world.moves_since(&world.poses());
         let g = r.settings.grid;
         r.set_heights(queue, &resting_heights(&g, &r.window, &moves));
+        self.unpublished = true;
+    }
+
+    /// Write the water as set to the surface's texture if no step has yet.
+    pub fn publish_if_unpublished(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        if std::mem::take(&mut self.unpublished)
+            && let Some(r) = &mut self.ripples
+        {
+            r.record(device, queue, encoder, &[], None);
+        }
     }
 
     /// Whether `scene` has anything that moves by itself.
@@ -262,6 +282,9 @@ impl Dynamics {
         let first = self.clock_steps / self.stride;
         self.clock_steps += clock_steps as u64;
         let count = self.clock_steps / self.stride - first;
+        if count > 0 {
+            self.unpublished = false;
+        }
         if let Some(r) = &mut self.ripples {
             r.follow(camera);
         }

@@ -474,6 +474,12 @@ impl Technique for Surface {
         frame: &FrameContext,
         timer: Option<&mut GpuTimer>,
     ) {
+        if stage == Stage::Simulate
+            && let Some(d) = &mut self.dynamics
+        {
+            // A frame before the first step draws the water at rest as set.
+            d.publish_if_unpublished(&frame.shared.device, &frame.shared.queue, encoder);
+        }
         match stage {
             Stage::Simulate if frame.plan.ocean => {
                 self.ocean.record(encoder, &frame.shared.downsampler, timer);
