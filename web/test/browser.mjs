@@ -69,7 +69,7 @@ for (const [i, scene] of scenes.entries()) {
 // dragged across the view (on the pool: ripples, a pulled ball). Any
 // console error fails the scene (the pool once crashed on its second
 // frame: a blocking readback a browser cannot do).
-const PLAY_SECONDS = 3, PLAY_SCALE = 10;
+const PLAY_SECONDS = 3, PLAY_SCALE = 20;
 for (const entry of report) {
   if (entry.state.error) break;
   const scene = entry.scene;
@@ -85,7 +85,7 @@ for (const entry of report) {
     await page.mouse.down();
     for (let i = 1; i <= 4; i++) {
       await page.mouse.move(w * (0.45 + 0.05 * i), h * (0.6 + 0.03 * i), { steps: 2 });
-      await sleep(200);
+      await sleep(100);
     }
     await page.mouse.up();
     await page.waitForFunction(
