@@ -344,6 +344,19 @@ impl RipplePass {
         let state: Vec<[f32; 4]> =
             heights.iter().map(|&h| [h as f32, 0.0, h as f32, 0.0]).collect();
         queue.write_buffer(&self.spectral, 0, bytemuck::cast_slice(&state));
+        // The domain's heights as `publish` would write them, so that what
+        // the bodies read back at step 0 is this water whether or not a
+        // frame drew it first (a frame at t = 0 publishes; a jump does not).
+        let g = self.settings.grid;
+        let (n, f) = (g.cells, g.fft_size());
+        let mut domain = vec![0.0f32; n * n];
+        for q in 0..n {
+            for p in 0..n {
+                let (d, _) = hydrolux_core::waves::ripples::domain_cell(&g, &self.window, [p, q]);
+                domain[d[1] * n + d[0]] = heights[q * f + p] as f32;
+            }
+        }
+        queue.write_buffer(&self.heights, 0, bytemuck::cast_slice(&domain));
     }
 
     /// A drop for the next step (the viewer's click, a thrown ball).
