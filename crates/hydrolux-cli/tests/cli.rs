@@ -377,6 +377,9 @@ fn caustics_dump_is_an_m_by_m_float_grid() {
             "pool",
             "--set",
             "caustics.map_resolution=32",
+            // Still water (the pool opens at 2 s, its ripples under way).
+            "--time",
+            "0",
             "--width",
             "16",
             "--height",
