@@ -669,14 +669,17 @@ mod tests {
     }
 
     /// A packet along x centred at `x0`: carrier `k`, envelope σ, moving +x.
+    /// Its amplitude is 1 mm or a steepness k·a of 0.01, whichever is lower,
+    /// so even a capillary packet stays linear and far below breaking.
     fn packet(sim: &mut RippleSim, k: f64, sigma: f64, x0: f64) {
         let s = sim.settings;
+        let amplitude = 1e-3_f64.min(0.01 / k);
         let d = s.depths[0];
         let w = capillary_gravity_omega(k, d, s.tension);
         let kk = k * (k * d).tanh();
         sim.set(|x, _| {
             let u = x - x0;
-            let env = 1e-3 * (-u * u / (2.0 * sigma * sigma)).exp();
+            let env = amplitude * (-u * u / (2.0 * sigma * sigma)).exp();
             (env * (k * u).cos(), env * w / kk * (k * u).sin())
         });
     }
