@@ -63,13 +63,15 @@ for (const [i, scene] of scenes.entries()) {
   console.log(`${scene}: ${JSON.stringify(state)} errors=${errors.length} ${((Date.now() - started) / 1000).toFixed(1)} s`);
   if (state.error) break;
 }
-// Then every scene runs, as a person leaves the page open: unpaused for
-// PLAY_SECONDS of simulated time (the clock at PLAY_SCALE× real time, so a
-// slow software adapter gets there in a few frames), with the pointer
-// dragged across the view (on the pool: ripples, a pulled ball). Any
-// console error fails the scene (the pool once crashed on its second
-// frame: a blocking readback a browser cannot do).
-const PLAY_SECONDS = 3, PLAY_SCALE = 20;
+// Then every scene runs, as a person leaves the page open: unpaused until
+// its clock has advanced PLAY_SECONDS of simulated time (at PLAY_SCALE× real
+// time: a frame on a software adapter takes over 0.1 s, so each frame steps
+// 0.3 s, three of the simulations' 0.1 s sync steps, and a few frames get
+// there), with the pointer dragged across the view (on the pool: ripples, a
+// pulled ball). Any console error fails the scene (the pool once crashed on
+// its second frame: a blocking readback a browser cannot do). A faster clock
+// only made each frame step more water: 20× took ten minutes for the lot.
+const PLAY_SECONDS = 0.9, PLAY_SCALE = 3;
 for (const entry of report) {
   if (entry.state.error) break;
   const scene = entry.scene;
@@ -77,6 +79,7 @@ for (const entry of report) {
   errors = [];
   await page.evaluate((s) => window.hydrolux_show(s), scene);
   await page.waitForFunction((s) => window.hydrolux.scene === s, scene, { timeout: 240000, polling: 100 });
+  const startTime = await page.evaluate(() => window.hydrolux.time);
   await page.evaluate((k) => window.hydrolux_play(k), PLAY_SCALE);
   let played = null;
   try {
@@ -90,13 +93,13 @@ for (const entry of report) {
     await page.mouse.up();
     await page.waitForFunction(
       (t) => window.hydrolux && (window.hydrolux.error || window.hydrolux.time >= t),
-      PLAY_SECONDS, { timeout: 300000, polling: 250 });
+      startTime + PLAY_SECONDS, { timeout: 300000, polling: 250 });
   } catch (e) {
     errors.push(`timed out running: ${e.message.split("\n")[0]}`);
   }
   played = await page.evaluate(() => ({ time: window.hydrolux.time, frames: window.hydrolux.scene_frames, error: window.hydrolux.error }));
   await page.evaluate(() => window.hydrolux_play(0));
-  entry.played = { ...played, errors, seconds: (Date.now() - started) / 1000 };
+  entry.played = { ...played, advanced: played.time - startTime, wanted: PLAY_SECONDS, errors, seconds: (Date.now() - started) / 1000 };
   console.log(`${scene} running: ${JSON.stringify(entry.played)}`);
   if (played.error) break;
 }
