@@ -27,7 +27,7 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub size: crate::SizeArgs,
     /// Simulation time of the frame, seconds [default: the scene's start_time].
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::time)]
     pub time: Option<f64>,
     /// Where to write: OUT-projective.png, OUT-raytrace.png and OUT-error.png
     /// (ΔE: black 0, red 10, yellow 20, white 40 and more).

@@ -5,6 +5,7 @@ mod compare;
 mod dumps;
 mod output;
 mod render;
+mod values;
 mod video;
 mod view;
 
@@ -42,9 +43,9 @@ pub struct SceneArgs {
 /// Output size, shared by every command that draws.
 #[derive(Args, Clone, Copy)]
 pub struct SizeArgs {
-    #[arg(long, default_value_t = 1280, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1280, allow_hyphen_values = true, value_parser = values::pixels)]
     pub width: u32,
-    #[arg(long, default_value_t = 720, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 720, allow_hyphen_values = true, value_parser = values::pixels)]
     pub height: u32,
 }
 
@@ -143,12 +144,15 @@ fn info() -> Result<()> {
 
 fn scenes() {
     // One column for the descriptions, however long the names.
+    // The memory: how far back any time is simulated from (`render --time`).
     let width = BUILTIN_SCENES.iter().map(|b| b.name.len()).max().unwrap_or(0);
+    println!("{:<width$}  {:>6}  description", "scene", "memory");
     for b in BUILTIN_SCENES {
-        let desc = Scene::load(b.name, &[])
-            .map(|s| s.description)
-            .unwrap_or_else(|e| format!("(broken: {e})"));
-        println!("{:<width$}  {desc}", b.name);
+        let (memory, desc) = match Scene::load(b.name, &[]) {
+            Ok(s) => (format!("{} s", s.simulation_memory()), s.description),
+            Err(e) => ("-".into(), format!("(broken: {e})")),
+        };
+        println!("{:<width$}  {memory:>6}  {desc}", b.name);
     }
 }
 

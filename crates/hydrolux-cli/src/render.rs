@@ -8,6 +8,7 @@ use crate::video::{Container, Quality, VideoWriter};
 use anyhow::{Result, bail};
 use clap::Args;
 use hydrolux::Renderer;
+use hydrolux::core::clock::MAX_TIME_S;
 use hydrolux::headless::HeadlessTarget;
 use std::path::{Path, PathBuf};
 
@@ -21,10 +22,12 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub size: crate::SizeArgs,
     /// Simulation time of the (first) frame, seconds [default: the scene's start_time].
-    #[arg(long, allow_negative_numbers = true)]
+    /// From -1e9 to 1e9 s; any time costs at most twice the scene's memory
+    /// of simulation (`hydrolux scenes`).
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::time)]
     pub time: Option<f64>,
     /// Number of frames; more than one writes OUT_0000.png, OUT_0001.png, …
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true, value_parser = crate::values::frame_count)]
     pub frames: u32,
     /// Render only frames FIRST to LAST (inclusive, counted from 0; FIRST..LAST is the same) of the
     /// sequence, numbered and timed as in the whole sequence: to resume one
@@ -32,10 +35,10 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FIRST-LAST")]
     pub frame_range: Option<String>,
     /// Frames per second of simulated time in a sequence (and of the video).
-    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 30.0, allow_hyphen_values = true, value_parser = crate::values::fps)]
     pub fps: f64,
     /// Video quality: constant rate factor, 0 (lossless) to 51 (smallest file); default 20.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::values::crf)]
     pub crf: Option<u32>,
     /// Video bitrate instead of --crf, bits per second with an optional k or M (e.g. 8M).
     #[arg(long)]
@@ -56,17 +59,6 @@ pub fn numbered(path: &Path, frame: u32, frames: u32) -> PathBuf {
 
 pub fn run(a: RenderArgs) -> Result<()> {
     a.size.check()?;
-    if a.frames == 0 {
-        bail!("--frames 0: must be at least 1");
-    }
-    if !(a.fps.is_finite() && a.fps > 0.0) {
-        bail!("--fps {}: must be a positive number", a.fps);
-    }
-    if let Some(t) = a.time
-        && !t.is_finite()
-    {
-        bail!("--time {t}: must be a finite number of seconds");
-    }
     let container = Container::of(&a.out);
     let format = match container {
         Some(_) => Format::Png,
@@ -105,6 +97,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         None => (0..a.frames, a.frames),
     };
+    // The last frame's time must be a time too.
+    let last = start + (numbering - 1) as f64 / a.fps;
+    if last.abs() > MAX_TIME_S {
+        bail!(
+            "--frames {numbering} at --fps {} from t = {start} s ends at t = {last:e} s: the latest time is {MAX_TIME_S:e} s",
+            a.fps
+        );
+    }
     let ctx = crate::headless_context()?;
     let max = hydrolux::Capabilities::of(&ctx.device).max_texture_2d;
     if a.size.width > max || a.size.height > max {
@@ -115,6 +115,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
+    // Every frame from its time's own origin: a slice renders the frames of the whole.
+    renderer.set_exact_time(true);
+    renderer.set_catch_up_progress(Some(catch_up_bar(start)));
     let target = HeadlessTarget::new(&ctx.device, (a.size.width, a.size.height));
     // A video holds every frame of the range in one file, written whole or not at all.
     let mut video = match container {
@@ -204,6 +207,34 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A progress bar for a long catch-up of the simulations (a late time):
+/// shown once one takes more than a batch of steps.
+fn catch_up_bar(start: f64) -> Box<dyn FnMut(u64, u64)> {
+    let mut bar: Option<indicatif::ProgressBar> = None;
+    Box::new(move |done, total| {
+        let b = bar.get_or_insert_with(|| {
+            let b = indicatif::ProgressBar::new(total);
+            b.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{msg} {bar:30} {pos}/{len} steps  {elapsed} (eta {eta})",
+                )
+                .expect("valid template"),
+            );
+            b.set_message(format!(
+                "simulating {:.0} s of the scene's past near t = {start} s",
+                total as f64 * hydrolux::renderer::SIMULATION_STEP_S
+            ));
+            b
+        });
+        b.set_length(total);
+        b.set_position(done.min(total));
+        if done >= total {
+            b.finish_and_clear();
+            bar = None;
+        }
+    })
 }
 
 /// Render frame `i` and publish its image and dumps together.

@@ -47,12 +47,45 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--set", "ocean.wind_speed=-1"], "`ocean.wind_speed` = -1 is out of range"),
         (&["render", "--set", "ocean.resolution=100"], "power of two"),
         (&["render", "--set", "camera.fov_y_deg=0"], "(0, 180)"),
-        (&["render", "--width", "0"], "--width 0"),
+        (
+            &["render", "--width", "0"],
+            "'0' for '--width <WIDTH>': must be a whole number from 1 to 16384 pixels",
+        ),
         (&["render", "--out", "picture.jpg"], "must end in .png or .exr"),
         (&["render", "--out", "no/such/folder/x.png"], "does not exist"),
         (&["render", "--dump", "sky=x.npy"], "unknown buffer"),
-        (&["render", "--frames", "0"], "--frames 0"),
-        (&["bench", "--frames", "0"], "--frames 0"),
+        (
+            &["render", "--frames", "0"],
+            "'0' for '--frames <FRAMES>': must be a whole number from 1",
+        ),
+        (&["bench", "--frames", "0"], "must be a whole number from 1 to 1000000 frames"),
+        // Each number in its option's own terms (not the integer type's),
+        // and every time within the clock's range (1e30 once aborted).
+        (
+            &["render", "--time", "1e30"],
+            "'1e30' for '--time <TIME>': must be a time from -1e9 to 1e9 s",
+        ),
+        (
+            &["render", "--time", "-inf"],
+            "'-inf' for '--time <TIME>': must be a time from -1e9 to 1e9 s",
+        ),
+        (&["render", "--time=nan"], "must be a time from -1e9 to 1e9 s"),
+        (&["compare", "--time", "1e300"], "must be a time from -1e9 to 1e9 s"),
+        (
+            &["bench", "--start", "1e30"],
+            "'1e30' for '--start <START>': must be a time from 0 to 1e9 s",
+        ),
+        (&["bench", "--start", "-1"], "must be a time from 0 to 1e9 s"),
+        (
+            &["render", "--frames", "3", "--fps", "1e-30"],
+            "must be 0.001 to 10000 frames per second",
+        ),
+        (&["render", "--crf=-1", "--out", "v.mp4"], "must be a whole number from 0 to 51"),
+        (&["render", "--height", "-1"], "must be a whole number from 1 to 16384 pixels"),
+        (
+            &["render", "--frames", "4000000000", "--fps", "1"],
+            "--frames 4000000000 at --fps 1 from t = 0 s ends at t = 3.999999999e9 s: the latest time is 1e9 s",
+        ),
         (&["render", "--scene", "no_mesh.toml"], "cannot load mesh nope.obj: no such file"),
         (&["render", "--scene", "bad_mesh.toml"], "cannot load mesh bad.glb"),
         (&["render", "--scene", "no_texture.toml"], "cannot load texture nope.png: no such file"),
@@ -106,7 +139,7 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--set", "water.method=exact"], "water.method"),
         (&["compare", "--view", "normals"], "--view"),
         (&["compare", "--set", "water.model=none"], "no water to compare"),
-        (&["compare", "--width", "0"], "--width 0"),
+        (&["compare", "--width", "0"], "'0' for '--width <WIDTH>'"),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);
@@ -132,6 +165,26 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         ],
         "files were written: {left:?}"
     );
+}
+
+/// The latest frames of a four-billion-frame sequence, and the latest time
+/// allowed, render at once: each simulated from its own origin, under
+/// twice the scene's memory before it (once they stepped from t = 0).
+#[test]
+fn the_latest_frames_render_in_a_bounded_time() {
+    let dir = scratch("late");
+    let small = ["--width", "16", "--height", "16", "--set", "whitewater.memory=2"];
+    let mut args = vec!["render", "--out", "f.png", "--frames", "4000000000"];
+    args.extend(["--frame-range", "3999999998-3999999999"]);
+    args.extend(small);
+    let (code, err) = hydrolux(&args, &dir);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("f_3999999998.png").is_file() && dir.join("f_3999999999.png").is_file());
+    let mut args = vec!["render", "--out", "late.png", "--time", "1e9"];
+    args.extend(small);
+    let (code, err) = hydrolux(&args, &dir);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("late.png").is_file());
 }
 
 #[test]

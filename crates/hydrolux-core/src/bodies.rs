@@ -532,6 +532,16 @@ impl BodyWorld {
         self.steps += 1;
     }
 
+    /// Kinematic bodies where their constant velocity has taken them by
+    /// `time` (s): the world started again at a later origin (`clock`).
+    pub fn advance_kinematic(&mut self, time: f64) {
+        for b in self.bodies.iter().filter(|b| !b.dynamic) {
+            let rb = &mut self.set[b.handle];
+            let position = dv3(rb.translation()) + b.velocity * time;
+            rb.set_translation(v3(position), true);
+        }
+    }
+
     /// Put body `i` at `position`, at rest and upright.
     pub fn place(&mut self, i: usize, position: DVec3) {
         let Some(b) = self.bodies.get(i) else { return };

@@ -185,7 +185,7 @@ impl FramePlan {
             object_light,
             shafts_from_above,
             cull_margin: world.cull_margin,
-            simulation: hydrolux_core::clock::Advance { reset: false, steps: 0 },
+            simulation: hydrolux_core::clock::Advance { reset: false, from: 0, steps: 0 },
             frame: FrameUniforms::default(),
         };
         plan.frame = plan.frame_uniforms(s, world);

@@ -18,7 +18,7 @@ use crate::technique::{Bound, FrameContext, Layouts, Shared, Stage, ViewSlots};
 use crate::timing::GpuTimer;
 use crate::uniforms::FrameUniforms;
 use hydrolux_core::camera::Camera;
-use hydrolux_core::clock::SimulationClock;
+use hydrolux_core::clock::{MAX_TIME_S, SimulationClock};
 use hydrolux_core::projective::ClipPlane;
 use hydrolux_core::scene::{DebugView, Scene};
 use hydrolux_core::sky::{SkyParams, sky_irradiance_up};
@@ -62,6 +62,8 @@ pub struct Renderer {
     pub(crate) last_plan: Option<FramePlan>,
     /// The fixed-step clock stateful simulations advance on.
     clock: SimulationClock,
+    /// Told how a long catch-up goes (`set_catch_up_progress`).
+    catch_up_progress: Option<Box<dyn FnMut(u64, u64)>>,
     /// Size of the caller's target in the last frame.
     output_size: (u32, u32),
     /// The error view's second drawing and its pass (`render.view = "error"`).
@@ -198,7 +200,9 @@ impl Renderer {
                 .expect("valid clock constants"),
             output_size: (0, 0),
             truth: None,
+            catch_up_progress: None,
         };
+        r.clock.set_memory(scene.simulation_memory()).expect("memory is at most 600 s");
         r.update_truth(scene)?;
         r.update_sky();
         Ok(r)
@@ -305,6 +309,7 @@ impl Renderer {
         if ripples_restart {
             self.clock.reset();
         }
+        self.clock.set_memory(scene.simulation_memory()).expect("memory is at most 600 s");
         if self.techniques.set_scene(&self.shared, &self.scene, scene)? {
             self.bound.globals = Self::globals(&self.shared, &self.techniques, &self.samplers);
             self.bound.shadow_values = Self::shadow_values(&self.shared, &self.techniques);
@@ -420,7 +425,7 @@ impl Renderer {
         }
         // Simulations start at t = 0: earlier (or non-finite) times show the
         // initial state.
-        let sim_time = if input.2.is_finite() { input.2.max(0.0) } else { 0.0 };
+        let sim_time = if input.2.is_finite() { input.2.clamp(0.0, MAX_TIME_S) } else { 0.0 };
         plan.simulation = self.clock.advance_to(sim_time).expect("a finite time from 0 on");
         let (shared, queue) = (&self.shared, &self.shared.queue);
         let (m, v) = (&plan.matrices, &shared.views);
@@ -447,7 +452,13 @@ impl Renderer {
         for t in self.techniques.each_mut() {
             t.prepare(queue, &frame);
         }
-        record_simulation_steps(&mut self.techniques, &self.clock, encoder, &frame);
+        record_simulation_steps(
+            &mut self.techniques,
+            &self.clock,
+            encoder,
+            &frame,
+            &mut self.catch_up_progress,
+        );
         // Bodies the simulation moved are drawn where they are now.
         if let Some(d) = &self.techniques.surface.dynamics {
             for (i, transform) in d.transforms() {
@@ -539,6 +550,28 @@ impl Renderer {
     /// frame steps them from t = 0 to its time.
     pub fn reset_simulation(&mut self) {
         self.clock.reset();
+    }
+
+    /// Exact time (offline renders): the state at every time is simulated
+    /// from that time's own origin (`hydrolux_core::clock`), so any slice
+    /// of a sequence renders the frames of the whole. Off (the viewer,
+    /// `bench`), playing on continues the state it has and only a long jump
+    /// starts again. Either way a time costs under twice the scene's
+    /// memory of steps.
+    pub fn set_exact_time(&mut self, exact: bool) {
+        self.clock.set_exact(exact);
+    }
+
+    /// Clock steps the simulations would take to reach `time` from where
+    /// they are (what a caller shows progress for).
+    pub fn simulation_steps_to(&self, time: f64) -> u64 {
+        self.clock.steps_to(time.clamp(0.0, MAX_TIME_S))
+    }
+
+    /// Call `progress(done, total)` after each batch of a catch-up of more
+    /// than one batch of steps (waiting for the GPU, so it is honest).
+    pub fn set_catch_up_progress(&mut self, progress: Option<Box<dyn FnMut(u64, u64)>>) {
+        self.catch_up_progress = progress;
     }
 
     /// Simulated time (s) of the stateful simulations' current state: the
@@ -677,6 +710,7 @@ fn record_simulation_steps(
     clock: &SimulationClock,
     encoder: &mut wgpu::CommandEncoder,
     frame: &FrameContext,
+    progress: &mut Option<Box<dyn FnMut(u64, u64)>>,
 ) {
     let advance = frame.plan.simulation;
     let (queue, dt) = (&frame.shared.queue, clock.dt());
@@ -687,7 +721,7 @@ fn record_simulation_steps(
     }
     if advance.reset {
         for t in stateful.iter_mut() {
-            t.reset_state(queue);
+            t.reset_state(queue, advance.from);
         }
     }
     let batches: Vec<u32> = clock.batches(advance.steps).collect();
@@ -702,6 +736,16 @@ fn record_simulation_steps(
                 t.step(&mut early, frame, steps, dt);
             }
             queue.submit([early.finish()]);
+            if let Some(report) = progress.as_mut() {
+                let _ = frame.shared.device.poll(wgpu::PollType::wait_indefinitely());
+                let done = (i as u64 + 1) * clock.batch() as u64;
+                report(done, advance.steps);
+            }
         }
+    }
+    if batches.len() > 1
+        && let Some(report) = progress.as_mut()
+    {
+        report(advance.steps, advance.steps);
     }
 }

@@ -224,8 +224,10 @@ pub(crate) trait Technique {
         false
     }
 
-    /// Back to its initial state (the clock went back, or was reset).
-    fn reset_state(&mut self, _queue: &wgpu::Queue) {}
+    /// Back to its initial state, as it is at clock step `from` (the clock
+    /// went back, was reset, or a late time starts from its origin: see
+    /// `hydrolux_core::clock`).
+    fn reset_state(&mut self, _queue: &wgpu::Queue, _from: u64) {}
 
     /// Record `steps` fixed steps of `clock_dt` seconds of its simulation,
     /// before the frame's stages (see `hydrolux_core::clock`).

@@ -15,7 +15,8 @@ pub use geometry::{FLOOR_EXTENT, SceneObject};
 pub use load::{SceneError, WORLD_EXTENT_M, apply_override, parse_override};
 use load::{range, validate_material, vec3_range};
 pub use ripples::{
-    CLOCK_HZ, DropDesc, EmitterDesc, MAX_DROPS_PER_STEP, POINTER_RADIUS, RippleEdges, RipplesDesc,
+    BODY_MEMORY_S, CLOCK_HZ, DropDesc, EmitterDesc, MAX_DROPS_PER_STEP, POINTER_RADIUS,
+    RippleEdges, RipplesDesc,
 };
 pub use whitewater::WhitewaterDesc;
 

@@ -88,6 +88,26 @@ impl Scene {
     }
 }
 
+/// How long (s) a moving body takes to forget how it started: rapier's
+/// angular damping of 0.5/s (`bodies`) brings a spin to 1e-3 in
+/// ln(1000)/0.5 = 13.8 s, and the water's drag damps a bob faster.
+pub const BODY_MEMORY_S: f64 = 14.0;
+
+impl Scene {
+    /// The scene's memory (s, whole seconds; `clock`): the longest of its
+    /// simulations' — the interactive water's ([`RippleSettings::memory`]),
+    /// white water's (`whitewater.memory`) and moving bodies'
+    /// ([`BODY_MEMORY_S`]); 0 when nothing keeps state.
+    pub fn simulation_memory(&self) -> f64 {
+        let water = self.ripple_settings().map_or(0.0, |r| r.memory());
+        let foam =
+            if self.has_whitewater() { (self.whitewater.memory as f64).max(1.0) } else { 0.0 };
+        let moving = self.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
+        let bodies = if moving { BODY_MEMORY_S } else { 0.0 };
+        water.max(foam).max(bodies).ceil()
+    }
+}
+
 /// Rate of the clock the simulations step on (Hz; `SIMULATION_STEP_S` in the renderer).
 pub const CLOCK_HZ: u32 = 120;
 
@@ -356,6 +376,21 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_scene_forgets_its_start_within_ten_minutes() {
+        for b in super::super::BUILTIN_SCENES {
+            let scene = Scene::load(b.name, &[]).unwrap();
+            let m = scene.simulation_memory();
+            assert!(m.fract() == 0.0 && (0.0..=600.0).contains(&m), "{}: {m} s", b.name);
+            eprintln!("{:14} memory {m} s", b.name);
+        }
+        // The pool's walls damp at 0.05/s: ln(2000)/0.05 = 152.0 s.
+        assert_eq!(Scene::load("pool", &[]).unwrap().simulation_memory(), 153.0);
+        // Still water without simulations has none.
+        let still = Scene::from_toml("[whitewater]\nfoam = false\nparticles = false\n", "t", &[]);
+        assert_eq!(still.unwrap().simulation_memory(), 0.0);
+    }
 
     #[test]
     fn drops_land_in_the_step_of_their_time_and_rain_is_repeatable() {

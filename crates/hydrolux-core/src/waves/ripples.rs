@@ -116,6 +116,57 @@ pub struct RippleSettings {
     pub dt: f64,
 }
 
+/// The fraction of a disturbance's amplitude that counts as forgotten
+/// (a simulation's memory is the time to fall to it).
+pub const FORGOTTEN: f64 = 1e-3;
+
+/// The most of a wave's amplitude the open edges' sponge gives back per
+/// return crossing of the domain (`open_edges_absorb_what_reaches_them`
+/// measures under 5% of the energy back).
+pub const SPONGE_RETURN: f64 = 0.22;
+
+/// The longest memory (s) a simulation declares: walls without damping
+/// ring for days (2νk² is 3e-7/s for a pool's longest wave), and a late
+/// time is then simulated from still water 10 to 20 minutes before it.
+pub const MAX_MEMORY_S: f64 = 600.0;
+
+impl RippleSettings {
+    /// The memory (s, see `clock`): how long until nothing of the water's
+    /// start is left, to [`FORGOTTEN`]. Each wave number k decays at
+    /// 2νk² + damping; between walls that is all (the slowest, longest
+    /// standing wave sets it); in open water a wave also meets the sponge
+    /// once per return crossing of the domain (2·extent at its group
+    /// speed), which gives back at most [`SPONGE_RETURN`] of it. The
+    /// slowest of the resolved waves sets it, at most [`MAX_MEMORY_S`].
+    pub fn memory(&self) -> f64 {
+        // Twice as long a fall: where waves meet, their peaks add.
+        let forget = (2.0 / FORGOTTEN).ln();
+        let extent = self.grid.extent();
+        let rate = |k: f64| 2.0 * self.viscosity * k * k + self.damping;
+        let decay = |k: f64| forget / rate(k);
+        let memory = match self.grid.boundary {
+            RippleBoundary::Walls => decay(PI / extent),
+            RippleBoundary::Periodic => decay(2.0 * PI / extent),
+            RippleBoundary::Open => {
+                let (k_low, k_high) = (2.0 * PI / extent, PI / self.grid.cell_size);
+                (0..=64)
+                    .map(|i| {
+                        let k = k_low * (k_high / k_low).powf(i as f64 / 64.0);
+                        let slowest = self
+                            .depths
+                            .map(|d| capillary_gravity_group_speed(k, d, self.tension))
+                            .into_iter()
+                            .fold(f64::INFINITY, f64::min);
+                        let crossing = 2.0 * extent / slowest;
+                        forget / (rate(k) + (1.0 / SPONGE_RETURN).ln() / crossing)
+                    })
+                    .fold(0.0, f64::max)
+            }
+        };
+        if memory.is_finite() { memory.min(MAX_MEMORY_S) } else { MAX_MEMORY_S }
+    }
+}
+
 /// One step's rotation of wave number `k` over depth `depth`: the factors
 /// of h' = e·(c·h + s_h·φ), φ' = e·(−s_φ·h + c·φ). Twin of `rotation` in
 /// `passes/ripples/spectral.wgsl`.
@@ -861,6 +912,47 @@ mod tests {
             let left = sim.energy() / e0;
             assert!(left < 0.05, "λ {lambda} m: {:.1}% of the energy came back", 100.0 * left);
         }
+    }
+
+    #[test]
+    fn after_its_memory_the_water_has_forgotten_its_start() {
+        // A packet of each length in walls with damping and in open water:
+        // after the memory (seconds), at most FORGOTTEN of it is left.
+        let mut walls = settings(RippleBoundary::Walls, 64, 1.0 / 16.0, 1.0);
+        walls.damping = 0.5;
+        let open = settings(RippleBoundary::Open, 64, 1.0 / 16.0, 1.0);
+        for (s, what) in [(walls, "walls, damping 0.5/s"), (open, "open")] {
+            let memory = s.memory();
+            assert!(memory > 1.0 && memory < MAX_MEMORY_S, "{what}: {memory} s");
+            for lambda in [0.25, 1.0, 3.0] {
+                let mut s = s;
+                let steps = (memory * 30.0).ceil() as usize;
+                s.dt = memory / steps as f64;
+                let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+                packet(&mut sim, 2.0 * PI / lambda, 0.3, 2.0);
+                // About the mean level: the volume a packet adds stays (drops
+                // and bodies add none).
+                let peak = |sim: &RippleSim| {
+                    let n = sim.settings.grid.cells;
+                    let h = |c: usize| sim.height(c % n, c / n);
+                    let mean = (0..n * n).map(h).sum::<f64>() / (n * n) as f64;
+                    (0..n * n).map(|c| (h(c) - mean).abs()).fold(0.0, f64::max)
+                };
+                let a0 = peak(&sim);
+                for _ in 0..steps {
+                    sim.step(&[]);
+                }
+                let left = peak(&sim) / a0;
+                assert!(
+                    left < FORGOTTEN,
+                    "{what}, λ {lambda} m: {left:.2e} left after {memory:.0} s"
+                );
+            }
+        }
+        // A pool's walls without damping would ring for days: the cap.
+        let mut ringing = walls;
+        ringing.damping = 0.0;
+        assert_eq!(ringing.memory(), MAX_MEMORY_S);
     }
 
     #[test]

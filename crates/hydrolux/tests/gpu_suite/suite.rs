@@ -1431,6 +1431,70 @@ fn a_floating_ball_and_its_water_are_the_same_at_a_time_whatever_the_frame_rate(
     assert!(a[0].submerged > 0.01, "submerged {} m³", a[0].submerged);
 }
 
+/// Any time, however late, costs under twice the scene's memory of steps
+/// (`hydrolux_core::clock`), and what started at two different origins
+/// agrees after it: the pool reached by one jump to T (exact mode, from
+/// T's own origin) and by playing on at 4 fps from a jump to T − M (the
+/// viewer's mode: an origin M earlier) hold the same water and ball.
+#[test]
+fn a_late_time_starts_within_its_memory_and_forgets_where_it_started() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let sets = ["ripples.resolution=32", "ripples.damping=1"].map(String::from);
+    let mut s = Scene::load("pool", &sets).unwrap();
+    s.caustics.method = hydrolux::core::scene::CausticMethod::Off;
+    let memory = s.simulation_memory();
+    assert_eq!(memory, 14.0, "the ball's 14 s outlast the damped water's 8 s");
+    let late = 1e6 + 0.5;
+    let mut jump = renderer(&ctx, &s);
+    jump.set_exact_time(true);
+    let due = jump.simulation_steps_to(late);
+    assert!(due as f64 >= memory * 120.0 && (due as f64) < 2.0 * memory * 120.0, "{due} steps");
+    jump.simulate(&s.camera(), (16, 16), late);
+    let mut played = renderer(&ctx, &s);
+    played.simulate(&s.camera(), (16, 16), late - memory);
+    for f in 1..=(4.0 * memory) as u32 {
+        played.simulate(&s.camera(), (16, 16), late - memory + f as f64 * 0.25);
+    }
+    let (a, b) = (jump.read_ripples().unwrap(), played.read_ripples().unwrap());
+    let waves = b.heights.iter().fold(0.0f32, |m, h| m.max(h.abs()));
+    let worst = a.heights.iter().zip(&b.heights).map(|(x, y)| (x - y).abs()).fold(0.0, f32::max);
+    eprintln!("two starts: water differs by {worst:e} m in waves of {waves:e} m");
+    assert!(waves > 1e-4, "the drips keep the pool moving ({waves} m)");
+    assert!(worst <= 2e-3 * waves.max(1e-3), "two starts differ by {worst:e} m, waves {waves:e} m");
+    let (pa, pb) = (jump.bodies()[0].pose, played.bodies()[0].pose);
+    assert!(pa.position.distance(pb.position) < 1e-3, "the ball: {pa:?} and {pb:?}");
+    // The latest time allowed renders, from the same bounded catch-up.
+    assert!(jump.simulation_steps_to(1e9) < (2.0 * memory * 120.0) as u64);
+}
+
+/// Every built-in scene at the latest time allowed (1e9 s): a bounded
+/// catch-up (under twice its memory), and a finite frame. (Once the white
+/// water's catch-up was a list of every step since t = 0, and 1e30 asked
+/// for 2^56 bytes.) The scenes with bodies are checked for the bound only:
+/// their catch-up is the pool's above, and ten minutes of harbor would be
+/// an hour on lavapipe.
+#[test]
+fn every_scene_reaches_the_latest_time_in_a_bounded_catch_up() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    for b in hydrolux::core::scene::BUILTIN_SCENES {
+        let s = high(&Scene::load(b.name, &["render.quality=low".to_string()]).unwrap());
+        let mut r = renderer(&ctx, &s);
+        r.set_exact_time(true);
+        let memory = s.simulation_memory();
+        let due = r.simulation_steps_to(1e9);
+        assert!((due as f64) < (2.0 * memory * 120.0).max(1.0), "{}: {due} steps, memory {memory} s", b.name);
+        if memory > 12.0 {
+            continue;
+        }
+        let pixels = HeadlessTarget::new(&ctx.device, (16, 16))
+            .render(&mut r, s.camera(), 1e9)
+            .expect("a frame");
+        assert!(pixels.iter().any(|&p| p > 0), "{}: a black frame at 1e9 s", b.name);
+        let (_, _, hdr) = r.read_hdr().expect("hdr");
+        assert!(hdr.iter().flatten().all(|c| c.is_finite()), "{}: a non-finite pixel", b.name);
+    }
+}
+
 /// Foam scatters the sunlight back up: under a splash's foam on still
 /// water the photon, beam and procedural caustics darken by the foam's transmittance, 1 − 0.8·c
 /// (twin `foam_transmittance`), and the map's mean drops by the foam's

@@ -165,19 +165,26 @@ impl Dynamics {
             && scene.ripples.rate == self.scene.ripples.rate
     }
 
-    pub fn reset(&mut self, queue: &wgpu::Queue) {
+    /// Start again from the initial state at clock step `from` (an origin
+    /// of the clock: a whole number of seconds, so of our steps and of
+    /// [`SYNC_STEPS`]): still water, the bodies where the scene puts them,
+    /// the kinematic ones moved on to that time.
+    pub fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
         if let Some(r) = &mut self.ripples {
             r.reset(queue);
         }
         if self.bodies.is_some() {
             self.bodies = BodyWorld::new(&self.scene, self.dt);
+            if let Some(w) = &mut self.bodies {
+                w.advance_kinematic(from as f64 / CLOCK_HZ as f64);
+            }
             self.settle_water(queue);
         }
         self.seen = None;
         // A copy of the old water still on its way is dropped with its buffer.
         self.readback = None;
         self.levels.clear();
-        self.clock_steps = 0;
+        self.clock_steps = from;
     }
 
     /// The interactive water's level around each body: the mean on a ring

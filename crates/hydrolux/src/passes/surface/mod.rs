@@ -502,12 +502,12 @@ impl Technique for Surface {
         self.dynamics.is_some() || self.whitewater.is_some()
     }
 
-    fn reset_state(&mut self, queue: &wgpu::Queue) {
+    fn reset_state(&mut self, queue: &wgpu::Queue, from: u64) {
         if let Some(d) = &mut self.dynamics {
-            d.reset(queue);
+            d.reset(queue, from);
         }
         if let Some(w) = &mut self.whitewater {
-            w.reset(queue);
+            w.reset(queue, from);
         }
     }
 

@@ -446,10 +446,11 @@ impl Whitewater {
     }
 
     /// Back to no foam and no particles at t = 0.
-    pub fn reset(&mut self, queue: &wgpu::Queue) {
+    /// Start again with no foam and no particles at clock step `from`.
+    pub fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
         self.reset_buffers(queue);
-        self.steps = 0;
-        self.clock_steps = 0;
+        self.steps = from / self.stride;
+        self.clock_steps = from;
         self.pending.clear();
         self.mips_due = true;
     }
