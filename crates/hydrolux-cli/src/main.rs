@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod dumps;
+mod interrupt;
 mod output;
 mod render;
 mod values;
@@ -174,6 +175,7 @@ fn main() {
             std::process::exit(1);
         }
     };
+    interrupt::install();
     let result = match cli.command {
         Command::Render(a) => render::run(a),
         Command::View(a) => view::run(a),

@@ -119,8 +119,10 @@ impl Staged {
             self.files.len(),
             path.extension().and_then(|e| e.to_str()).unwrap_or("bin")
         ));
-        // Registered first, so that a partial temporary is removed too.
+        // Registered first, so that a partial temporary is removed too
+        // (and by an interruption).
         self.files.push((tmp.clone(), path.to_path_buf()));
+        crate::interrupt::watch(&tmp);
         write(&tmp).map_err(|e| anyhow!("cannot write `{}`: {}", path.display(), reason(&e)))
     }
 
@@ -140,7 +142,11 @@ impl Staged {
                 }
                 bail!("cannot write `{}`: {}", path.display(), io_reason(&e));
             }
+            crate::interrupt::forget(tmp);
             done.push(path.clone());
+        }
+        for (t, _) in &files {
+            crate::interrupt::forget(t);
         }
         Ok(done)
     }
@@ -219,6 +225,7 @@ impl Drop for Staged {
     fn drop(&mut self) {
         for (tmp, _) in &self.files {
             let _ = std::fs::remove_file(tmp);
+            crate::interrupt::forget(tmp);
         }
     }
 }

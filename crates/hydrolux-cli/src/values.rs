@@ -34,7 +34,8 @@ pub fn bench_frames(text: &str) -> Result<u32, String> {
 
 /// `--crf`: x264's and VP9's constant rate factor.
 pub fn crf(text: &str) -> Result<u32, String> {
-    whole(text, 0, 51, "(0 lossless, 51 the smallest file)")
+    whole(text, 0, 51, "")
+        .map_err(|_| "must be a whole number from 0 (lossless) to 51 (the smallest file)".into())
 }
 
 /// `--time`: a simulation time either side of 0.
@@ -78,7 +79,7 @@ mod tests {
         assert!(pixels("99999999999999999999").is_err());
         assert_eq!(
             crf("-1").unwrap_err(),
-            "must be a whole number from 0 to 51 (0 lossless, 51 the smallest file)"
+            "must be a whole number from 0 (lossless) to 51 (the smallest file)"
         );
         assert_eq!(
             frame_count("0").unwrap_err(),

@@ -8,7 +8,9 @@
 use anyhow::{Context, Result, anyhow, bail};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, Stdio};
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex, mpsc};
+use std::time::{Duration, Instant};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Container {
@@ -105,16 +107,39 @@ fn ffmpeg_program() -> Result<PathBuf> {
     found.ok_or_else(|| anyhow!("writing a video needs ffmpeg, which is not installed: {how}"))
 }
 
-/// An ffmpeg process taking frames on its standard input.
+/// How long ffmpeg may go without taking a frame, or without finishing
+/// once the frames are all sent, before it is stopped (s; a stuck ffmpeg
+/// once held the command forever). `HYDROLUX_FFMPEG_TIMEOUT` sets another.
+pub const FFMPEG_TIMEOUT_S: f64 = 120.0;
+
+fn ffmpeg_timeout() -> Result<Duration> {
+    let Some(v) = std::env::var_os("HYDROLUX_FFMPEG_TIMEOUT") else {
+        return Ok(Duration::from_secs_f64(FFMPEG_TIMEOUT_S));
+    };
+    let text = v.to_string_lossy();
+    match text.trim().parse::<f64>() {
+        Ok(s) if (0.1..=86_400.0).contains(&s) => Ok(Duration::from_secs_f64(s)),
+        _ => bail!("HYDROLUX_FFMPEG_TIMEOUT `{text}`: must be 0.1 to 86400 seconds"),
+    }
+}
+
+/// An ffmpeg process taking frames on its standard input, written by a
+/// thread of their own so that an ffmpeg that stops reading is noticed.
 pub struct VideoWriter {
-    child: Child,
-    stdin: Option<ChildStdin>,
+    child: Arc<Mutex<Child>>,
+    /// Frames to the writing thread (dropped: its stdin closes).
+    frames_to: Option<mpsc::Sender<Vec<u8>>>,
+    /// One message per frame written (or the write's error).
+    written: mpsc::Receiver<std::io::Result<()>>,
+    /// Frames sent and not yet written.
+    in_flight: u32,
     /// What ffmpeg said (its errors), read on a thread so that it never blocks.
     stderr: Option<std::thread::JoinHandle<String>>,
     tmp: PathBuf,
     out: PathBuf,
     frame_bytes: usize,
     frames: u32,
+    timeout: Duration,
     finished: bool,
 }
 
@@ -134,6 +159,7 @@ impl VideoWriter {
                 size.1
             );
         }
+        let timeout = ffmpeg_timeout()?;
         let program = ffmpeg_program()?;
         let name = out.file_name().and_then(|n| n.to_str()).unwrap_or("video");
         let dir = match out.parent() {
@@ -153,10 +179,12 @@ impl VideoWriter {
             .stdin(Stdio::piped())
             .stdout(Stdio::null())
             .stderr(Stdio::piped());
-        let mut child = cmd
-            .spawn()
-            .with_context(|| format!("cannot start ffmpeg (`{}`)", program.display()))?;
-        let stdin = child.stdin.take();
+        crate::interrupt::watch(&tmp);
+        let mut child = cmd.spawn().map_err(|e| {
+            crate::interrupt::forget(&tmp);
+            anyhow!("cannot start ffmpeg (`{}`): {}", program.display(), spawn_reason(&program, &e))
+        })?;
+        let mut stdin = child.stdin.take().expect("piped");
         let mut err_pipe = child.stderr.take();
         let stderr = std::thread::spawn(move || {
             let mut s = String::new();
@@ -165,21 +193,49 @@ impl VideoWriter {
             }
             s
         });
+        let (frames_to, frames_from) = mpsc::channel::<Vec<u8>>();
+        let (written_to, written) = mpsc::channel();
+        std::thread::spawn(move || {
+            for frame in frames_from {
+                let result = stdin.write_all(&frame);
+                let failed = result.is_err();
+                if written_to.send(result).is_err() || failed {
+                    break;
+                }
+            }
+            // stdin drops here: ffmpeg sees the end of the stream.
+        });
+        let child = Arc::new(Mutex::new(child));
+        crate::interrupt::watch_child(&child);
         Ok(VideoWriter {
             child,
-            stdin,
+            frames_to: Some(frames_to),
+            written,
+            in_flight: 0,
             stderr: Some(stderr),
             tmp,
             out: out.to_path_buf(),
             frame_bytes: size.0 as usize * size.1 as usize * 4,
             frames: 0,
+            timeout,
             finished: false,
         })
     }
 
+    fn child(&self) -> std::sync::MutexGuard<'_, Child> {
+        self.child.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Stop ffmpeg now (it is stuck or failed).
+    fn kill(&self) {
+        let mut c = self.child();
+        let _ = c.kill();
+        let _ = c.wait();
+    }
+
     /// What ffmpeg said, as one line (after it stopped).
     fn ffmpeg_said(&mut self) -> String {
-        let _ = self.child.wait();
+        let _ = self.child().wait();
         let text = self.stderr.take().and_then(|h| h.join().ok()).unwrap_or_default();
         let lines: Vec<&str> = text.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
         match lines.last() {
@@ -188,28 +244,72 @@ impl VideoWriter {
         }
     }
 
-    /// Send one frame (tightly packed RGBA8, the size given to `start`).
-    pub fn frame(&mut self, rgba: &[u8]) -> Result<()> {
-        assert_eq!(rgba.len(), self.frame_bytes, "a frame of the video's size");
-        let stdin = self.stdin.as_mut().expect("open until finish");
-        if let Err(e) = stdin.write_all(rgba) {
-            self.stdin = None;
+    /// Wait until at most `left` frames are still being written; a stuck
+    /// or failed ffmpeg is stopped and reported.
+    fn wait_written(&mut self, left: u32) -> Result<()> {
+        while self.in_flight > left {
+            let failure = match self.written.recv_timeout(self.timeout) {
+                Ok(Ok(())) => {
+                    self.in_flight -= 1;
+                    continue;
+                }
+                Ok(Err(e)) => format!("stopped taking frames ({e})"),
+                Err(mpsc::RecvTimeoutError::Disconnected) => "stopped taking frames".into(),
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    self.kill();
+                    bail!(
+                        "cannot write `{}`: ffmpeg took no frame for {:.0} s, so it was stopped (HYDROLUX_FFMPEG_TIMEOUT sets the limit)",
+                        self.out.display(),
+                        self.timeout.as_secs_f64()
+                    );
+                }
+            };
+            let status = self.child().try_wait().ok().flatten();
             let said = self.ffmpeg_said();
-            let status = self.child.try_wait().ok().flatten();
             let how = match status {
                 Some(s) => format!("ffmpeg stopped ({s}){said}"),
-                None => format!("ffmpeg stopped taking frames ({e}){said}"),
+                None => format!("ffmpeg {failure}{said}"),
             };
             bail!("cannot write `{}`: {how}", self.out.display());
         }
+        Ok(())
+    }
+
+    /// Send one frame (tightly packed RGBA8, the size given to `start`):
+    /// it is written while the next one renders.
+    pub fn frame(&mut self, rgba: &[u8]) -> Result<()> {
+        assert_eq!(rgba.len(), self.frame_bytes, "a frame of the video's size");
+        self.wait_written(0)?;
+        let sent = self.frames_to.as_ref().is_some_and(|t| t.send(rgba.to_vec()).is_ok());
+        if !sent {
+            self.in_flight += 1;
+            return self.wait_written(0);
+        }
+        self.in_flight += 1;
         self.frames += 1;
         Ok(())
     }
 
-    /// Close the stream, wait for ffmpeg and put the video in place.
+    /// Close the stream, wait for ffmpeg (at most the timeout) and put the
+    /// video in place.
     pub fn finish(mut self) -> Result<u32> {
-        drop(self.stdin.take());
-        let status = self.child.wait().context("waiting for ffmpeg")?;
+        self.wait_written(0)?;
+        drop(self.frames_to.take());
+        let started = Instant::now();
+        let status = loop {
+            if let Some(s) = self.child().try_wait().context("waiting for ffmpeg")? {
+                break s;
+            }
+            if started.elapsed() > self.timeout {
+                self.kill();
+                bail!(
+                    "cannot write `{}`: ffmpeg did not finish within {:.0} s of the last frame, so it was stopped",
+                    self.out.display(),
+                    self.timeout.as_secs_f64()
+                );
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
         if !status.success() {
             let said = self.ffmpeg_said();
             bail!("cannot write `{}`: ffmpeg failed ({status}){said}", self.out.display());
@@ -220,20 +320,40 @@ impl VideoWriter {
         }
         std::fs::rename(&self.tmp, &self.out)
             .with_context(|| format!("cannot write `{}`", self.out.display()))?;
+        crate::interrupt::forget(&self.tmp);
         self.finished = true;
         Ok(self.frames)
     }
 }
 
-impl Drop for VideoWriter {
-    /// Unfinished (an error, Ctrl-C unwinding): stop ffmpeg, remove its file.
-    fn drop(&mut self) {
-        if !self.finished {
-            drop(self.stdin.take());
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-            let _ = std::fs::remove_file(&self.tmp);
+/// Why a program would not start, in the words that help: a script whose
+/// `#!` interpreter is missing is "No such file or directory" to the OS.
+fn spawn_reason(program: &Path, e: &std::io::Error) -> String {
+    if e.kind() == std::io::ErrorKind::NotFound && program.is_file() {
+        let first = std::fs::read(program).ok().and_then(|b| {
+            let line = b.split(|&c| c == b'\n').next()?.to_vec();
+            String::from_utf8(line).ok()
+        });
+        if let Some(shebang) = first.as_deref().and_then(|l| l.strip_prefix("#!")) {
+            return format!(
+                "its interpreter `{}` (the script's #! line) does not exist",
+                shebang.trim()
+            );
         }
+    }
+    e.to_string()
+}
+
+impl Drop for VideoWriter {
+    /// Unfinished (an error): stop ffmpeg, remove its file.
+    fn drop(&mut self) {
+        drop(self.frames_to.take());
+        if !self.finished {
+            self.kill();
+            let _ = std::fs::remove_file(&self.tmp);
+            crate::interrupt::forget(&self.tmp);
+        }
+        crate::interrupt::forget_child(&self.child);
     }
 }
 

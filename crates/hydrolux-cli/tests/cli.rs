@@ -80,7 +80,10 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
             &["render", "--frames", "3", "--fps", "1e-30"],
             "must be 0.001 to 10000 frames per second",
         ),
-        (&["render", "--crf=-1", "--out", "v.mp4"], "must be a whole number from 0 to 51"),
+        (
+            &["render", "--crf=-1", "--out", "v.mp4"],
+            "must be a whole number from 0 (lossless) to 51",
+        ),
         (&["render", "--height", "-1"], "must be a whole number from 1 to 16384 pixels"),
         (
             &["render", "--frames", "4000000000", "--fps", "1"],
@@ -894,6 +897,66 @@ fn videos_are_playable_and_written_whole_or_not_at_all() {
     let (code, err) = hydrolux(&odd, &dir);
     assert!(code == 1 && err.contains("63×36") && err.contains("even width and height"), "{err}");
     assert_eq!(files_in(&dir), ["clip.mp4", "clip.webm", "failing-ffmpeg.sh"]);
+}
+
+/// An ffmpeg that stops reading is stopped after the timeout and named;
+/// one whose `#!` interpreter is missing is said so; SIGINT and SIGTERM
+/// mid-video remove its temporary and end by the signal.
+#[cfg(unix)]
+#[test]
+fn a_stuck_ffmpeg_and_interruptions_leave_nothing() {
+    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::process::ExitStatusExt;
+    let dir = scratch("interrupt");
+    let script = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let stuck = script("stuck.sh", "#!/bin/sh\nexec sleep 600\n");
+    let lost = script("lost.sh", "#!/nonexistent/interpreter\n");
+    let small = ["render", "--width", "64", "--height", "36", "--set", "whitewater.memory=1"];
+    let args = |extra: &[&str]| -> Vec<String> {
+        small.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    // 40 frames of 9 KB fill a pipe ffmpeg never reads.
+    let a = args(&["--frames", "40", "--out", "v.mp4"]);
+    let a: Vec<&str> = a.iter().map(String::as_str).collect();
+    let env = [("HYDROLUX_FFMPEG", Some(stuck.as_str())), ("HYDROLUX_FFMPEG_TIMEOUT", Some("1"))];
+    let (code, err) = hydrolux_env(&a, &dir, &env);
+    assert!(code == 1 && err.contains("ffmpeg took no frame for 1 s, so it was stopped"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let (code, err) = hydrolux_env(&a, &dir, &[("HYDROLUX_FFMPEG", Some(lost.as_str()))]);
+    assert!(code == 1 && err.contains("interpreter `/nonexistent/interpreter`"), "{err}");
+    assert_eq!(files_in(&dir), ["lost.sh", "stuck.sh"]);
+    // Interrupted once its temporary video exists.
+    for (signal, number) in [("INT", 2), ("TERM", 15)] {
+        let a = args(&["--frames", "100000", "--out", "long.mp4"]);
+        let child = Command::new(env!("CARGO_BIN_EXE_hydrolux"))
+            .args(&a)
+            .current_dir(&dir)
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let started = std::time::Instant::now();
+        while !files_in(&dir).iter().any(|f| f.ends_with(".tmp.mp4")) {
+            assert!(started.elapsed().as_secs() < 120, "no temporary video appeared");
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(500));
+        let status = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.signal(), Some(number), "SIG{signal}: {:?} {err}", out.status);
+        assert!(err.contains(&format!("interrupted (SIG{signal})")), "{err}");
+        assert_eq!(files_in(&dir), ["lost.sh", "stuck.sh"], "SIG{signal} left files");
+    }
 }
 
 #[test]
