@@ -65,7 +65,12 @@ pub fn run(a: CompareArgs) -> Result<()> {
     }
     let projective = scene_with(&a.scene, &["water.method=projective"])?;
     if !projective.has_water() {
-        bail!("--scene {}: it has no water to compare", a.scene.scene);
+        // Say which input took the water away: the scene, or a --set.
+        let set = a.scene.set.iter().find(|s| s.replace(' ', "").starts_with("water.model="));
+        match set {
+            Some(s) => bail!("--set {s}: the scene then has no water to compare"),
+            None => bail!("--scene {}: it has no water to compare", a.scene.scene),
+        }
     }
     let traced = scene_with(&a.scene, &["water.method=raytrace"])?;
     let time = a.time.unwrap_or(projective.start_time);

@@ -22,6 +22,7 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
     std::fs::write(dir.join("broken.toml"), "[ocean]\nwind_speed = = 3\n").unwrap();
     std::fs::write(dir.join("no_mesh.toml"), "[[objects]]\nmesh = \"nope.obj\"\n").unwrap();
     std::fs::write(dir.join("bad.glb"), "not a glb").unwrap();
+    std::fs::write(dir.join("ripples_only.toml"), "[ripples]\nresolution = 64\n").unwrap();
     std::fs::write(dir.join("bad_mesh.toml"), "[[objects]]\nmesh = \"bad.glb\"\n").unwrap();
     std::fs::write(
         dir.join("no_texture.toml"),
@@ -96,7 +97,7 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--view", "xray"], "render.view"),
         (&["render", "--dump", "caustics=c.npy"], "the scene has no caustics"),
         (
-            &["render", "--scene", "pool", "--set", "water.model=none", "--dump", "caustics=c.npy"],
+            &["render", "--scene", "lake", "--set", "water.model=none", "--dump", "caustics=c.npy"],
             "the scene has no caustics",
         ),
         (&["render", "--set", "caustics.photons=3"], "`caustics.photons` = 3 is out of range"),
@@ -141,7 +142,43 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--set", "air.fog_g=1"], "open interval (-1, 1)"),
         (&["render", "--set", "water.method=exact"], "water.method"),
         (&["compare", "--view", "normals"], "--view"),
-        (&["compare", "--set", "water.model=none"], "no water to compare"),
+        (
+            &["compare", "--set", "water.model=none"],
+            "--set water.model=none: the scene then has no water to compare",
+        ),
+        // Settings and views without effect are refused, naming both keys.
+        (
+            &["render", "--scene", "ripples_only.toml"],
+            "`[ripples]` has no effect without `water.dynamic = true`",
+        ),
+        (
+            &["render", "--set", "drops=[{time=1.0}]"],
+            "`[[drops]]` has no effect without `water.dynamic = true`",
+        ),
+        (
+            &["render", "--scene", "pool", "--set", "water.model=none"],
+            "`water.dynamic = true` has no effect with `water.model = \"none\"`",
+        ),
+        (
+            &["render", "--view", "ripples"],
+            "\"ripples\" is out of range: it shows the interactive water, and the scene has none",
+        ),
+        (
+            &["render", "--view", "foam", "--set", "whitewater.foam=false"],
+            "it shows the foam, and the scene has none",
+        ),
+        (
+            &["render", "--scene", "water_dragon", "--view", "fresnel"],
+            "it is a view of the water, and the scene has none",
+        ),
+        (
+            &["render", "--scene", "pool", "--set", "ripples.resolution=4294967296"],
+            "--set: `ripples.resolution`",
+        ),
+        (
+            &["render", "--set", "objects=[{rotation_deg=[1e30,0,0]}]"],
+            "must be angles within ±1000000 degrees",
+        ),
         (&["compare", "--width", "0"], "'0' for '--width <WIDTH>'"),
     ];
     for (args, want) in cases {
@@ -164,6 +201,7 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
             "no_mesh.toml",
             "no_texture.toml",
             "refractive_in_water.toml",
+            "ripples_only.toml",
             "unknown_builtin_mesh.toml"
         ],
         "files were written: {left:?}"

@@ -15,12 +15,20 @@ pub struct SceneEditor {
     base_dir: std::path::PathBuf,
     /// Why the last edit was refused, if it was.
     pub error: Option<String>,
+    /// What the last accepted edit left without effect (`check_effective`).
+    pub warning: Option<String>,
 }
 
 impl SceneEditor {
     pub fn new(scene: &Scene) -> Self {
         let table = scene.to_table();
-        SceneEditor { loaded: table.clone(), table, base_dir: scene.base_dir.clone(), error: None }
+        SceneEditor {
+            loaded: table.clone(),
+            table,
+            base_dir: scene.base_dir.clone(),
+            error: None,
+            warning: None,
+        }
     }
 
     /// The scene the table describes now. What the loader would refuse
@@ -49,7 +57,7 @@ impl SceneEditor {
             }
         }
         let mut s =
-            Scene::from_toml(&table.to_string(), "editor", &[]).map_err(|e| e.to_string())?;
+            Scene::from_toml_live(&table.to_string(), "editor", &[]).map_err(|e| e.to_string())?;
         s.base_dir = self.base_dir.clone();
         Ok(s)
     }
@@ -92,6 +100,9 @@ impl SceneEditor {
     /// the table holds derived values (a named medium's coefficients, which
     /// otherwise kept showing the previous medium's numbers).
     pub fn accepted(&mut self, scene: &Scene) {
+        // A switch flipped live may leave settings without effect: say so
+        // (a file or --set with them is refused).
+        self.warning = scene.check_effective().err().map(|e| e.to_string());
         let named = self.get("water", "medium").is_some_and(|m| m != "custom");
         if !named {
             return;
@@ -162,6 +173,8 @@ impl SceneEditor {
         changed |= self.choice_ui(ui, "caustics", "caustics", "method", &CausticMethod::names());
         if let Some(e) = &self.error {
             ui.colored_label(egui::Color32::from_rgb(255, 110, 110), e);
+        } else if let Some(w) = &self.warning {
+            ui.colored_label(egui::Color32::from_rgb(255, 200, 90), w);
         }
         changed
     }

@@ -361,6 +361,19 @@ fn position_accessors_exist(bytes: &[u8]) -> Result<(), gltf::Error> {
 
 fn load_gltf(path: &Path, bytes: &[u8]) -> Result<Mesh, AssetError> {
     let fail = |e: gltf::Error| err("mesh", path, gltf_reason(e));
+    // A .glb that is not one (empty, random bytes) is said so in GLB's own
+    // terms: the gltf crate would read it as JSON and say that is invalid.
+    let glb = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if glb && !bytes.starts_with(b"glTF") {
+        let what = if bytes.is_empty() { "it is empty" } else { "it does not start with one" };
+        return Err(err(
+            "mesh",
+            path,
+            format!(
+                "it is not a GLB file: a GLB starts with the 12-byte header `glTF`, version, length; {what}"
+            ),
+        ));
+    }
     // A GLB header declaring fewer bytes than itself underflows in the
     // gltf crate's reader (a panic where overflow checks are on).
     if bytes.starts_with(b"glTF") {
@@ -593,6 +606,13 @@ mod tests {
         let e = reason(&temp("bad_v.obj", b"v 1 x 2\nv 0 0 0\nv 1 1 1\nf 1 2 3\n"));
         assert!(e.contains("vertex (`v`) line"), "{e}");
         assert!(reason(&temp("junk.gltf", b"not json")).contains("not valid glTF JSON"));
+        assert!(
+            reason(&temp("empty.glb", b"")).contains("not a GLB file")
+                && reason(&temp("empty.glb", b"")).contains("it is empty")
+        );
+        assert!(
+            reason(&temp("junk.glb", b"\x01\x02 random")).contains("it does not start with one")
+        );
         let mut glb = b"glTF\x02\x00\x00\x00\xff\x00\x00\x00".to_vec();
         glb.extend_from_slice(&[0; 8]);
         let e = reason(&temp("short.glb", &glb));

@@ -22,6 +22,8 @@ pub enum SceneError {
     OutOfRange { key: String, value: String, allowed: String },
     #[error("bad --set `{text}`: {reason}")]
     BadOverride { text: String, reason: String },
+    #[error("{setting} has no effect {reason}")]
+    NoEffect { setting: String, reason: String },
 }
 
 fn type_name(v: &Value) -> &'static str {
@@ -328,6 +330,19 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
 impl Scene {
     /// Parse TOML text (named `origin` in errors) and apply `overrides`.
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Scene, SceneError> {
+        let scene = Scene::from_toml_live(text, origin, overrides)?;
+        scene.check_effective()?;
+        Ok(scene)
+    }
+
+    /// [`Scene::from_toml`] without refusing settings that have no effect
+    /// (the viewer's editor, where a switch is flipped live: it warns with
+    /// [`Scene::check_effective`] instead).
+    pub fn from_toml_live(
+        text: &str,
+        origin: &str,
+        overrides: &[String],
+    ) -> Result<Scene, SceneError> {
         // Stop at the object limit before parsing them all.
         let headers =
             text.lines().enumerate().filter(|(_, l)| l.trim_start().starts_with("[[objects]]"));
@@ -374,8 +389,10 @@ impl Scene {
             }
         }
         let (mut set_coefficient, mut set_medium) = (None, None);
+        let mut set_keys = Vec::new();
         for o in overrides {
             let (path, value) = parse_override(o)?;
+            set_keys.push(path.join("."));
             if path.len() == 2 && path[0] == "water" {
                 match path[1].as_str() {
                     "absorption" | "scattering" => set_coefficient = Some(path[1].clone()),
@@ -433,8 +450,11 @@ impl Scene {
                     }
                     None => got.to_string(),
                 };
+                // A key --set gave is --set's error, not the scene's.
+                let from_set =
+                    set_keys.iter().any(|k| key == *k || key.starts_with(&format!("{k}.")));
                 SceneError::WrongType {
-                    origin: origin.into(),
+                    origin: if from_set { "--set".into() } else { origin.into() },
                     key,
                     expected: expected_from(&msg),
                     got,
@@ -495,13 +515,25 @@ impl Scene {
                 allowed: "must be 1 to 64".into(),
             });
         }
-        if self.render.view == super::DebugView::Error && self.water.model == WaterModel::None {
+        // A view of what the scene does not have would draw something else.
+        use super::{Choice, DebugView};
+        let missing = match self.render.view {
+            DebugView::Error | DebugView::Fresnel if self.water.model == WaterModel::None => {
+                Some("it is a view of the water, and the scene has none (water.model = \"none\")")
+            }
+            DebugView::Ripples if self.ripple_settings().is_none() => Some(
+                "it shows the interactive water, and the scene has none (it needs water.dynamic = true, with water)",
+            ),
+            DebugView::Foam if !(self.has_whitewater() && self.whitewater.foam) => Some(
+                "it shows the foam, and the scene has none (it needs whitewater.foam = true and water that moves)",
+            ),
+            _ => None,
+        };
+        if let Some(why) = missing {
             return Err(SceneError::OutOfRange {
                 key: "render.view".into(),
-                value: "\"error\"".into(),
-                allowed: "the error view compares the water's two methods: the scene has no water \
-                          (water.model = \"none\"); choose another view"
-                    .into(),
+                value: format!("\"{}\"", self.render.view.name()),
+                allowed: format!("{why}; choose another view"),
             });
         }
         if let Some(i) = self
@@ -542,7 +574,7 @@ impl Scene {
                 &format!("objects[{i}].rotation_deg"),
                 o.rotation_deg,
                 1e6,
-                "must be finite angles (degrees)",
+                "must be angles within ±1000000 degrees",
             )?;
             validate_material(&format!("objects[{i}].material"), &o.material)?;
             range(
@@ -565,6 +597,35 @@ impl Scene {
                     allowed: "moving objects are sphere (equal scale), box or cylinder (equal x and z scale) primitives".into(),
                 });
             }
+        }
+        Ok(())
+    }
+}
+
+impl Scene {
+    /// Settings that would have no effect in the scene as given are refused
+    /// in one line naming both keys: the interactive water's sections
+    /// without `water.dynamic`, and `water.dynamic` without water.
+    pub fn check_effective(&self) -> Result<(), SceneError> {
+        if !self.water.dynamic {
+            let given = [
+                ("[ripples]", self.ripples != super::RipplesDesc::default()),
+                ("[[drops]]", !self.drops.is_empty()),
+                ("[[emitters]]", !self.emitters.is_empty()),
+            ];
+            if let Some((section, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(SceneError::NoEffect {
+                    setting: format!("`{section}`"),
+                    reason: format!(
+                        "without `water.dynamic = true` (the interactive water it sets up): set water.dynamic = true, or leave {section} out"
+                    ),
+                });
+            }
+        } else if self.water.model == WaterModel::None {
+            return Err(SceneError::NoEffect {
+                setting: "`water.dynamic = true`".into(),
+                reason: "with `water.model = \"none\"` (there is no water to move): choose a water.model, or leave water.dynamic out".into(),
+            });
         }
         Ok(())
     }
