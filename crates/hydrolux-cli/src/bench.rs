@@ -42,6 +42,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     let ctx = crate::headless_context()?;
     let info = ctx.adapter.get_info();
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)?;
+    renderer.set_catch_up_progress(Some(crate::render::catch_up_bar(a.start)));
     let triangles = renderer.scene_triangles();
     let (quality, requested) = (renderer.quality(), scene.render.quality);
     let rendered = renderer.rendered_scene().clone();

@@ -84,6 +84,8 @@ pub fn run(a: CompareArgs) -> Result<()> {
     let target = HeadlessTarget::new(&ctx.device, (w, h));
     let frame = |scene: &Scene| -> Result<(Vec<u8>, Renderer)> {
         let mut r = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, scene)?;
+        r.set_exact_time(true);
+        r.set_catch_up_progress(Some(crate::render::catch_up_bar(time)));
         let pixels = target.render(&mut r, scene.camera(), time)?;
         Ok((pixels, r))
     };

@@ -97,6 +97,12 @@ pub fn parse(text: &str) -> Result<Dump> {
     let allowed: &[Format] =
         if kind == DumpKind::Bodies { &[Format::Json] } else { &[Format::Npy, Format::Exr] };
     let format = output::format_of(&path, allowed, &format!("--dump {} file", dump_name(kind)))?;
+    // A list that may be empty: EXR has no image of zero rows.
+    if kind == DumpKind::Particles && format == Format::Exr {
+        bail!(
+            "--dump particles={file}: the particles are a list that is empty when none are alive, which an EXR image cannot hold; write .npy (N rows of 8 columns, 0 rows when none are alive)"
+        );
+    }
     Ok(Dump { kind, path, format })
 }
 

@@ -166,6 +166,15 @@ impl Staged {
     }
 
     pub fn exr(&mut self, path: &Path, img: &FloatImage) -> Result<()> {
+        // OpenEXR cannot open an image without pixels: never write one.
+        if img.width == 0 || img.height == 0 {
+            bail!(
+                "cannot write `{}`: the data is empty ({}×{}), which an EXR image cannot hold; write .npy",
+                path.display(),
+                img.width,
+                img.height
+            );
+        }
         let names: &[&str] = match img.channels {
             1 => &["Y"],
             3 => &["R", "G", "B"],
@@ -230,6 +239,34 @@ impl Drop for Staged {
     }
 }
 
+/// `rgb` (width × height, 3 floats a pixel) resampled bilinearly to
+/// `to`, pixel centres aligned and edges clamped (as the GPU's linear
+/// sampler upscales a tier's smaller frame to the output).
+pub fn resize_rgb(rgb: &[f32], from: (usize, usize), to: (usize, usize)) -> Vec<f32> {
+    if from == to {
+        return rgb.to_vec();
+    }
+    let (fw, fh) = from;
+    let texel = |x: usize, y: usize, c: usize| rgb[(y * fw + x) * 3 + c];
+    let mut out = Vec::with_capacity(to.0 * to.1 * 3);
+    for y in 0..to.1 {
+        let v = ((y as f32 + 0.5) * fh as f32 / to.1 as f32 - 0.5).clamp(0.0, (fh - 1) as f32);
+        let (y0, b) = (v.floor() as usize, v.fract());
+        let y1 = (y0 + 1).min(fh - 1);
+        for x in 0..to.0 {
+            let u = ((x as f32 + 0.5) * fw as f32 / to.0 as f32 - 0.5).clamp(0.0, (fw - 1) as f32);
+            let (x0, a) = (u.floor() as usize, u.fract());
+            let x1 = (x0 + 1).min(fw - 1);
+            for c in 0..3 {
+                let top = texel(x0, y0, c) * (1.0 - a) + texel(x1, y0, c) * a;
+                let bottom = texel(x0, y1, c) * (1.0 - a) + texel(x1, y1, c) * a;
+                out.push(top * (1.0 - b) + bottom * b);
+            }
+        }
+    }
+    out
+}
+
 /// A float buffer of `height × width × channels` (row-major, rows top to bottom).
 pub struct FloatImage<'a> {
     pub width: usize,
@@ -248,6 +285,18 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn resizing_keeps_a_ramp_and_a_constant() {
+        // A horizontal ramp 0..3 over 4 pixels, doubled to 8: centres map back.
+        let ramp: Vec<f32> = (0..4).flat_map(|x| [x as f32; 3]).collect();
+        let big = resize_rgb(&ramp, (4, 1), (8, 2));
+        assert_eq!(big.len(), 8 * 2 * 3);
+        let row: Vec<f32> = big.chunks(3).take(8).map(|p| p[0]).collect();
+        assert_eq!(row, [0.0, 0.25, 0.75, 1.25, 1.75, 2.25, 2.75, 3.0]);
+        let flat = resize_rgb(&[0.5; 12], (2, 2), (5, 3));
+        assert!(flat.iter().all(|&v| (v - 0.5).abs() < 1e-6));
+    }
 
     fn dir(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("hydrolux-out-{name}-{}", std::process::id()));

@@ -211,7 +211,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
 /// A progress bar for a long catch-up of the simulations (a late time):
 /// shown once one takes more than a batch of steps.
-fn catch_up_bar(start: f64) -> Box<dyn FnMut(u64, u64)> {
+pub fn catch_up_bar(start: f64) -> Box<dyn FnMut(u64, u64)> {
     let mut bar: Option<indicatif::ProgressBar> = None;
     Box::new(move |done, total| {
         let b = bar.get_or_insert_with(|| {
@@ -261,8 +261,11 @@ fn frame(
         (_, None) => {
             let Some((w, h, px)) = renderer.read_hdr() else { bail!("no frame rendered") };
             let data: Vec<f32> = px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect();
-            let image =
-                FloatImage { width: w as usize, height: h as usize, channels: 3, data: &data };
+            // A quality tier renders smaller: the image has the size asked
+            // for, upscaled as the PNG is (`--dump hdr` keeps the buffer's).
+            let size = (a.size.width as usize, a.size.height as usize);
+            let data = output::resize_rgb(&data, (w as usize, h as usize), size);
+            let image = FloatImage { width: size.0, height: size.1, channels: 3, data: &data };
             staged.exr(&out, &image)?;
         }
     }

@@ -132,6 +132,7 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--scene", "pool", "--dump", "bodies=b.npy"], "must end in .json"),
         (&["render", "--scene", "pool", "--set", "ripples.rate=7"], "ripples.rate"),
         (&["render", "--out", "x.exr", "--dump", "hdr=./x.exr"], "the same file as --out x.exr"),
+        (&["render", "--dump", "particles=p.exr"], "which an EXR image cannot hold; write .npy"),
         (
             &["render", "--dump", "hdr=h.npy", "--dump", "height=h.npy"],
             "--dump height=h.npy: the same file as --dump hdr=h.npy",
@@ -292,6 +293,26 @@ fn render_writes_png_exr_and_npy_dumps() {
     );
     assert_eq!(code, 0, "{err}");
     assert!(dir.join("s_0000.png").exists() && dir.join("s_0001.png").exists());
+    // Outputs are what was asked: an EXR at the low tier (which renders at
+    // half size) has the requested size; no particles alive is an NPY of
+    // zero rows.
+    let args = ["render", "--width", "32", "--height", "16", "--out", "low.exr", "--time", "0"];
+    let more = ["--set", "render.quality=low", "--dump", "particles=p.npy"];
+    let all: Vec<&str> = args.iter().chain(&more).copied().collect();
+    let (code, err) = hydrolux(&all, &dir);
+    assert_eq!(code, 0, "{err}");
+    let exr = exr::prelude::read_first_rgba_layer_from_file(
+        dir.join("low.exr"),
+        |_, _| (),
+        |_, _, _: (f32, f32, f32, f32)| (),
+    )
+    .expect("a readable EXR");
+    assert_eq!(exr.layer_data.size.0, 32);
+    assert_eq!(exr.layer_data.size.1, 16);
+    let npy = std::fs::read(dir.join("p.npy")).unwrap();
+    let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap();
+    assert!(header.contains("'shape': (0, 8)") && npy.len() == 10 + hlen, "{header}");
 }
 
 #[test]
