@@ -453,6 +453,13 @@ impl Scene {
                 // A key --set gave is --set's error, not the scene's.
                 let from_set =
                     set_keys.iter().any(|k| key == *k || key.starts_with(&format!("{k}.")));
+                // An integer beyond its type: the key's own rule, where it
+                // has one, says what is allowed (not the type's range).
+                if msg.contains("integer")
+                    && let Some(allowed) = rule_of(&user, &key)
+                {
+                    return SceneError::OutOfRange { key, value: got, allowed };
+                }
                 SceneError::WrongType {
                     origin: if from_set { "--set".into() } else { origin.into() },
                     key,
@@ -628,6 +635,23 @@ impl Scene {
             });
         }
         Ok(())
+    }
+}
+
+/// What the range check of `key` (a dotted path of plain tables) allows,
+/// found by giving the key 0 and validating: `None` where 0 passes or
+/// another key fails.
+fn rule_of(user: &Table, key: &str) -> Option<String> {
+    let path: Vec<String> = key.split('.').map(str::to_string).collect();
+    if path.iter().any(|p| p.contains('[')) {
+        return None;
+    }
+    let mut probe = user.clone();
+    apply_override(&mut probe, &path, Value::Integer(0));
+    let scene: Scene = Value::Table(probe).try_into().ok()?;
+    match scene.validate() {
+        Err(SceneError::OutOfRange { key: k, allowed, .. }) if k == key => Some(allowed),
+        _ => None,
     }
 }
 
@@ -954,8 +978,14 @@ mod tests {
         let e = err("[[objects]]\n[[objects]]\nprimitive = \"torus\"\n", &[]);
         assert!(e.contains("`objects[1].primitive`") && e.contains("\"torus\""), "{e}");
         // Integers out of the key's range, and beyond TOML's.
+        // (the key's own rule, not u32's range, where the key has one)
         let e = err("", &["ocean.resolution=4294967296"]);
-        assert!(e.contains("`ocean.resolution`") && e.contains("4294967295"), "{e}");
+        assert!(
+            e.contains("`ocean.resolution` = 4294967296") && e.contains("from 64 to 1024"),
+            "{e}"
+        );
+        let e = err("", &["ocean.seed=-1"]);
+        assert!(e.starts_with("--set: `ocean.seed`") && e.contains("≥ 0"), "{e}");
         let e = err("[ocean]\nseed = 18446744073709551615\n", &[]);
         assert!(e.contains("`ocean.seed`") && e.contains("9223372036854775807"), "{e}");
         let e = err("", &["ocean.seed=18446744073709551615"]);
