@@ -70,8 +70,9 @@ pub struct Renderer {
     truth: Option<Box<crate::passes::truth::TruthView>>,
 }
 
-/// Fixed step of stateful simulations (s): 120 Hz.
-pub const SIMULATION_STEP_S: f64 = 1.0 / 120.0;
+/// Fixed step of stateful simulations (s): the one clock's 120 Hz
+/// (`CLOCK_HZ`, whose divisors the simulations' rates are).
+pub const SIMULATION_STEP_S: f64 = 1.0 / hydrolux_core::scene::CLOCK_HZ as f64;
 /// Steps recorded per GPU submission when catching up to a late time.
 pub const SIMULATION_BATCH: u32 = 1024;
 
