@@ -1470,9 +1470,10 @@ fn a_late_time_starts_within_its_memory_and_forgets_where_it_started() {
 /// Every built-in scene at the latest time allowed (1e9 s): a bounded
 /// catch-up (under twice its memory), and a finite frame. (Once the white
 /// water's catch-up was a list of every step since t = 0, and 1e30 asked
-/// for 2^56 bytes.) The scenes with bodies are checked for the bound only:
-/// their catch-up is the pool's above, and ten minutes of harbor would be
-/// an hour on lavapipe.
+/// for 2^56 bytes.) Three scenes render there, one of each kind of state
+/// (white water on the FFT ocean, on sines, none); the others are checked
+/// for the bound only (the pool's catch-up is above, and ten minutes of
+/// harbor would be an hour on lavapipe).
 #[test]
 fn every_scene_reaches_the_latest_time_in_a_bounded_catch_up() {
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
@@ -1483,7 +1484,7 @@ fn every_scene_reaches_the_latest_time_in_a_bounded_catch_up() {
         let memory = s.simulation_memory();
         let due = r.simulation_steps_to(1e9);
         assert!((due as f64) < (2.0 * memory * 120.0).max(1.0), "{}: {due} steps, memory {memory} s", b.name);
-        if memory > 12.0 {
+        if !["ocean", "calm", "water_dragon"].contains(&b.name) {
             continue;
         }
         let pixels = HeadlessTarget::new(&ctx.device, (16, 16))
