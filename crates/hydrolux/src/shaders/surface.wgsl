@@ -189,14 +189,15 @@ fn surface_model() -> u32 {
 // like SURFACE_MODEL, so surfaces without it pay nothing.
 override RIPPLES: u32 = 0u;
 
-// The interactive water alone at p: h, ∂h/∂x, ∂h/∂z (0 outside its domain).
-fn ripples_at(p: vec2<f32>) -> vec3<f32> {
+// The interactive water alone at p: h, ∂h/∂x, ∂h/∂z of the free surface,
+// and w the fraction of cells a floating hull covers (0 outside its domain).
+fn ripples_sample(p: vec2<f32>) -> vec4<f32> {
     if (RIPPLES == 0u) {
-        return vec3<f32>(0.0);
+        return vec4<f32>(0.0);
     }
     let w = surface.ripple_window;
     if (any(p < w.xy) || any(p > w.zw)) {
-        return vec3<f32>(0.0);
+        return vec4<f32>(0.0);
     }
     let side = surface.ripple_area.z;
     var uv = (p - surface.ripple_area.xy) / side;
@@ -204,7 +205,12 @@ fn ripples_at(p: vec2<f32>) -> vec3<f32> {
         let half_texel = surface.ripple_area.w / (2.0 * side);
         uv = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
     }
-    return textureSampleLevel(ripple_tex, surface_sampler, uv, 0.0).xyz;
+    return textureSampleLevel(ripple_tex, surface_sampler, uv, 0.0);
+}
+
+// The interactive water's (height, slope x, slope z) at world p.
+fn ripples_at(p: vec2<f32>) -> vec3<f32> {
+    return ripples_sample(p).xyz;
 }
 
 // The ripples' height and slopes at p, faded out where the footprint

@@ -108,6 +108,9 @@ pub struct RipplePass {
     pub window: RippleWindow,
     /// Drops asked for by the viewer, for the next step.
     pending: Vec<Drop>,
+    /// The bodies of the last step, for `publish` (which marks the cells
+    /// their hulls cover).
+    last_moves: Vec<[[f32; 4]; 5]>,
     params: wgpu::Buffer,
     slot_size: u64,
     spatial: wgpu::Buffer,
@@ -250,6 +253,7 @@ impl RipplePass {
             scene: scene.clone(),
             window: RippleWindow::centred(&settings.grid, scene.ripples.center.map(|c| c as f64)),
             pending: Vec::new(),
+            last_moves: Vec::new(),
             group: placeholder,
             params,
             slot_size,
@@ -425,18 +429,27 @@ impl RipplePass {
         let mut drops: Vec<[f32; 4]> = Vec::new();
         let mut moves: Vec<[[f32; 4]; 5]> = Vec::new();
         let mut slots = vec![0u8; (self.slot_size * (count + 1)) as usize];
+        if let Some(last) = inputs.last() {
+            self.last_moves = last.moves.iter().map(gpu_move).collect();
+        }
         for i in 0..=count as usize {
             let empty = StepInput::default();
             let input = inputs.get(i).unwrap_or(&empty);
             let mut u = self.uniforms(drops.len(), input.drops.len());
-            u.bodies = [moves.len() as i32, input.moves.len() as i32, 0, 0];
             drops.extend(
                 input
                     .drops
                     .iter()
                     .map(|d| [d.x as f32, d.z as f32, d.radius as f32, d.strength as f32]),
             );
-            moves.extend(input.moves.iter().map(gpu_move));
+            // The publish's slot (the last) holds the last step's bodies.
+            let step_moves: Vec<[[f32; 4]; 5]> = if i < count as usize {
+                input.moves.iter().map(gpu_move).collect()
+            } else {
+                self.last_moves.clone()
+            };
+            u.bodies = [moves.len() as i32, step_moves.len() as i32, 0, 0];
+            moves.extend(step_moves);
             let at = i * self.slot_size as usize;
             slots[at..at + std::mem::size_of::<RippleUniforms>()]
                 .copy_from_slice(bytemuck::bytes_of(&u));

@@ -97,6 +97,19 @@ fn body_depth(m: BodyMove, w: vec2<f32>) -> f32 {
     return max(-c.x, 0.0);
 }
 
+// Whether a body's hull covers world point w this step (it pierces the
+// surface there): no free surface, so free water does not break into it,
+// `publish` gives the water beside it the free surface's slopes, and white
+// water makes no foam of its hollow.
+fn hull_covers(w: vec2<f32>) -> bool {
+    for (var b = 0; b < params.bodies.y; b++) {
+        if (body_depth(moves[params.bodies.x + b], w) > 0.0) {
+            return true;
+        }
+    }
+    return false;
+}
+
 const EDGES_WALLS: u32 = 0u;
 
 // The domain cell a grid cell holds: walls mirror (cell 2N−1−i holds i);
@@ -212,8 +225,19 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
         vec2<u32>(g.x, (g.y + 1u) % f),
         vec2<u32>(g.x, (g.y + f - 1u) % f),
     );
+    // A hull holds its hollow down: free water does not pour into it (the
+    // two fought every step and kept the ring about a ball steep), though a
+    // hollow rebounding above the water around still breaks. Twin: the
+    // `held` pairs of RippleSim::step_with.
+    let here = hull_covers(w);
     for (var j = 0; j < 4; j++) {
-        let dh = s.x - state(around[j]).x;
+        let h_n = state(around[j]).x;
+        let there = hull_covers(world_of(domain_cell(around[j])));
+        let held = here != there && select(s.x < h_n, h_n < s.x, there);
+        if (held) {
+            continue;
+        }
+        let dh = s.x - h_n;
         give += sign(dh) * max(abs(dh) - most, 0.0);
     }
     s.x -= BREAKING_RELAX * give;
@@ -295,6 +319,15 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
     spectral[i] = out;
 }
 
+// The height of neighbour g_n for the slopes of a cell at height h: its
+// own, unless a hull covers it while the cell is free water.
+fn free_height(g_n: vec2<u32>, h: f32, covered: bool) -> f32 {
+    if (!covered && hull_covers(world_of(domain_cell(g_n)))) {
+        return h;
+    }
+    return state(g_n).x;
+}
+
 // Per texel of the domain's N × N: heights for readbacks and the surface's
 // texture (h and central-difference slopes).
 @compute @workgroup_size(8, 8, 1)
@@ -307,11 +340,20 @@ fn publish(@builtin(global_invocation_id) id: vec3<u32>) {
     let g = id.xy;
     let d = domain_cell(g);
     let h = state(g).x;
-    let east = state(vec2<u32>((g.x + 1u) % f, g.y)).x;
-    let west = state(vec2<u32>((g.x + f - 1u) % f, g.y)).x;
-    let north = state(vec2<u32>(g.x, (g.y + 1u) % f)).x;
-    let south = state(vec2<u32>(g.x, (g.y + f - 1u) % f)).x;
-    let slope = vec2<f32>(east - west, north - south) / (2.0 * params.space.x);
+    // The free surface's slopes: a neighbour under a hull (its hollow) is
+    // taken at this cell's height, so the water beside a hull does not
+    // slope down into the hollow. w = 1 where a hull covers the cell (white
+    // water makes no foam of its slopes there, and its slopes are 0).
+    let covered = hull_covers(world_of(d));
+    let east = free_height(vec2<u32>((g.x + 1u) % f, g.y), h, covered);
+    let west = free_height(vec2<u32>((g.x + f - 1u) % f, g.y), h, covered);
+    let north = free_height(vec2<u32>(g.x, (g.y + 1u) % f), h, covered);
+    let south = free_height(vec2<u32>(g.x, (g.y + f - 1u) % f), h, covered);
+    var slope = vec2<f32>(east - west, north - south) / (2.0 * params.space.x);
+    if (covered) {
+        // The hollow's walls are the hull's: hidden, and no free surface.
+        slope = vec2<f32>(0.0);
+    }
     heights[d.y * n + d.x] = h;
-    textureStore(surface_out, vec2<i32>(g), vec4<f32>(h, slope, 0.0));
+    textureStore(surface_out, vec2<i32>(g), vec4<f32>(h, slope, select(0.0, 1.0, covered)));
 }

@@ -253,8 +253,11 @@ fn foam_source(k: u32, x: f32, z: f32) -> f32 {
         }
     }
     if ((run & 2u) != 0u) {
-        // Interactive water steeper than ~0.3 curls and traps air.
-        source += params.drift.w * clamp((length(ripples_at(vec2<f32>(x, z)).yz) - 0.3) / 0.3, 0.0, 1.0);
+        // Interactive water steeper than ~0.3 curls and traps air; a hull's
+        // hollow is no free surface and makes none.
+        let r = ripples_sample(vec2<f32>(x, z));
+        let free = 1.0 - r.w;
+        source += params.drift.w * free * clamp((length(r.yz) - 0.3) / 0.3, 0.0, 1.0);
     }
     return source;
 }
