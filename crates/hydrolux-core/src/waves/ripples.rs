@@ -1018,25 +1018,29 @@ mod tests {
         assert!((speed - exact).abs() / exact < 0.03, "speed {speed}, exact {exact} m/s");
     }
 
-    /// The pool's ball (0.9 m, 500 kg/m³) in a 4 m walled pool, dropped
-    /// from a metre: the water breaks where it stands steeper than the
-    /// limiting Stokes wave, so its fall makes waves of a plausible size and
-    /// no spout (the linear hollow's rebound once reached a metre and more).
-    /// Breaking keeps the volume and the still hollow the ball floats in.
-    #[test]
-    fn a_floating_ball_holds_its_hollow_and_the_water_about_it_lies_calm() {
-        use crate::bodies::BodyWorld;
-        use crate::scene::Scene;
-        // The pool's ball at rest in its hollow, stepped 3 s with nothing else.
-        let s = Scene::from_toml(
-            "[water]\nmodel = \"flat\"\ndynamic = true\n[floor]\ndepth = 1.6\n\
-             [ripples]\nedges = \"walls\"\nextent = 4.0\nresolution = 128\ndamping = 0.05\n\
-             [[objects]]\nprimitive = \"sphere\"\nposition = [0.3, 0.0, -0.2]\n\
-             scale = [0.9, 0.9, 0.9]\ndynamic = true\ndensity = 500.0\n",
+    /// The pool's ball (0.9 m, 500 kg/m³) in a 4 m walled pool 1.6 m deep,
+    /// its centre `height` m above the still water.
+    fn pool_with_ball(height: f64) -> crate::scene::Scene {
+        crate::scene::Scene::from_toml(
+            &format!(
+                "[water]\nmodel = \"flat\"\ndynamic = true\n[floor]\ndepth = 1.6\n\
+                 [ripples]\nedges = \"walls\"\nextent = 4.0\nresolution = 128\ndamping = 0.05\n\
+                 [[objects]]\nprimitive = \"sphere\"\nposition = [0.3, {height}, -0.2]\n\
+                 scale = [0.9, 0.9, 0.9]\ndynamic = true\ndensity = 500.0\n"
+            ),
             "test",
             &[],
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    /// A ball at rest in its hollow keeps it, and the water about it stays
+    /// calm (no ring steep enough to foam).
+    #[test]
+    fn a_floating_ball_holds_its_hollow_and_the_water_about_it_lies_calm() {
+        use crate::bodies::BodyWorld;
+        // The pool's ball at rest in its hollow, stepped 3 s with nothing else.
+        let s = pool_with_ball(0.0);
         let settings = s.ripple_settings().unwrap();
         let grid = settings.grid;
         let mut sim = RippleSim::new(settings, RippleWindow::centred(&grid, [0.0, 0.0]));
@@ -1074,19 +1078,15 @@ mod tests {
         assert!((sim.volume() - v0).abs() < 1e-9 * v0.abs().max(1.0), "volume kept");
     }
 
+    /// The pool's ball dropped from a metre: the water breaks where it
+    /// stands steeper than the limiting Stokes wave, so its fall makes waves
+    /// of a plausible size and no spout (the linear hollow's rebound once
+    /// reached a metre and more). Breaking keeps the volume and the still
+    /// hollow the ball floats in.
     #[test]
     fn a_ball_dropped_in_makes_waves_not_spouts() {
         use crate::bodies::BodyWorld;
-        use crate::scene::Scene;
-        let s = Scene::from_toml(
-            "[water]\nmodel = \"flat\"\ndynamic = true\n[floor]\ndepth = 1.6\n\
-             [ripples]\nedges = \"walls\"\nextent = 4.0\nresolution = 128\ndamping = 0.05\n\
-             [[objects]]\nprimitive = \"sphere\"\nposition = [0.3, 1.0, -0.2]\n\
-             scale = [0.9, 0.9, 0.9]\ndynamic = true\ndensity = 500.0\n",
-            "test",
-            &[],
-        )
-        .unwrap();
+        let s = pool_with_ball(1.0);
         let settings = s.ripple_settings().unwrap();
         let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.0, 0.0]));
         let mut world = BodyWorld::new(&s, settings.dt).unwrap();
