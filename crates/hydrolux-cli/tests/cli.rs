@@ -174,7 +174,7 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         ),
         (
             &["render", "--scene", "pool", "--set", "ripples.resolution=4294967296"],
-            "--set: `ripples.resolution`",
+            "bad --set `ripples.resolution=4294967296`: out of range: must be a power of two from 16 to 512",
         ),
         (
             &["render", "--set", "objects=[{rotation_deg=[1e30,0,0]}]"],

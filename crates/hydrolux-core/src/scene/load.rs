@@ -458,7 +458,14 @@ impl Scene {
                 if msg.contains("integer")
                     && let Some(allowed) = rule_of(&user, &key)
                 {
-                    return SceneError::OutOfRange { key, value: got, allowed };
+                    return if from_set {
+                        SceneError::BadOverride {
+                            text: format!("{key}={got}"),
+                            reason: format!("out of range: {allowed}"),
+                        }
+                    } else {
+                        SceneError::OutOfRange { key, value: got, allowed }
+                    };
                 }
                 SceneError::WrongType {
                     origin: if from_set { "--set".into() } else { origin.into() },
@@ -981,7 +988,7 @@ mod tests {
         // (the key's own rule, not u32's range, where the key has one)
         let e = err("", &["ocean.resolution=4294967296"]);
         assert!(
-            e.contains("`ocean.resolution` = 4294967296") && e.contains("from 64 to 1024"),
+            e.contains("--set `ocean.resolution=4294967296`") && e.contains("from 64 to 1024"),
             "{e}"
         );
         let e = err("", &["ocean.seed=-1"]);
