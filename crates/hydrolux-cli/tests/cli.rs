@@ -687,7 +687,7 @@ fn hostile_input_is_refused_plainly() {
         ),
         (
             vec!["render".into(), "--set".into(), "ocean.resolution=4294967296".into()],
-            "`ocean.resolution`",
+            "bad --set `ocean.resolution=4294967296`: out of range: must be a power of two",
         ),
         (
             vec!["render".into(), "--set".into(), "camera.position=[inf,0,0]".into()],
