@@ -290,8 +290,10 @@ pub struct BodyState {
 }
 
 /// The fastest a hand moves a body through the water (m/s): the viewer's
-/// drag pulls no faster.
-pub const MAX_PULL_SPEED: f64 = 4.0;
+/// drag pulls no faster. At 2 m/s the drag on the pool's ball, half under
+/// water, is ½ρ·C_d·A·v² ≈ 300 N, about the most a person pushes with (at
+/// 4 m/s the ball's wake and stern wave stood over the pool's deck).
+pub const MAX_PULL_SPEED: f64 = 2.0;
 
 /// Drag coefficient of a sphere at the Reynolds numbers of a floating ball.
 const DRAG_SPHERE: f64 = 0.47;
@@ -322,6 +324,9 @@ pub struct BodyWorld {
     params: rp::IntegrationParameters,
     /// Steps taken.
     pub steps: u64,
+    /// Bodies put elsewhere since the last step, and where they were (the
+    /// water lets their hollows go: `BodyMove::released`).
+    released: Vec<(usize, Pose)>,
 }
 
 fn v3(v: DVec3) -> rp::Vector {
@@ -415,6 +420,7 @@ impl BodyWorld {
             ccd: rp::CCDSolver::new(),
             params,
             steps: 0,
+            released: Vec::new(),
         })
     }
 
@@ -464,8 +470,20 @@ impl BodyWorld {
                 shape: b.shape,
                 before: *p0,
                 after: p1,
+                released: None,
             })
             .collect()
+    }
+
+    /// Mark in `moves` (this world's bodies in order, from
+    /// [`BodyWorld::moves_since`]) the hollows of the bodies placed
+    /// elsewhere since the last call, which the water lets go.
+    pub fn release_hollows(&mut self, moves: &mut [crate::waves::ripples::BodyMove]) {
+        for (i, pose) in self.released.drain(..) {
+            if let Some(m) = moves.get_mut(i) {
+                m.released = Some(pose);
+            }
+        }
     }
 
     /// One step: buoyancy and drag from the water surface each body is in,
@@ -542,9 +560,15 @@ impl BodyWorld {
         }
     }
 
-    /// Put body `i` at `position`, at rest and upright.
+    /// Put body `i` at `position`, at rest and upright: lifted out of the
+    /// water, not moved through it (the next step's moves release its
+    /// hollow: [`BodyWorld::release_hollows`]).
     pub fn place(&mut self, i: usize, position: DVec3) {
         let Some(b) = self.bodies.get(i) else { return };
+        let was = self.pose_of(b);
+        if !self.released.iter().any(|&(j, _)| j == i) {
+            self.released.push((i, was));
+        }
         let rb = &mut self.set[b.handle];
         rb.set_translation(v3(position), true);
         rb.set_rotation(rp::Rotation::IDENTITY, true);

@@ -239,6 +239,11 @@ pub struct BodyMove {
     pub shape: crate::bodies::Shape,
     pub before: crate::bodies::Pose,
     pub after: crate::bodies::Pose,
+    /// Where the body was put away from this step (the viewer's drop: it
+    /// was lifted out, not moved through the water): the hollow it held
+    /// there closes, as if it had never been there, instead of rebounding
+    /// as a spout as high as the hollow was deep.
+    pub released: Option<crate::bodies::Pose>,
 }
 
 /// The steepest the water's surface stands between two cells: tan 30°, the
@@ -248,6 +253,18 @@ pub const BREAKING_SLOPE: f64 = 0.577;
 /// Fraction of the excess over [`BREAKING_SLOPE`] each pair of neighbouring
 /// cells trades per step (stable for ≤ ¼ with four neighbours).
 pub const BREAKING_RELAX: f64 = 0.25;
+
+/// How far (m) below a hull's bottom the water must be pushed to have
+/// parted from it (then it breaks back in: `RippleSim::step_with`); a
+/// margin, so that water resting against the hull does not flicker
+/// between held and not from rounding.
+pub const HULL_GAP: f64 = 0.02;
+
+/// Fixed-point units (per metre of height) the water a hull pushes out in
+/// a step is summed in (µm: exact sums in any order; 2 147 m of height over
+/// all cells in one step before the GPU's 32 bits overflow, a thousand
+/// times a pool's plunge).
+pub const PUSHED_UNITS_PER_M: f64 = 1e6;
 
 /// Breaking, as the linear model cannot: where the surface between a cell
 /// (height `h`) and a neighbour stands steeper than [`BREAKING_SLOPE`], they
@@ -269,14 +286,33 @@ pub fn breaking(h: f64, neighbours: [f64; 4], cell: f64) -> f64 {
 }
 
 impl BodyMove {
+    /// The pose whose hollow the body held the water down in before this
+    /// step: where it was, or where it was lifted out of.
+    pub fn held(&self) -> crate::bodies::Pose {
+        self.released.unwrap_or(self.before)
+    }
+
+    /// Depth (m) the body reached below the mean level at world (x, z)
+    /// before the step (at [`BodyMove::held`]), where it pierced the
+    /// surface. Twin of `held_depth` in WGSL.
+    pub fn depth_before(&self, x: f64, z: f64) -> f64 {
+        pressure_head(&self.shape, &self.held(), x, z)
+    }
+
     /// Depth (m) the body reaches below the mean level at world (x, z),
     /// after the move, where it pierces the surface: its pressure head. A
     /// column of the body wholly under water holds nothing down (the water
     /// closes over it). Twin of `body_depth` in WGSL.
     pub fn depth(&self, x: f64, z: f64) -> f64 {
-        crate::bodies::body_column(&self.shape, &self.after, x, z)
-            .map_or(0.0, |(y0, y1)| if y1 > 0.0 { (-y0).max(0.0) } else { 0.0 })
+        pressure_head(&self.shape, &self.after, x, z)
     }
+}
+
+/// Depth (m) a body of `shape` at `pose` reaches below the mean level at
+/// world (x, z) where it pierces the surface (0 elsewhere).
+fn pressure_head(shape: &crate::bodies::Shape, pose: &crate::bodies::Pose, x: f64, z: f64) -> f64 {
+    crate::bodies::body_column(shape, pose, x, z)
+        .map_or(0.0, |(y0, y1)| if y1 > 0.0 { (-y0).max(0.0) } else { 0.0 })
 }
 
 /// The still water around floating bodies: each rests in its hollow,
@@ -525,23 +561,33 @@ impl RippleSim {
         let (grid, dt) = (self.settings.grid, self.settings.dt);
         let f = self.f();
         let before = self.h.clone();
-        // Cells a hull covers (it pierces the surface there). Twin of
-        // `hull_covers` in ripples.wgsl.
-        let covered: Vec<bool> = (0..f * f)
+        // How deep hulls hold the water down in each cell (0 where none
+        // pierces the surface). Twin of `hull_depth` in ripples.wgsl.
+        let held_down: Vec<f64> = (0..f * f)
             .map(|i| {
                 let (_, w) = domain_cell(&grid, &self.window, [i % f, i / f]);
-                bodies.iter().any(|b| b.depth(w[0], w[1]) > 0.0)
+                bodies.iter().map(|b| b.depth(w[0], w[1])).sum()
             })
             .collect();
+        let covered: Vec<bool> = held_down.iter().map(|&d| d > 0.0).collect();
         // A hull holds its hollow down: free water does not pour into it by
         // breaking (else the two fight every step, and the ring about a
         // floating ball stands steep), though a hollow rebounding above
-        // the water around still breaks (no spout through the ball). Each
-        // pair decides alike from both sides, so the volume is kept.
+        // the water around still breaks (no spout through the ball), and
+        // so does water pushed below the hull's bottom: a plunging ball's
+        // pressure head, a spring, would carry it on (it once dug a hollow
+        // 1.9 m deep, below the pool's floor, that spouted over the deck),
+        // where the contact holds it. Each pair decides alike from both
+        // sides, so the volume is kept.
+        let holds = |c: usize| before[c] >= -held_down[c] - HULL_GAP;
         let at = |i: usize, p: usize, q: usize| {
             let j = (q % f) * f + p % f;
             let held = covered[i] != covered[j]
-                && (if covered[j] { before[j] < before[i] } else { before[i] < before[j] });
+                && (if covered[j] {
+                    before[j] < before[i] && holds(j)
+                } else {
+                    before[i] < before[j] && holds(i)
+                });
             if held { before[i] } else { before[j] }
         };
         for q in 0..f {
@@ -552,9 +598,11 @@ impl RippleSim {
                 let neighbours =
                     [at(i, p + 1, q), at(i, p + f - 1, q), at(i, p, q + 1), at(i, p, q + f - 1)];
                 self.h[i] -= breaking(h, neighbours, grid.cell_size);
-                // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's worth.
-                for b in bodies {
-                    self.phi[i] -= GRAVITY * b.depth(w[0], w[1]) * dt;
+                // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's
+                // worth, where the water touches the hulls (water that fell
+                // away below a hull's bottom feels no push from it).
+                if holds(i) {
+                    self.phi[i] -= GRAVITY * held_down[i] * dt;
                 }
                 for drop in drops {
                     self.h[i] += drop_height(&grid, &self.window, drop, w);
@@ -569,8 +617,42 @@ impl RippleSim {
             }
         }
         self.kicks.iter_mut().for_each(|k| *k = 0);
+        // Contact. Water never stands inside a hull: where it rose past a
+        // hull's bottom (a plunging hull outruns the water its pressure head
+        // pushes; the water's rebound meets a hull at rest) the hull puts it
+        // back at its bottom. And water touching a hull follows it up: where
+        // a hull rose or moved on, or was lifted out, the hollow it held
+        // closes at once, up to the hull's new bottom or the mean level. What the hulls push out or let in comes from the
+        // level (walls) or the sea around (open water). Without the contact
+        // the pressure head acted as a spring: a ball dropped into the pool
+        // dug a hollow below the floor whose rebound spouted through the
+        // ball and over the deck, and the hollow a dragged ball left behind
+        // sprang up as high as it was deep. Summed in fixed point, so that
+        // the sum is the same in any order. Twin of the contact in
+        // ripples.wgsl's `disturb`.
+        let mut pushed: i64 = 0;
+        for i in 0..f * f {
+            let (_, w) = domain_cell(&grid, &self.window, [i % f, i / f]);
+            let was: f64 = bodies.iter().map(|b| b.depth_before(w[0], w[1])).sum();
+            let rise = -held_down[i] - self.h[i];
+            if was > held_down[i] && before[i] >= -was - HULL_GAP && rise > 0.0 {
+                let units = (rise * PUSHED_UNITS_PER_M).round();
+                self.h[i] += units / PUSHED_UNITS_PER_M;
+                pushed -= units as i64;
+            }
+            let excess = self.h[i] + held_down[i];
+            if covered[i] && excess > 0.0 {
+                let units = (excess * PUSHED_UNITS_PER_M).round();
+                self.h[i] -= units / PUSHED_UNITS_PER_M;
+                pushed += units as i64;
+            }
+        }
+        let rise = match grid.boundary {
+            RippleBoundary::Open => 0.0,
+            _ => pushed as f64 / PUSHED_UNITS_PER_M / (f * f) as f64,
+        };
         let mut z: Vec<Complex64> =
-            self.h.iter().zip(&self.phi).map(|(&h, &p)| Complex64::new(h, p)).collect();
+            self.h.iter().zip(&self.phi).map(|(&h, &p)| Complex64::new(h + rise, p)).collect();
         fft2(&mut self.planner, &mut z, f, false);
         let norm = 1.0 / (f * f) as f64;
         let mut levels = [vec![Complex64::default(); f * f], vec![Complex64::default(); f * f]];
@@ -1079,10 +1161,11 @@ mod tests {
     }
 
     /// The pool's ball dropped from a metre: the water breaks where it
-    /// stands steeper than the limiting Stokes wave, so its fall makes waves
-    /// of a plausible size and no spout (the linear hollow's rebound once
-    /// reached a metre and more). Breaking keeps the volume and the still
-    /// hollow the ball floats in.
+    /// stands steeper than the limiting Stokes wave and never stands inside
+    /// the hull, so its fall makes waves of a plausible size, no spout and
+    /// no hollow below the floor (the pressure head alone, a spring, dug
+    /// one that spouted over the deck). Breaking and the contact keep the
+    /// volume and the still hollow the ball floats in.
     #[test]
     fn a_ball_dropped_in_makes_waves_not_spouts() {
         use crate::bodies::BodyWorld;
@@ -1100,9 +1183,11 @@ mod tests {
         };
         // Dropped from a metre: it hits at 4.4 m/s.
         let mut dropped: f64 = 0.0;
+        let mut lowest: f64 = 0.0;
         for _ in 0..steps(3.0) {
             step(&mut sim, &mut world);
             dropped = dropped.max(highest(&sim));
+            lowest = lowest.min(sim.heights().iter().fold(0.0f64, |m, h| m.min(*h)));
         }
         // Then dragged round in circles at the pointer's fastest, 3 s.
         let mut dragged: f64 = 0.0;
@@ -1120,13 +1205,21 @@ mod tests {
         let settled = highest(&sim);
         let lost = (sim.volume() - v0).abs();
         eprintln!(
-            "highest: dropped {dropped:.3} m, dragged {dragged:.3} m, 6 s later {settled:.3} m"
+            "highest: dropped {dropped:.3} m, dragged {dragged:.3} m, 6 s later {settled:.3} m; \
+             lowest as it fell in {lowest:.3} m"
         );
-        // Measured: 0.46, 0.76 and 0.47 m; without breaking 1.48 m (a spout
-        // through the ball), 0.97 and 0.72 m. Dragging a ball this big this
-        // fast round a pool this small does raise big waves; they must stay
-        // bounded and die down.
-        assert!(dropped < 0.6, "the drop raised the water {dropped} m");
+        // Measured: 0.24, 0.65 and 0.36 m, lowest −1.08 m (the ball's
+        // bottom at its deepest); without breaking 1.48 m (a spout through
+        // the ball), 0.97 and 0.72 m; without the contact 0.46, 0.76 and
+        // 0.47 m here, while in the viewer (the ball floating on the level
+        // about it) the hollow reached −2.1 m, below the 1.6 m floor.
+        // Dragging a ball this big this fast round a pool this small does
+        // raise big waves; they must stay bounded and die down.
+        assert!(
+            lowest > -1.3,
+            "the falling ball's hollow reached {lowest} m (the floor is at −1.6 m)"
+        );
+        assert!(dropped < 0.4, "the drop raised the water {dropped} m");
         assert!(dragged < 1.0, "dragging raised the water {dragged} m");
         assert!(settled < 0.8 * dragged, "6 s after, the water still stands {settled} m high");
         assert!(lost < 1e-9, "volume changed by {lost} m³");

@@ -333,7 +333,8 @@ impl Dynamics {
         let Some(mut world) = self.bodies.take() else { return Vec::new() };
         let before = world.poses();
         world.step(&self.water(s as f64 * self.dt));
-        let moves = world.moves_since(&before);
+        let mut moves = world.moves_since(&before);
+        world.release_hollows(&mut moves);
         self.bodies = Some(world);
         moves
     }

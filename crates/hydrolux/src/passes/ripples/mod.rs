@@ -33,10 +33,12 @@ uniform! { RippleParams;
 }
 
 pub fn source() -> String {
-    use hydrolux_core::waves::ripples::{BREAKING_RELAX, BREAKING_SLOPE};
-    // Breaking's constants from the CPU twin's, not copied by hand.
+    use hydrolux_core::waves::ripples::{
+        BREAKING_RELAX, BREAKING_SLOPE, HULL_GAP, PUSHED_UNITS_PER_M,
+    };
+    // Breaking's and the hulls' constants from the CPU twin's, not copied by hand.
     let consts = format!(
-        "const BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\n"
+        "const BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\nconst HULL_GAP: f32 = {HULL_GAP:?};\nconst PUSHED_UNITS_PER_M: f32 = {PUSHED_UNITS_PER_M:?};\n"
     );
     shaders::compose(&consts, include_str!("ripples.wgsl"))
 }
@@ -67,18 +69,14 @@ pub struct StepInput {
     pub moves: Vec<BodyMove>,
 }
 
-/// A body move as the shader's `BodyMove`.
+/// A body's move as `BodyMove` in ripples.wgsl: its shape, the pose whose
+/// hollow it held before the step ([`BodyMove::held`]) and its pose after.
 fn gpu_move(m: &BodyMove) -> [[f32; 4]; 5] {
     let (code, size) = m.shape.gpu();
     let pos = |p: &hydrolux_core::bodies::Pose| p.position.as_vec3().extend(0.0).to_array();
     let rot = |p: &hydrolux_core::bodies::Pose| p.rotation.as_quat().to_array();
-    [
-        [size[0], size[1], size[2], code as f32],
-        pos(&m.before),
-        rot(&m.before),
-        pos(&m.after),
-        rot(&m.after),
-    ]
+    let held = m.held();
+    [[size[0], size[1], size[2], code as f32], pos(&held), rot(&held), pos(&m.after), rot(&m.after)]
 }
 
 /// Δφ (m²/s) per unit of landing spray: the scene's spray parcel over a
@@ -124,6 +122,8 @@ pub struct RipplePass {
     /// Landing spray per texel (fixed-point speeds; the white water adds,
     /// the next step uses them up).
     pub kicks: wgpu::Buffer,
+    /// The water hulls pushed out in the step under way (fixed point).
+    pushed: wgpu::Buffer,
     /// Δφ (m²/s) per kick unit: the scene's spray parcel over a cell.
     kick_per_unit: f32,
     pub texture: wgpu::Texture,
@@ -162,6 +162,7 @@ impl RipplePass {
         let depth = cells((n * n) as u64, 4, "ripples depth", copy);
         let heights = cells((n * n) as u64, 4, "ripples heights", copy);
         let kicks = cells((n * n) as u64, 4, "ripples spray kicks", copy);
+        let pushed = cells(1, 4, "ripples water pushed out", copy);
         let kick_per_unit = kick_per_unit(scene, &settings);
         queue.write_buffer(
             &depth,
@@ -210,6 +211,7 @@ impl RipplePass {
                 storage_texture_entry(6, FORMAT, wgpu::TextureViewDimension::D2),
                 storage_entry(7, cs, true),
                 storage_entry(8, cs, false),
+                storage_entry(9, cs, false),
             ],
         });
         let fft_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -266,6 +268,7 @@ impl RipplePass {
             move_capacity,
             heights,
             kicks,
+            pushed,
             kick_per_unit,
             texture,
             layout,
@@ -309,6 +312,7 @@ impl RipplePass {
                 },
                 whole(7, &self.moves),
                 whole(8, &self.kicks),
+                whole(9, &self.pushed),
             ],
         })
     }
@@ -329,6 +333,7 @@ impl RipplePass {
         queue.write_buffer(&self.spectral, 0, &vec![0u8; f * f * 16]);
         queue.write_buffer(&self.heights, 0, &vec![0u8; (n * n * 4) as usize]);
         queue.write_buffer(&self.kicks, 0, &vec![0u8; (n * n * 4) as usize]);
+        queue.write_buffer(&self.pushed, 0, &[0u8; 4]);
         queue.write_texture(
             self.texture.as_image_copy(),
             &vec![0u8; (n * n * 8) as usize],
@@ -429,8 +434,10 @@ impl RipplePass {
         let mut drops: Vec<[f32; 4]> = Vec::new();
         let mut moves: Vec<[[f32; 4]; 5]> = Vec::new();
         let mut slots = vec![0u8; (self.slot_size * (count + 1)) as usize];
+        let gpu_moves =
+            |moves: &[BodyMove]| -> Vec<[[f32; 4]; 5]> { moves.iter().map(gpu_move).collect() };
         if let Some(last) = inputs.last() {
-            self.last_moves = last.moves.iter().map(gpu_move).collect();
+            self.last_moves = gpu_moves(&last.moves);
         }
         for i in 0..=count as usize {
             let empty = StepInput::default();
@@ -443,11 +450,8 @@ impl RipplePass {
                     .map(|d| [d.x as f32, d.z as f32, d.radius as f32, d.strength as f32]),
             );
             // The publish's slot (the last) holds the last step's bodies.
-            let step_moves: Vec<[[f32; 4]; 5]> = if i < count as usize {
-                input.moves.iter().map(gpu_move).collect()
-            } else {
-                self.last_moves.clone()
-            };
+            let step_moves: Vec<[[f32; 4]; 5]> =
+                if i < count as usize { gpu_moves(&input.moves) } else { self.last_moves.clone() };
             u.bodies = [moves.len() as i32, step_moves.len() as i32, 0, 0];
             moves.extend(step_moves);
             let at = i * self.slot_size as usize;

@@ -24,13 +24,14 @@ struct RippleParams {
     spray: vec4<f32>,
 }
 
-// A body's move over one step (twin: waves::ripples::BodyMove): shape
-// (three sizes, code BODY_*), then position and rotation (quaternion
-// x, y, z, w) before and after.
+// A body in the water during one step (twin: waves::ripples::BodyMove):
+// its shape (three sizes, code BODY_*), the pose whose hollow it held
+// before the step (where it was, or was lifted out of: BodyMove::held) and
+// its pose after, as position and rotation (quaternion x, y, z, w).
 struct BodyMove {
     shape: vec4<f32>,
-    before_position: vec4<f32>,
-    before_rotation: vec4<f32>,
+    held_position: vec4<f32>,
+    held_rotation: vec4<f32>,
     after_position: vec4<f32>,
     after_rotation: vec4<f32>,
 }
@@ -55,6 +56,10 @@ struct BodyMove {
 // downward speeds summed in fixed point by the white water's `update`;
 // used up by the step (cleared in `spectral_step`, after `disturb` read it).
 @group(0) @binding(8) var<storage, read_write> kicks: array<atomic<u32>>;
+// The water hulls pushed out in this step (fixed point, PUSHED_UNITS_PER_M
+// per metre summed over the grid): `disturb` adds, `spectral_step` adds it
+// to the level and clears it.
+@group(0) @binding(9) var<storage, read_write> pushed: atomic<i32>;
 
 const BODY_SPHERE: u32 = PRIMITIVE_SPHERE;
 const BODY_BOX: u32 = PRIMITIVE_BOX;
@@ -95,6 +100,28 @@ fn body_depth(m: BodyMove, w: vec2<f32>) -> f32 {
         return 0.0;
     }
     return max(-c.x, 0.0);
+}
+
+// Depth (m) the body reached below the mean level at world point w before
+// the step (at its held pose), where it pierced the surface. Twin:
+// BodyMove::depth_before.
+fn held_depth(m: BodyMove, w: vec2<f32>) -> f32 {
+    let c = body_column(m.shape, m.held_position.xyz, m.held_rotation, w);
+    if (c.x > c.y || c.y <= 0.0) {
+        return 0.0;
+    }
+    return max(-c.x, 0.0);
+}
+
+// How deep the bodies' hulls hold the water down at world point w this
+// step (0 where none pierces the surface). Twin: `held_down` of
+// RippleSim::step_with.
+fn hull_depth(w: vec2<f32>) -> f32 {
+    var d = 0.0;
+    for (var b = 0; b < params.bodies.y; b++) {
+        d += body_depth(moves[params.bodies.x + b], w);
+    }
+    return d;
 }
 
 // Whether a body's hull covers world point w this step (it pierces the
@@ -227,13 +254,18 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     );
     // A hull holds its hollow down: free water does not pour into it (the
     // two fought every step and kept the ring about a ball steep), though a
-    // hollow rebounding above the water around still breaks. Twin: the
-    // `held` pairs of RippleSim::step_with.
-    let here = hull_covers(w);
+    // hollow rebounding above the water around still breaks, and so does
+    // water pushed below the hull's bottom (the contact holds it, not the
+    // pressure head's spring). Twin: the `held` pairs of RippleSim::step_with.
+    let here_down = hull_depth(w);
+    let h_before = s.x;
+    let here = here_down > 0.0;
     for (var j = 0; j < 4; j++) {
         let h_n = state(around[j]).x;
-        let there = hull_covers(world_of(domain_cell(around[j])));
-        let held = here != there && select(s.x < h_n, h_n < s.x, there);
+        let there_down = hull_depth(world_of(domain_cell(around[j])));
+        let there = there_down > 0.0;
+        let held = here != there
+            && select(s.x < h_n && s.x >= -here_down - HULL_GAP, h_n < s.x && h_n >= -there_down - HULL_GAP, there);
         if (held) {
             continue;
         }
@@ -241,9 +273,11 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
         give += sign(dh) * max(abs(dh) - most, 0.0);
     }
     s.x -= BREAKING_RELAX * give;
-    // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's worth.
-    for (var b = 0; b < params.bodies.y; b++) {
-        s.y -= params.physics.x * body_depth(moves[params.bodies.x + b], w) * params.space.y;
+    // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's worth,
+    // where the water touches the hulls (water that fell away below a
+    // hull's bottom feels no push from it).
+    if (h_before >= -here_down - HULL_GAP) {
+        s.y -= params.physics.x * here_down * params.space.y;
     }
     let first = params.window.z;
     for (var i = 0; i < params.window.w; i++) {
@@ -252,6 +286,26 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     // Landing spray: an impulsive pressure P changes φ by −P/ρ.
     s.y -= f32(atomicLoad(&kicks[texel_of(g)])) * params.spray.x;
     s *= sponge(d);
+    // Contact: water touching a hull follows it up, to its new bottom or
+    // the mean level; water that rose past a hull's bottom is put back
+    // there. What the hulls let in or push out comes from or joins the
+    // level (`spectral_step`). Twin: the contact of RippleSim::step_with.
+    var was = 0.0;
+    for (var b = 0; b < params.bodies.y; b++) {
+        was += held_depth(moves[params.bodies.x + b], w);
+    }
+    let rise = -here_down - s.x;
+    if (was > here_down && h_before >= -was - HULL_GAP && rise > 0.0) {
+        let units = round(rise * PUSHED_UNITS_PER_M);
+        s.x += units / PUSHED_UNITS_PER_M;
+        atomicSub(&pushed, i32(units));
+    }
+    let excess = s.x + here_down;
+    if (here && excess > 0.0) {
+        let units = round(excess * PUSHED_UNITS_PER_M);
+        s.x -= units / PUSHED_UNITS_PER_M;
+        atomicAdd(&pushed, i32(units));
+    }
     spatial[grid_index(g)] = vec4<f32>(s.x, -s.y, 0.0, 0.0);
 }
 
@@ -289,7 +343,7 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = spatial[i].xy;
     let b = spatial[m].xy;
     let zk = vec2<f32>(a.x, -a.y);
-    let hk = (zk + b) * 0.5;
+    var hk = (zk + b) * 0.5;
     let pk = cmul(zk - b, vec2<f32>(0.0, -0.5));
     let half = f / 2u;
     let signed = vec2<f32>(
@@ -299,6 +353,11 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
     let k = length(signed) * TAU / (f32(f) * params.space.x);
     let norm = 1.0 / (f32(f) * f32(f));
     var out = vec4<f32>(0.0);
+    if (i == 0u) {
+        // The water hulls pushed out raises the level (the sum of h over
+        // the grid is the zero wave number's amplitude).
+        hk.x += f32(atomicExchange(&pushed, 0)) / PUSHED_UNITS_PER_M;
+    }
     // Open water has no level of its own: what the window gains or loses
     // flows away to the ocean around it.
     if (k == 0.0 && params.grid.z == 1u) {
