@@ -529,10 +529,15 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     var n = surface_normal(s);
     // Behind a crest the filtered texture normal can face away from a pixel the
     // mesh shows: those pixels would sparkle with grazing (total) Fresnel
-    // reflection. Lean on the geometric normal there instead.
+    // reflection. Lean on the geometric normal there instead. Only where the
+    // normal faces away more than flat water would: towards the horizon
+    // every normal is grazing (n·v ≈ v_y), and leaning there put the coarse
+    // rings' facets in place of the filtered normal, as dark dots on the
+    // horizon (issue #26 item 7).
     let nv = dot(n, v);
-    if (nv < 0.1) {
-        n = normalize(mix(n_geo, n, clamp(nv / 0.1, 0.0, 1.0)));
+    let grazing = clamp(v.y, 1e-3, 0.1);
+    if (nv < grazing) {
+        n = normalize(mix(n_geo, n, clamp(nv / grazing, 0.0, 1.0)));
     }
     let nv2 = dot(n, v);
     if (nv2 < 0.02) {
