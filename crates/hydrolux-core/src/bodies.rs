@@ -7,198 +7,13 @@
 //! from the water each step (`waves::ripples`): the GPU twin is
 //! `body_column` in `passes/ripples/ripples.wgsl`.
 
-use crate::scene::{ObjectDesc, Primitive, Scene};
+pub use crate::coupling::{Pose, Shape, body_column};
+use crate::scene::{ObjectDesc, Scene};
 use glam::{DQuat, DVec3};
 use rapier3d::prelude as rp;
 
 /// Density of water (kg/m³).
 pub const WATER_DENSITY: f64 = 1000.0;
-
-/// A body's shape in its own frame (centred on its origin).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Shape {
-    Sphere {
-        radius: f64,
-    },
-    Box {
-        half: DVec3,
-    },
-    /// Axis along the body's y.
-    Cylinder {
-        radius: f64,
-        half_height: f64,
-    },
-}
-
-impl Shape {
-    /// The shape of a primitive object (`None` for meshes, planes and
-    /// scalings a shape cannot follow, e.g. a squashed sphere).
-    pub fn of(o: &ObjectDesc) -> Option<Shape> {
-        if !o.mesh.is_empty() {
-            return None;
-        }
-        let s = o.scale.map(|c| c.abs() as f64);
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.max(b);
-        match o.primitive {
-            Primitive::Sphere if close(s[0], s[1]) && close(s[1], s[2]) => {
-                Some(Shape::Sphere { radius: 0.5 * s[0] })
-            }
-            Primitive::Box => Some(Shape::Box { half: DVec3::from(s) * 0.5 }),
-            Primitive::Cylinder if close(s[0], s[2]) => {
-                Some(Shape::Cylinder { radius: 0.5 * s[0], half_height: 0.5 * s[1] })
-            }
-            _ => None,
-        }
-    }
-
-    pub fn volume(&self) -> f64 {
-        use std::f64::consts::PI;
-        match *self {
-            Shape::Sphere { radius } => 4.0 / 3.0 * PI * radius.powi(3),
-            Shape::Box { half } => 8.0 * half.x * half.y * half.z,
-            Shape::Cylinder { radius, half_height } => PI * radius * radius * 2.0 * half_height,
-        }
-    }
-
-    /// Half-sides [x, z] of the shape's footprint box at `pose` (the box
-    /// around it, turned; a cylinder as its box).
-    pub fn horizontal_half_extent(&self, pose: &Pose) -> [f64; 2] {
-        let local = match *self {
-            Shape::Sphere { radius } => return [radius, radius],
-            Shape::Box { half } => half,
-            Shape::Cylinder { radius, half_height } => DVec3::new(radius, half_height, radius),
-        };
-        let m = glam::DMat3::from_quat(pose.rotation);
-        let reach = |row: usize| (0..3).map(|c| (m.col(c)[row] * local[c]).abs()).sum::<f64>();
-        [reach(0), reach(2)]
-    }
-
-    /// Moment of inertia per unit mass (m²) about a horizontal axis through
-    /// the centre, upright (the mean of the two for a box).
-    pub fn tilt_inertia_per_mass(&self) -> f64 {
-        match *self {
-            Shape::Sphere { radius } => 0.4 * radius * radius,
-            Shape::Box { half } => {
-                let (x, y, z) = (2.0 * half.x, 2.0 * half.y, 2.0 * half.z);
-                0.5 * ((y * y + z * z) + (x * x + y * y)) / 12.0
-            }
-            Shape::Cylinder { radius, half_height } => {
-                (3.0 * radius * radius + 4.0 * half_height * half_height) / 12.0
-            }
-        }
-    }
-
-    /// Radius of a sphere around the shape.
-    pub fn bounding_radius(&self) -> f64 {
-        match *self {
-            Shape::Sphere { radius } => radius,
-            Shape::Box { half } => half.length(),
-            Shape::Cylinder { radius, half_height } => radius.hypot(half_height),
-        }
-    }
-
-    /// The code of the shape in the shaders (`BODY_*` in ripples.wgsl) and
-    /// its three size parameters.
-    pub fn gpu(&self) -> (u32, [f32; 3]) {
-        match *self {
-            Shape::Sphere { radius } => (0, [radius as f32, 0.0, 0.0]),
-            Shape::Box { half } => (1, half.as_vec3().to_array()),
-            Shape::Cylinder { radius, half_height } => {
-                (2, [radius as f32, half_height as f32, 0.0])
-            }
-        }
-    }
-}
-
-/// Where a body is.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pose {
-    pub position: DVec3,
-    pub rotation: DQuat,
-}
-
-impl Pose {
-    pub fn matrix(&self, scale: [f32; 3]) -> glam::Mat4 {
-        glam::Mat4::from_scale_rotation_translation(
-            scale.into(),
-            self.rotation.as_quat(),
-            self.position.as_vec3(),
-        )
-    }
-}
-
-/// The vertical extent [y0, y1] of `shape` at `pose` over the column at
-/// world (x, z), or `None` if the column misses it.
-pub fn body_column(shape: &Shape, pose: &Pose, x: f64, z: f64) -> Option<(f64, f64)> {
-    // A downward ray from just above the body, in the body's frame.
-    let top = pose.position.y + shape.bounding_radius() + 1.0;
-    let inv = pose.rotation.inverse();
-    let o = inv * (DVec3::new(x, top, z) - pose.position);
-    let d = inv * DVec3::NEG_Y;
-    let (t0, t1) = match *shape {
-        Shape::Sphere { radius } => {
-            let b = o.dot(d);
-            let c = o.length_squared() - radius * radius;
-            let disc = b * b - c;
-            if disc < 0.0 {
-                return None;
-            }
-            let s = disc.sqrt();
-            (-b - s, -b + s)
-        }
-        Shape::Box { half } => slab(o, d, -half, half)?,
-        Shape::Cylinder { radius, half_height } => {
-            let (a, b, c) = (
-                d.x * d.x + d.z * d.z,
-                o.x * d.x + o.z * d.z,
-                o.x * o.x + o.z * o.z - radius * radius,
-            );
-            let (mut t0, mut t1) = if a < 1e-12 {
-                if c > 0.0 {
-                    return None;
-                }
-                (f64::NEG_INFINITY, f64::INFINITY)
-            } else {
-                let disc = b * b - a * c;
-                if disc < 0.0 {
-                    return None;
-                }
-                let s = disc.sqrt();
-                ((-b - s) / a, (-b + s) / a)
-            };
-            if d.y.abs() < 1e-12 {
-                if o.y.abs() > half_height {
-                    return None;
-                }
-            } else {
-                let (ya, yb) = ((-half_height - o.y) / d.y, (half_height - o.y) / d.y);
-                t0 = t0.max(ya.min(yb));
-                t1 = t1.min(ya.max(yb));
-            }
-            if t0 > t1 {
-                return None;
-            }
-            (t0, t1)
-        }
-    };
-    Some((top - t1, top - t0))
-}
-
-fn slab(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
-    let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
-    for a in 0..3 {
-        if d[a].abs() < 1e-12 {
-            if o[a] < lo[a] || o[a] > hi[a] {
-                return None;
-            }
-        } else {
-            let (ta, tb) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
-            t0 = t0.max(ta.min(tb));
-            t1 = t1.min(ta.max(tb));
-        }
-    }
-    (t0 <= t1).then_some((t0, t1))
-}
 
 /// The part of a body below the water.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -462,11 +277,11 @@ impl BodyWorld {
 
     /// The bodies' moves from `before` (poses in body order) to where
     /// they are now, as the water takes them (`before` = now: at rest).
-    pub fn moves_since(&self, before: &[Pose]) -> Vec<crate::waves::ripples::BodyMove> {
+    pub fn moves_since(&self, before: &[Pose]) -> Vec<crate::coupling::BodyMove> {
         self.bodies
             .iter()
             .zip(before.iter().zip(self.poses()))
-            .map(|(b, (p0, p1))| crate::waves::ripples::BodyMove {
+            .map(|(b, (p0, p1))| crate::coupling::BodyMove {
                 shape: b.shape,
                 before: *p0,
                 after: p1,
@@ -478,7 +293,7 @@ impl BodyWorld {
     /// Mark in `moves` (this world's bodies in order, from
     /// [`BodyWorld::moves_since`]) the hollows of the bodies placed
     /// elsewhere since the last call, which the water lets go.
-    pub fn release_hollows(&mut self, moves: &mut [crate::waves::ripples::BodyMove]) {
+    pub fn release_hollows(&mut self, moves: &mut [crate::coupling::BodyMove]) {
         for (i, pose) in self.released.drain(..) {
             if let Some(m) = moves.get_mut(i) {
                 m.released = Some(pose);

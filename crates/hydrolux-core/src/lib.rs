@@ -7,6 +7,7 @@ pub mod camera;
 pub mod caustics;
 pub mod clock;
 pub mod compare;
+pub mod coupling;
 pub mod files;
 pub mod fuzz;
 pub mod geometry;

@@ -21,6 +21,9 @@
 //! - **Spray** drops fly ballistically with quadratic air drag and land in
 //!   the foam.
 
+pub use crate::coupling::{
+    KICK_SCALE, SPRAY_LIQUID_FRACTION, kick_per_unit, kick_units, spray_parcel_volume,
+};
 use crate::waves::SurfaceSample;
 use bytemuck::{Pod, Zeroable};
 
@@ -623,7 +626,7 @@ pub const SPLASH_MAX: u32 = 1024;
 /// throws spray at up to 0.7·|v| and entrains bubbles, and leaves foam
 /// (a hull cutting through the water draws a wake of it). `None` when it
 /// does not touch the surface (flat, y = 0) or moves slower than 0.3 m/s.
-pub fn body_splash(m: &crate::waves::ripples::BodyMove, dt: f64) -> Option<Splash> {
+pub fn body_splash(m: &crate::coupling::BodyMove, dt: f64) -> Option<Splash> {
     let r = m.shape.bounding_radius() as f32;
     let (a, b) = (m.before.position.as_vec3(), m.after.position.as_vec3());
     let v = (b - a) / dt as f32;
@@ -657,7 +660,7 @@ pub const WAKE_FOAM_PER_M: f32 = 0.25;
 /// The splash of a drop (a crater `radius` wide and `strength` deep, as
 /// the interactive water takes it): a crown thrown at about
 /// 4·√(g·depth), bubbles, foam. Rain's small drops make none.
-pub fn drop_splash(d: &crate::waves::ripples::Drop) -> Option<Splash> {
+pub fn drop_splash(d: &crate::coupling::Drop) -> Option<Splash> {
     let (r, s) = (d.radius as f32, d.strength.abs() as f32);
     let swept = std::f32::consts::PI * r * r;
     let spray = (0.3 * SPLASH_SPRAY_PER_M2 * swept * (s / 0.05).min(4.0)).round() as u32;
@@ -686,37 +689,6 @@ pub struct Landing {
     /// Spray: its downward speed (m/s) as it hits the water, which kicks
     /// the interactive water (0 for a bursting bubble).
     pub speed: f32,
-}
-
-/// The water a spray particle carries: a parcel drawn `spray_size` wide is a
-/// cloud of drops, about 1% water by volume (dense spray near a splash's
-/// crown or a breaking crest; spume farther out is thinner).
-pub const SPRAY_LIQUID_FRACTION: f64 = 0.01;
-
-/// Water (m³) in one spray parcel drawn `spray_size` m wide.
-pub fn spray_parcel_volume(spray_size: f32) -> f64 {
-    std::f64::consts::PI / 6.0 * (spray_size as f64).powi(3) * SPRAY_LIQUID_FRACTION
-}
-
-/// Fixed point of the landing spray's kicks: units per m/s of downward
-/// speed, summed per cell of the interactive water (u32 atomics on the
-/// GPU: a thousand parcels at 60 m/s fit in one cell's step).
-pub const KICK_SCALE: f32 = 65536.0;
-
-/// The kick units of a parcel landing at `speed` m/s downwards (clamped to
-/// 0..60 m/s, beyond any drop's terminal velocity).
-pub fn kick_units(speed: f32) -> u32 {
-    let s = if speed.is_finite() { speed.clamp(0.0, 60.0) } else { 0.0 };
-    (s * KICK_SCALE).round() as u32
-}
-
-/// Δφ (m²/s) one kick unit gives a cell `cell` m wide: a parcel of volume V
-/// landing at speed v hands the water its momentum ρ·V·v, an impulsive
-/// pressure P = ρ·V·v / A over the cell (the drops are far smaller than
-/// it), and the linearised Bernoulli equation ∂φ/∂t = −p/ρ − g·h turns an
-/// impulse into a jump of the surface potential, Δφ = −V·v / A.
-pub fn kick_per_unit(spray_size: f32, cell: f64) -> f64 {
-    spray_parcel_volume(spray_size) / (cell * cell) / KICK_SCALE as f64
 }
 
 /// Foam (F·m²) a bursting bubble leaves: its air as a film 0.1 mm thick

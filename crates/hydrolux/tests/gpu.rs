@@ -1,8 +1,9 @@
 //! GPU tests on whatever adapter wgpu finds (Mesa lavapipe in CI, or the
-//! one `WGPU_BACKEND` names): the suite in gpu_suite/suite.rs.
+//! one `WGPU_BACKEND` names): the suite in gpu_suite/.
 
 const BACKENDS: Option<hydrolux::wgpu::Backends> = None;
 
 mod golden;
 
-include!("gpu_suite/suite.rs");
+#[path = "gpu_suite/mod.rs"]
+mod suite;

@@ -1,4 +1,4 @@
-//! The GPU suite (gpu_suite/suite.rs) again on wgpu's OpenGL backend: Mesa
+//! The GPU suite (gpu_suite/) again on wgpu's OpenGL backend: Mesa
 //! llvmpipe in CI, the adapter of machines without a Vulkan driver. Every
 //! CPU twin and golden image holds there too.
 
@@ -6,4 +6,5 @@ const BACKENDS: Option<hydrolux::wgpu::Backends> = Some(hydrolux::wgpu::Backends
 
 mod golden;
 
-include!("gpu_suite/suite.rs");
+#[path = "gpu_suite/mod.rs"]
+mod suite;

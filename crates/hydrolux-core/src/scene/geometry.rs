@@ -4,10 +4,11 @@
 //! file's folder. The renderer uploads this list as it is.
 
 use super::{MaterialDesc, Primitive, Scene, TerrainKind};
+use crate::coupling::Shape;
 use crate::geometry::load::{AssetError, builtin_mesh, load_heightmap, load_mesh};
 use crate::geometry::terrain::{BasinParams, Terrain};
 use crate::geometry::{Mesh, primitives};
-use glam::{Mat4, Vec2, Vec3};
+use glam::{DVec3, Mat4, Vec2, Vec3};
 
 pub struct SceneObject {
     pub name: String,
@@ -182,5 +183,28 @@ impl Scene {
             });
         }
         Ok(out)
+    }
+}
+
+/// A primitive object as a rigid body's shape (`bodies`, `coupling`).
+impl Shape {
+    /// The shape of a primitive object (`None` for meshes, planes and
+    /// scalings a shape cannot follow, e.g. a squashed sphere).
+    pub fn of(o: &super::ObjectDesc) -> Option<Shape> {
+        if !o.mesh.is_empty() {
+            return None;
+        }
+        let s = o.scale.map(|c| c.abs() as f64);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.max(b);
+        match o.primitive {
+            Primitive::Sphere if close(s[0], s[1]) && close(s[1], s[2]) => {
+                Some(Shape::Sphere { radius: 0.5 * s[0] })
+            }
+            Primitive::Box => Some(Shape::Box { half: DVec3::from(s) * 0.5 }),
+            Primitive::Cylinder if close(s[0], s[2]) => {
+                Some(Shape::Cylinder { radius: 0.5 * s[0], half_height: 0.5 * s[1] })
+            }
+            _ => None,
+        }
     }
 }

@@ -604,7 +604,7 @@ impl Scene {
                 "must be finite, each component within ±1000 m/s",
             )?;
             let moving = o.dynamic || o.velocity.iter().any(|&v| v != 0.0);
-            if moving && crate::bodies::Shape::of(o).is_none() {
+            if moving && crate::coupling::Shape::of(o).is_none() {
                 return Err(SceneError::OutOfRange {
                     key: format!("objects[{i}].dynamic"),
                     value: if o.dynamic { "true".into() } else { format!("velocity {:?}", o.velocity) },

@@ -30,6 +30,7 @@ use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 
 use super::dispersion::GRAVITY;
+pub use crate::coupling::{BodyMove, Drop};
 
 /// Surface tension of clean water over its density, σ/ρ (m³/s²): 0.0728 N/m at 20 °C.
 pub const WATER_TENSION: f64 = 0.0728 / 1000.0;
@@ -184,25 +185,6 @@ pub fn rotation(s: &RippleSettings, k: f64, depth: f64) -> [f64; 4] {
     [decay, wt.cos(), kk * s.dt * sinc, bb * s.dt * sinc]
 }
 
-/// A disturbance of the surface: a crater of depth `strength` (m) and
-/// radius `radius` (m) with its rim, volume-neutral (a 2-D Ricker wavelet,
-/// Δh = −s·(1 − r²/R²)·e^(−r²/R²), whose integral over the plane is zero).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Drop {
-    pub x: f64,
-    pub z: f64,
-    pub radius: f64,
-    pub strength: f64,
-}
-
-impl Drop {
-    /// Δh at horizontal distance² `r2` from the centre. Twin of `drop_height` in WGSL.
-    pub fn height(&self, r2: f64) -> f64 {
-        let u = r2 / (self.radius * self.radius);
-        if u > 16.0 { 0.0 } else { -self.strength * (1.0 - u) * (-u).exp() }
-    }
-}
-
 /// Δh of `drop` at world point `w` of the domain. Walls see the drop's
 /// mirror images too (the method of images): a wall reflects the part of the
 /// crater beyond it, so a drop stays volume-neutral next to a wall. Twin of
@@ -225,25 +207,6 @@ pub fn drop_height(grid: &RippleGrid, window: &RippleWindow, drop: &Drop, w: [f6
         }
     }
     dh
-}
-
-/// A body in the water during one step, pressing on it: the classic
-/// moving pressure patch of ship-wave theory (Havelock; Tessendorf's iWave
-/// sources). Where the body reaches a depth d below the mean level it holds
-/// the surface down with the pressure ρ·g·d: a floating body rests in its
-/// own hollow, the water it pushes away rises around it, a bobbing buoy
-/// radiates rings and a moving hull leaves a bow wave and a Kelvin wake.
-/// The volume of water never changes.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BodyMove {
-    pub shape: crate::bodies::Shape,
-    pub before: crate::bodies::Pose,
-    pub after: crate::bodies::Pose,
-    /// Where the body was put away from this step (the viewer's drop: it
-    /// was lifted out, not moved through the water): the hollow it held
-    /// there closes, as if it had never been there, instead of rebounding
-    /// as a spout as high as the hollow was deep.
-    pub released: Option<crate::bodies::Pose>,
 }
 
 /// The steepest the water's surface stands between two cells: tan 30°, the
@@ -283,36 +246,6 @@ pub fn breaking(h: f64, neighbours: [f64; 4], cell: f64) -> f64 {
         })
         .sum::<f64>()
         * BREAKING_RELAX
-}
-
-impl BodyMove {
-    /// The pose whose hollow the body held the water down in before this
-    /// step: where it was, or where it was lifted out of.
-    pub fn held(&self) -> crate::bodies::Pose {
-        self.released.unwrap_or(self.before)
-    }
-
-    /// Depth (m) the body reached below the mean level at world (x, z)
-    /// before the step (at [`BodyMove::held`]), where it pierced the
-    /// surface. Twin of `held_depth` in WGSL.
-    pub fn depth_before(&self, x: f64, z: f64) -> f64 {
-        pressure_head(&self.shape, &self.held(), x, z)
-    }
-
-    /// Depth (m) the body reaches below the mean level at world (x, z),
-    /// after the move, where it pierces the surface: its pressure head. A
-    /// column of the body wholly under water holds nothing down (the water
-    /// closes over it). Twin of `body_depth` in WGSL.
-    pub fn depth(&self, x: f64, z: f64) -> f64 {
-        pressure_head(&self.shape, &self.after, x, z)
-    }
-}
-
-/// Depth (m) a body of `shape` at `pose` reaches below the mean level at
-/// world (x, z) where it pierces the surface (0 elsewhere).
-fn pressure_head(shape: &crate::bodies::Shape, pose: &crate::bodies::Pose, x: f64, z: f64) -> f64 {
-    crate::bodies::body_column(shape, pose, x, z)
-        .map_or(0.0, |(y0, y1)| if y1 > 0.0 { (-y0).max(0.0) } else { 0.0 })
 }
 
 /// The still water around floating bodies: each rests in its hollow,
@@ -483,7 +416,7 @@ pub struct RippleSim {
     pub kicks: Vec<u32>,
     /// Δφ (m²/s) one kick unit gives its cell: the spray parcel's water
     /// over the cell's area, per unit
-    /// ([`crate::whitewater::kick_per_unit`]; 0: spray does not ring the water).
+    /// ([`crate::coupling::kick_per_unit`]; 0: spray does not ring the water).
     pub kick_per_unit: f64,
     planner: FftPlanner<f64>,
     pub steps: u64,
@@ -546,7 +479,7 @@ impl RippleSim {
     /// `whitewater.wgsl`). Outside the domain it is lost.
     pub fn land(&mut self, x: f32, z: f32, speed: f32) {
         if let Some(t) = texel_of(&self.settings.grid, &self.window, x as f64, z as f64) {
-            self.kicks[t] = self.kicks[t].wrapping_add(crate::whitewater::kick_units(speed));
+            self.kicks[t] = self.kicks[t].wrapping_add(crate::coupling::kick_units(speed));
         }
     }
 
@@ -919,7 +852,7 @@ mod tests {
         // Damping lets it settle; it shifts the balance by γ²/(g·k) ≈ 0.1%.
         s.damping = 0.3;
         let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
-        sim.kick_per_unit = crate::whitewater::kick_per_unit(0.06, s.grid.cell_size);
+        sim.kick_per_unit = crate::coupling::kick_per_unit(0.06, s.grid.cell_size);
         let (lo, hi) = (12, 20);
         let speed = 5.0;
         for _ in 0..1800 {
@@ -931,7 +864,7 @@ mod tests {
             }
             sim.step(&[]);
         }
-        let per_step = crate::whitewater::kick_units(speed) as f64 * sim.kick_per_unit;
+        let per_step = crate::coupling::kick_units(speed) as f64 * sim.kick_per_unit;
         let q = per_step / s.dt;
         let patch = ((hi - lo) * (hi - lo)) as f64 / (32.0 * 32.0);
         let expected = -(q - q * patch) / GRAVITY;
