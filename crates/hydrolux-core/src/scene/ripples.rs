@@ -3,7 +3,7 @@
 //! script its disturbances (seed 003 §2.3–2.4). The simulation is
 //! `waves::ripples`.
 
-use super::load::range;
+use super::rules::range;
 use super::{Scene, SceneError};
 use crate::waves::ripples::{
     Drop, RippleBoundary, RippleGrid, RippleSettings, WATER_TENSION, WATER_VISCOSITY,

@@ -2,7 +2,7 @@
 //! field, and the particle pool shared by bubbles and spray. The physics is
 //! `crate::whitewater`.
 
-use super::load::range;
+use super::rules::range;
 use super::{CLOCK_HZ, Scene, SceneError, WaterModel};
 use serde::{Deserialize, Serialize};
 

@@ -1,0 +1,215 @@
+//! How a frame is drawn: `[render]`, quality tiers and debug views.
+
+use super::*;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Tonemap {
+    Aces,
+    Clamp,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RenderDesc {
+    /// Photographic exposure, EV100 (sunny day ≈ 15).
+    pub exposure: f32,
+    pub tonemap: Tonemap,
+    /// Anisotropic filtering of the wave textures: 1–16, or 0 = automatic
+    /// (16 on GPUs, 1 on CPU adapters such as lavapipe, where each extra tap
+    /// is paid in full: 16× costs ~1000× the frame time there).
+    pub anisotropy: u32,
+    /// What to show: the final image or an intermediate texture.
+    pub view: DebugView,
+    /// Side of the sun's shadow map (texels).
+    pub shadow_resolution: u32,
+    /// Reflection and refraction textures' size as a fraction of the output.
+    pub reflection_resolution: f32,
+    /// Field-of-view widening of the reflection and refraction textures
+    /// (0.5 = 50% wider, seed 002 §3).
+    pub fov_margin: f32,
+    /// Quality tier (`Quality`): caps on the costly settings and the
+    /// internal rendering resolution; `auto` picks by adapter.
+    pub quality: Quality,
+}
+
+/// What a quality tier keeps; see [`Quality::apply`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Quality {
+    /// `low` on CPU adapters (software rasterisers), `high` on GPUs.
+    Auto,
+    Low,
+    Medium,
+    High,
+    Ultra,
+}
+
+impl Quality {
+    /// The tier for an adapter: `auto` resolved (`cpu`: a software adapter).
+    pub fn resolve(self, cpu: bool) -> Quality {
+        match self {
+            Quality::Auto if cpu => Quality::Low,
+            Quality::Auto => Quality::High,
+            q => q,
+        }
+    }
+
+    /// Fraction of the output's pixels per side the frame is rendered at
+    /// (then filtered up to the output by the tone map).
+    pub fn render_scale(self) -> f32 {
+        match self {
+            Quality::Low => 0.5,
+            Quality::Medium => 0.75,
+            _ => 1.0,
+        }
+    }
+
+    /// `scene` as this (resolved) tier renders it. `high` is the scene as
+    /// written. Lower tiers cap what costs most per frame; `ultra` raises
+    /// the floors of the textures that alias first:
+    /// - low: caustics ≤ 128 photons per side on ≤ 128² maps, ≤ 2 layers;
+    ///   traced water ≤ 128 cells, ≤ 256 steps a ray;
+    ///   shadow map ≤ 1024²; reflections ≤ 0.25× the output; god rays ≤ ¼
+    ///   resolution; ocean N ≤ 128; interactive water ≤ 64 cells; foam ≤ 128
+    ///   cells, ≤ 16k particles, ≤ 10 steps/s over ≤ 6 s of memory; ½ resolution.
+    ///   The interactive water is never coarser than what its drops and the
+    ///   pointer's crater need ([`Scene::ripple_cells_needed`]).
+    /// - medium: caustics ≤ 256 photons on ≤ 256² maps; shadow map ≤ 2048²;
+    ///   traced water ≤ 256 cells, ≤ 1024 steps a ray;
+    ///   interactive water ≤ 128 cells; ≤ 64k particles; ¾ resolution.
+    /// - ultra: caustic maps ≥ 512², photons ≥ 1024 per side, shadow map
+    ///   ≥ 4096², reflections at the output's resolution, ≥ 1M particles,
+    ///   traced water ≥ 512 cells (12.5 cm),
+    ///   foam ≥ 512 cells.
+    pub fn apply(self, scene: &Scene) -> Scene {
+        let mut s = scene.clone();
+        let cap_u = |v: &mut u32, max: u32| *v = (*v).min(max);
+        let cap_f = |v: &mut f32, max: f32| *v = v.min(max);
+        match self {
+            Quality::Low => {
+                cap_u(&mut s.caustics.photons, 128);
+                cap_u(&mut s.caustics.map_resolution, 128);
+                cap_u(&mut s.caustics.layers, 2);
+                cap_u(&mut s.water.trace_resolution, 128);
+                cap_u(&mut s.water.trace_steps, 256);
+                cap_u(&mut s.render.shadow_resolution, 1024);
+                cap_f(&mut s.render.reflection_resolution, 0.25);
+                cap_f(&mut s.godrays.resolution, 0.25);
+                cap_u(&mut s.ocean.resolution, 128);
+                cap_u(&mut s.ripples.resolution, 64.max(scene.ripple_cells_needed()));
+                cap_u(&mut s.whitewater.resolution, 128);
+                cap_u(&mut s.whitewater.budget, 16_384);
+                cap_f(&mut s.whitewater.memory, 6.0);
+                if s.whitewater.rate > 10 {
+                    s.whitewater.rate = 10;
+                }
+            }
+            Quality::Medium => {
+                cap_u(&mut s.caustics.photons, 256);
+                cap_u(&mut s.caustics.map_resolution, 256);
+                cap_u(&mut s.render.shadow_resolution, 2048);
+                cap_u(&mut s.water.trace_resolution, 256);
+                cap_u(&mut s.water.trace_steps, 1024);
+                cap_u(&mut s.ripples.resolution, 128.max(scene.ripple_cells_needed()));
+                cap_u(&mut s.whitewater.budget, 65_536);
+            }
+            Quality::Ultra => {
+                s.caustics.map_resolution = s.caustics.map_resolution.max(512);
+                s.caustics.photons = s.caustics.photons.max(1024);
+                s.render.shadow_resolution = s.render.shadow_resolution.max(4096);
+                s.render.reflection_resolution = 1.0;
+                s.water.trace_resolution = s.water.trace_resolution.max(512);
+                s.whitewater.budget = s.whitewater.budget.max(1 << 20);
+                s.whitewater.resolution = s.whitewater.resolution.max(512);
+            }
+            Quality::High | Quality::Auto => {}
+        }
+        s
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DebugView {
+    Final,
+    Reflection,
+    Refraction,
+    Depth,
+    Normals,
+    Shadow,
+    /// Each pixel's medium (air or water) from the stencil classification.
+    Medium,
+    /// The floor caustic map (over the patch, letterboxed).
+    Caustics,
+    /// The interactive water's height on the surface (red up, blue down,
+    /// on a signed log scale from 0.5 mm to 0.5 m), shaded by its slopes; the rest in grey.
+    Ripples,
+    /// The foam's cover on the surface (white), over the water in grey.
+    Foam,
+    /// The water's Fresnel reflectance per pixel in red, the water marked by
+    /// green = 1 (the rest grey): `hydrolux compare` reads it to split its
+    /// error into reflection- and refraction-dominated pixels.
+    Fresnel,
+    /// What the projective approximations cost (issue #16's truth mode):
+    /// the frame drawn both ways, projective and ray traced, and per pixel
+    /// their CIELAB difference ΔE*ab as heat (black 0, red 10, yellow 20,
+    /// white 40).
+    Error,
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        RenderDesc {
+            exposure: 14.5,
+            tonemap: Tonemap::Aces,
+            anisotropy: 0,
+            view: DebugView::Final,
+            shadow_resolution: 2048,
+            reflection_resolution: 0.5,
+            fov_margin: 0.5,
+            quality: Quality::Auto,
+        }
+    }
+}
+
+impl RenderDesc {
+    /// The `[render]` section's rules (one line naming the bad key and what
+    /// is allowed); checks that span sections are in `Scene::validate`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let r = self;
+        if self.anisotropy > 16 {
+            return Err(SceneError::OutOfRange {
+                key: "render.anisotropy".into(),
+                value: self.anisotropy.to_string(),
+                allowed: "must be 0 (automatic) or 1 to 16".into(),
+            });
+        }
+        range(
+            "render.exposure",
+            self.exposure,
+            (-10.0..=30.0).contains(&self.exposure),
+            "must be in [-10, 30] EV",
+        )?;
+        if !(256..=8192).contains(&r.shadow_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "render.shadow_resolution".into(),
+                value: r.shadow_resolution.to_string(),
+                allowed: "must be 256 to 8192".into(),
+            });
+        }
+        range(
+            "render.reflection_resolution",
+            r.reflection_resolution,
+            r.reflection_resolution > 0.05 && r.reflection_resolution <= 1.0,
+            "must be in (0.05, 1]",
+        )?;
+        range(
+            "render.fov_margin",
+            r.fov_margin,
+            (0.0..=2.0).contains(&r.fov_margin),
+            "must be in [0, 2]",
+        )?;
+        Ok(())
+    }
+}
