@@ -133,8 +133,8 @@ impl Capabilities {
              targets, renderable everywhere"
                 .into(),
             format!(
-                "FFT rows: at most {} threads a workgroup",
-                self.max_workgroup_threads.min(crate::passes::ocean::MAX_FFT_THREADS)
+                "compute workgroups: at most {} threads (the FFTs' rows use up to that)",
+                self.max_workgroup_threads
             ),
         ];
         if !self.depth_and_stencil_reads {

@@ -4,10 +4,7 @@
 //! renderer then uploads what the plan says and records the passes it lists;
 //! nothing is decided twice. Pure CPU code, unit-tested without a GPU.
 
-use crate::passes::godrays::GodRayUniforms;
-use crate::passes::water;
-use crate::passes::water_object::{FIXED_POINT_SCALE, MARCH_STEPS, ObjectLightUniforms};
-use crate::targets::{REFRACTION_MARGIN, STENCIL_AIR, STENCIL_WATER};
+use crate::formats::{REFRACTION_MARGIN, STENCIL_AIR, STENCIL_WATER};
 use crate::uniforms::{
     FrameCaustics, FrameFog, FrameLight, FrameModes, FrameObjects, FrameProjective, FrameShadow,
     FrameSurface, FrameUniforms, FrameView, FrameVolume, FrameWater,
@@ -70,7 +67,28 @@ pub(crate) struct CausticsPlan {
 /// God rays this frame.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct GodRaysPlan {
-    pub uniforms: GodRayUniforms,
+    /// Photons per side of the surface's tube region (0 in the air: the
+    /// fog is marched) and march steps per texel.
+    pub photons: u32,
+    pub steps: u32,
+    /// The god-ray buffer's size (texels).
+    pub buffer: (u32, u32),
+    /// The tube region's centre (x, z) and half side (m); zero in the air.
+    pub region_centre: [f32; 2],
+    pub region_half: f32,
+    /// Width (m) of a tube: the surface photons' spacing, or in the air the
+    /// objects' light-view texel (their paths' width).
+    pub tube_width: f32,
+    /// How far from the eye shafts are drawn (m), and the depth the
+    /// surface's tubes end at (m; 0 in the air).
+    pub distance: f32,
+    pub end_depth: f32,
+    /// The medium the shafts are in (its stencil value) and its scattering
+    /// and extinction (1/m) with the phase function's g.
+    pub stencil: u32,
+    pub scattering: [f32; 3],
+    pub phase_g: f32,
+    pub extinction: [f32; 3],
     /// For a viewer in the air (the fog and refractive objects' paths)
     /// rather than in the water (the surface's photons).
     pub in_air: bool,
@@ -79,9 +97,19 @@ pub(crate) struct GodRaysPlan {
 /// Refractive objects' light this frame.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ObjectLightPlan {
-    /// Their light view (world → clip) and the paths' parameters.
+    /// Their light view (world → clip).
     pub view_proj: Mat4,
-    pub uniforms: ObjectLightUniforms,
+    /// Texels per side of the light view.
+    pub resolution: u32,
+    /// Area (m²) of one light-view texel: the light one path carries.
+    pub texel_area: f32,
+    /// The objects' index of refraction.
+    pub ior: f32,
+    /// Height (m) of the floor the paths land on, and whether there is one.
+    pub floor_y: f32,
+    pub floor: bool,
+    /// Farthest (m) a path may travel: the light view's diameter.
+    pub reach: f32,
     /// The light paths and caustic map must be (re)made this frame.
     pub due: bool,
 }
@@ -242,8 +270,8 @@ impl FramePlan {
             },
             surface: FrameSurface {
                 unresolved_variance: world.unresolved_variance,
-                base_spacing: water::BASE_SPACING,
-                rings: water::ring_count() as f32,
+                base_spacing: crate::surface_kind::BASE_SPACING,
+                rings: crate::surface_kind::DISPLACED_RINGS as f32,
             },
             projective: FrameProjective {
                 reflection_view_proj: m.reflection.to_cols_array_2d(),
@@ -270,10 +298,7 @@ impl FramePlan {
                 None => FrameCaustics::default(),
             },
             volume: FrameVolume {
-                godray_distance: self
-                    .godrays
-                    .filter(|g| !g.in_air)
-                    .map_or(0.0, |g| g.uniforms.limits[0]),
+                godray_distance: self.godrays.filter(|g| !g.in_air).map_or(0.0, |g| g.distance),
                 fog_marched: self.godrays.is_some_and(|g| g.in_air) as u32,
                 shafts_from_above: self.shafts_from_above,
                 _pad0: 0.0,
@@ -384,12 +409,12 @@ fn object_light(s: &Scene, world: &World, sun: Vec3) -> Option<ObjectLightPlan> 
     let ior = s.objects.iter().map(|o| o.material.ior).find(|&n| n > 0.0).unwrap_or(1.333);
     Some(ObjectLightPlan {
         view_proj,
-        uniforms: ObjectLightUniforms {
-            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
-            counts: [k, MARCH_STEPS, 0, 0],
-            info: [texel * texel, ior, floor_y, 4.0 * radius],
-            extra: [FIXED_POINT_SCALE, floor as u32 as f32, 0.0, 0.0],
-        },
+        resolution: k,
+        texel_area: texel * texel,
+        ior,
+        floor_y,
+        floor,
+        reach: 4.0 * radius,
         due: !world.object_light_current,
     })
 }
@@ -418,29 +443,39 @@ fn godrays(
         let deepest = deepest_needed(camera.position, g.distance);
         let end_depth = if s.floor.depth > 0.0 { s.floor.depth.min(deepest) } else { deepest };
         return Some(GodRaysPlan {
-            uniforms: GodRayUniforms {
-                counts: [g.photons, g.steps, buffer.0, buffer.1],
-                region: [region.centre.x, region.centre.y, region.half, region.spacing(g.photons)],
-                limits: [g.distance, end_depth, STENCIL_WATER as f32, 1.0],
-                scattering: medium.scattering.extend(s.water.phase_g).into(),
-                extinction: medium.extinction().extend(0.0).into(),
-            },
+            photons: g.photons,
+            steps: g.steps,
+            buffer,
+            region_centre: [region.centre.x, region.centre.y],
+            region_half: region.half,
+            tube_width: region.spacing(g.photons),
+            distance: g.distance,
+            end_depth,
+            stencil: STENCIL_WATER,
+            scattering: medium.scattering.into(),
+            phase_g: s.water.phase_g,
+            extinction: medium.extinction().into(),
             in_air: false,
         });
     }
     if s.air.fog <= 0.0 {
         return None;
     }
-    let half_width = object_light.map_or(0.0, |o| o.uniforms.info[0].sqrt());
+    let half_width = object_light.map_or(0.0, |o| o.texel_area.sqrt());
     let fog = s.air.fog;
     Some(GodRaysPlan {
-        uniforms: GodRayUniforms {
-            counts: [0, g.steps, buffer.0, buffer.1],
-            region: [0.0, 0.0, 0.0, half_width],
-            limits: [s.air.fog_distance, 0.0, STENCIL_AIR as f32, 0.0],
-            scattering: [fog, fog, fog, s.air.fog_g],
-            extinction: [fog, fog, fog, 0.0],
-        },
+        photons: 0,
+        steps: g.steps,
+        buffer,
+        region_centre: [0.0, 0.0],
+        region_half: 0.0,
+        tube_width: half_width,
+        distance: s.air.fog_distance,
+        end_depth: 0.0,
+        stencil: STENCIL_AIR,
+        scattering: [fog; 3],
+        phase_g: s.air.fog_g,
+        extinction: [fog; 3],
         in_air: true,
     })
 }
@@ -586,7 +621,7 @@ mod tests {
         assert!(g.in_air);
         assert_eq!(p.frame.volume.fog_marched, 1);
         // The fog's ribbons are as wide as the objects' light-view texels.
-        assert!((g.uniforms.region[3] - o.uniforms.info[0].sqrt()).abs() < 1e-6);
+        assert!((g.tube_width - o.texel_area.sqrt()).abs() < 1e-6);
         w.object_light_current = true;
         assert!(!plan(&s, &w, 1.0).object_light.unwrap().due);
     }

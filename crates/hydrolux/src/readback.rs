@@ -39,7 +39,7 @@ impl Renderer {
     /// and when the last frame drew none (camera above water, no fog).
     pub fn read_godrays(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
         self.last_plan.as_ref()?.godrays.as_ref()?;
-        let t = &self.targets.as_ref()?.godrays;
+        let t = self.techniques.godrays.targets.as_ref()?;
         Some((t.size.0, t.size.1, self.read_rgba16f(&t.buffer)))
     }
 

@@ -8,8 +8,7 @@
 
 use crate::error::RenderError;
 use crate::passes::{
-    caustics, geometry, godrays, mips, probe, raytrace, sky, surface, tonemap, truth, water,
-    water_object,
+    caustics, geometry, godrays, probe, raytrace, sky, surface, tonemap, truth, water, water_object,
 };
 use crate::technique::{Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
@@ -71,7 +70,7 @@ macro_rules! registry {
             probe::INFO,
             raytrace::INFO,
             truth::INFO,
-            mips::INFO,
+            crate::mips::INFO,
             crate::targets::MEDIUM_COPY_INFO,
         ];
     };

@@ -7,8 +7,8 @@
 use crate::capabilities::Capabilities;
 pub use crate::error::RenderError;
 use crate::gpu_util::*;
-use crate::passes::geometry::{GeometryPass, Winding};
-use crate::passes::mips::Downsampler;
+use crate::meshes::{GeometryPass, Winding};
+use crate::mips::Downsampler;
 use crate::passes::probe::ProbePass;
 use crate::passes::ripples::dynamics::Dynamics;
 use crate::plan::{FramePlan, World};
@@ -175,7 +175,7 @@ impl Renderer {
             device,
             &l.globals,
             &l.surface,
-            crate::passes::surface::SurfaceKind::of(scene),
+            crate::surface_kind::SurfaceKind::of(scene),
         );
         let bound = Bound {
             globals: Self::globals(&shared, &techniques, &samplers),
@@ -321,16 +321,29 @@ impl Renderer {
             device,
             &l.globals,
             &l.surface,
-            crate::passes::surface::SurfaceKind::of(scene),
+            crate::surface_kind::SurfaceKind::of(scene),
         );
         if let Some(truth) = self.truth.as_mut().filter(|_| scene.render.view == DebugView::Error) {
             truth.set_scene(&self.shared, &self.scene, scene)?;
         }
         self.update_truth(scene)?;
+        self.resize_techniques();
         self.scene = scene.clone();
         self.last_plan = None;
         self.update_sky();
         Ok(())
+    }
+
+    /// Let every technique (and the error view's traced water) build what
+    /// it keeps at the screen targets' size, if there are targets yet.
+    fn resize_techniques(&mut self) {
+        let Some(targets) = &self.targets else { return };
+        for t in self.techniques.each_mut() {
+            t.resize(&self.shared, targets);
+        }
+        if let Some(truth) = &mut self.truth {
+            crate::technique::Technique::resize(&mut truth.water, &self.shared, targets);
+        }
     }
 
     /// The error view's traced drawing exists exactly while `scene` (as
@@ -607,7 +620,17 @@ impl Renderer {
         let size = (inner(input.size.0), inner(input.size.1));
         let key = (size, self.target_settings());
         if self.targets.as_ref().map(|t| (t.size, t.settings)) != Some(key) {
-            self.targets = Some(Targets::new(&self.shared, &self.techniques, key.0, key.1));
+            let s = &self.shared;
+            let medium_copy = s.medium_copy.as_ref();
+            self.targets = Some(Targets::new(
+                &s.device,
+                &s.downsampler,
+                s.depth_format,
+                medium_copy,
+                key.0,
+                key.1,
+            ));
+            self.resize_techniques();
         }
         self.output_size = input.size;
         let frame = (input.camera, size, input.time);

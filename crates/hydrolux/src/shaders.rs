@@ -30,7 +30,7 @@ const MODULES: &[(&str, &str)] = &[
     ("heightfield_trace", include_str!("shaders/heightfield_trace.wgsl")),
     ("ray_primitive", include_str!("shaders/ray_primitive.wgsl")),
     // Modules of one technique that another reuses.
-    ("geometry_common", include_str!("passes/geometry/geometry_common.wgsl")),
+    ("geometry_common", include_str!("meshes/geometry_common.wgsl")),
     ("particle", include_str!("passes/whitewater/particle.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
     ("traced", include_str!("passes/raytrace/traced.wgsl")),

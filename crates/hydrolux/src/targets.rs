@@ -3,46 +3,7 @@
 //! reflection and refraction textures with their depths, and the bind
 //! groups that read them.
 
-pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Depth of the offscreen views (reflection, refraction).
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-
-/// Depth + stencil of the main view: the stencil holds each pixel's medium
-/// (0 air, 1 water). Float depth where the device has it (reversed-Z keeps
-/// its precision to the horizon), 24-bit otherwise.
-pub fn main_depth_format(caps: &crate::capabilities::Capabilities) -> wgpu::TextureFormat {
-    if caps.depth32_stencil8 {
-        wgpu::TextureFormat::Depth32FloatStencil8
-    } else {
-        wgpu::TextureFormat::Depth24PlusStencil8
-    }
-}
-
-/// Stencil values of the two media.
-pub const STENCIL_AIR: u32 = 0;
-pub const STENCIL_WATER: u32 = 1;
-
-/// A depth-stencil state for the main view whose stencil only tests
-/// (`stencil_reference` picks the medium drawn).
-pub fn main_depth_state(
-    format: wgpu::TextureFormat,
-    write: bool,
-    compare: wgpu::CompareFunction,
-) -> wgpu::DepthStencilState {
-    let face =
-        wgpu::StencilFaceState { compare: wgpu::CompareFunction::Equal, ..Default::default() };
-    wgpu::DepthStencilState {
-        format,
-        depth_write_enabled: Some(write),
-        depth_compare: Some(compare),
-        stencil: wgpu::StencilState { front: face, back: face, read_mask: 0xff, write_mask: 0 },
-        bias: Default::default(),
-    }
-}
-
-/// Field-of-view widening of the refraction texture: refracted rays bend
-/// towards the vertical, so they stray off screen much less than reflected ones.
-pub const REFRACTION_MARGIN: f32 = 0.1;
+pub use crate::formats::*;
 
 /// What sizes the targets besides the output size.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,7 +27,7 @@ pub struct ColorDepth {
     pub sampled_view: wgpu::TextureView,
     pub depth_view: wgpu::TextureView,
     /// The mip chain's downsampling (when the texture has mips).
-    pub mips: Option<crate::passes::mips::MipChain>,
+    pub mips: Option<crate::mips::MipChain>,
 }
 
 pub struct Targets {
@@ -85,14 +46,8 @@ pub struct Targets {
     /// For viewers in the water: the scene below mirrored, and above it.
     pub reflection_under: ColorDepth,
     pub refraction_over: ColorDepth,
-    /// The water pass's inputs (reflection, refraction colour and depth).
-    pub water_inputs: wgpu::BindGroup,
-    /// The tone map's inputs (HDR image and the debug views' textures).
-    pub tonemap_input: wgpu::BindGroup,
-    /// The god-ray buffer and its depth.
-    pub godrays: crate::passes::godrays::GodRayTargets,
-    /// Refractive objects' back faces and the image behind them.
-    pub water_object: Option<crate::passes::water_object::ObjectTargets>,
+    /// The main view's stencil alone (each pixel's medium).
+    pub stencil_view: wgpu::TextureView,
     /// The stencil's colour copy, where depth and stencil cannot be read
     /// in one draw (`Capabilities::depth_and_stencil_reads`).
     pub medium_copy: Option<MediumCopy>,
@@ -123,12 +78,11 @@ pub(crate) fn medium_copy_source() -> String {
     crate::shaders::compose("", "#import medium_copy")
 }
 
-pub(crate) const MEDIUM_COPY_INFO: crate::technique::TechniqueInfo =
-    crate::technique::TechniqueInfo {
-        name: "medium copy",
-        shaders: || vec![("medium copy".to_string(), medium_copy_source())],
-        uniforms: Vec::new,
-    };
+pub(crate) const MEDIUM_COPY_INFO: crate::info::TechniqueInfo = crate::info::TechniqueInfo {
+    name: "medium copy",
+    shaders: || vec![("medium copy".to_string(), medium_copy_source())],
+    uniforms: Vec::new,
+};
 
 impl MediumCopyPass {
     pub fn new(device: &wgpu::Device, depth_format: wgpu::TextureFormat) -> Self {
@@ -228,7 +182,7 @@ impl ColorDepth {
         device: &wgpu::Device,
         label: &str,
         size: (u32, u32),
-        downsampler: Option<&crate::passes::mips::Downsampler>,
+        downsampler: Option<&crate::mips::Downsampler>,
     ) -> Self {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
@@ -266,23 +220,28 @@ fn scaled(size: (u32, u32), s: f32) -> (u32, u32) {
 }
 
 impl Targets {
+    /// What readers of the pixel's medium bind: the stencil, or its copy
+    /// where depth and stencil cannot be read in one draw.
+    pub fn medium_view(&self) -> &wgpu::TextureView {
+        self.medium_copy.as_ref().map_or(&self.stencil_view, |c| &c.view)
+    }
+
+    /// The targets for `size`: on `device`, the main view's depth and
+    /// stencil in `depth_format`, the reflections' mips by `downsampler`,
+    /// the stencil copied by `medium_copy` where it cannot be read.
     pub fn new(
-        shared: &crate::technique::Shared,
-        techniques: &crate::registry::Techniques,
+        device: &wgpu::Device,
+        downsampler: &crate::mips::Downsampler,
+        depth_format: wgpu::TextureFormat,
+        medium_copy: Option<&MediumCopyPass>,
         size: (u32, u32),
         settings: TargetSettings,
     ) -> Self {
-        let device = &shared.device;
-        let downsampler = &shared.downsampler;
-        let tonemap = &techniques.tonemap;
-        let water_inputs_layout = &techniques.water.inputs_layout;
-        let godrays = &techniques.godrays.pass;
-        let water_object = &techniques.water_objects.pass;
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC;
         let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
-        let depth_stencil = texture(device, "depth stencil", size, shared.depth_format, usage);
+        let depth_stencil = texture(device, "depth stencil", size, depth_format, usage);
         let hdr_view = hdr.create_view(&Default::default());
         let depth_stencil_view = depth_stencil.create_view(&Default::default());
         let aspect = |aspect| {
@@ -290,9 +249,7 @@ impl Targets {
         };
         let (depth_view, stencil_view) =
             (aspect(wgpu::TextureAspect::DepthOnly), aspect(wgpu::TextureAspect::StencilOnly));
-        let medium_copy = shared.medium_copy.as_ref().map(|pass| pass.targets(device, size));
-        // What readers of the medium bind: the stencil, or its copy.
-        let medium_view = medium_copy.as_ref().map_or(&stencil_view, |c| &c.view);
+        let medium_copy = medium_copy.map(|pass| pass.targets(device, size));
         let reflection = ColorDepth::new(
             device,
             "reflection",
@@ -304,44 +261,6 @@ impl Targets {
         let reflection_under =
             ColorDepth::new(device, "reflection under", reflection.size, Some(downsampler));
         let refraction_over = ColorDepth::new(device, "refraction over", refraction.size, None);
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("clamp"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            ..Default::default()
-        });
-        let tv = wgpu::BindingResource::TextureView;
-        let water_inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("water inputs"),
-            layout: water_inputs_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: tv(&reflection.sampled_view) },
-                wgpu::BindGroupEntry { binding: 1, resource: tv(&refraction.color_view) },
-                wgpu::BindGroupEntry { binding: 2, resource: tv(&refraction.depth_view) },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
-                },
-                wgpu::BindGroupEntry { binding: 4, resource: tv(&reflection_under.sampled_view) },
-                wgpu::BindGroupEntry { binding: 5, resource: tv(&refraction_over.color_view) },
-                wgpu::BindGroupEntry { binding: 6, resource: tv(&refraction_over.depth_view) },
-            ],
-        });
-        let water_object = settings
-            .refractive_objects
-            .then(|| water_object.create_targets(device, size, &depth_view));
-        let godrays = godrays.create_targets(
-            device,
-            size,
-            settings.godray_resolution,
-            &depth_view,
-            medium_view,
-        );
-        let tonemap_input = tonemap.input_group(
-            device,
-            [&hdr_view, &reflection.color_view, &refraction.color_view, &depth_view, medium_view],
-        );
         Targets {
             size,
             settings,
@@ -354,10 +273,7 @@ impl Targets {
             refraction,
             reflection_under,
             refraction_over,
-            water_inputs,
-            tonemap_input,
-            godrays,
-            water_object,
+            stencil_view,
             medium_copy,
         }
     }

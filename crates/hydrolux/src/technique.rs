@@ -7,8 +7,9 @@
 
 use crate::error::RenderError;
 use crate::gpu_util::*;
-use crate::passes::geometry::{GeometryPass, SceneGeometry, ViewSlot};
-use crate::passes::mips::Downsampler;
+pub(crate) use crate::info::TechniqueInfo;
+use crate::meshes::{GeometryPass, SceneGeometry, ViewSlot};
+use crate::mips::Downsampler;
 use crate::plan::FramePlan;
 use crate::targets::Targets;
 use crate::timing::GpuTimer;
@@ -205,6 +206,12 @@ pub(crate) trait Technique {
     /// Write this frame's uniforms (the plan decided them).
     fn prepare(&mut self, _queue: &wgpu::Queue, _frame: &FrameContext) {}
 
+    /// The screen-size targets were made anew (the output's size or a
+    /// setting that sizes them changed, or the scene was edited): build
+    /// what the technique keeps at that size (its own targets, the bind
+    /// groups over the shared ones).
+    fn resize(&mut self, _shared: &Shared, _targets: &Targets) {}
+
     /// Record this technique's own passes for `stage`.
     fn record(
         &mut self,
@@ -239,16 +246,4 @@ pub(crate) trait Technique {
         _clock_dt: f64,
     ) {
     }
-}
-
-/// One technique's offline description (read by the offline checks, the
-/// registry's tests, and by `hydrolux info` for the names).
-pub(crate) struct TechniqueInfo {
-    pub name: &'static str,
-    /// (label, composed WGSL) of every shader it builds.
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub shaders: fn() -> Vec<(String, String)>,
-    /// Its uniform structs and the shader each is checked against.
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub uniforms: fn() -> Vec<crate::uniforms::Layout>,
 }

@@ -262,7 +262,7 @@ uniform! { Frame;
 }
 
 uniform! { View;
-    /// WGSL `View` (passes/geometry/geometry_common.wgsl).
+    /// WGSL `View` (meshes/geometry_common.wgsl).
     pub(crate) struct ViewUniforms {
         pub view_proj: Mat4,
         pub clip_plane: [f32; 4],
@@ -270,7 +270,7 @@ uniform! { View;
 }
 
 uniform! { Object;
-    /// WGSL `Object` (passes/geometry/geometry_common.wgsl).
+    /// WGSL `Object` (meshes/geometry_common.wgsl).
     pub(crate) struct ObjectUniforms {
         pub model: Mat4,
         pub normal_matrix: [[f32; 4]; 3],

@@ -5,13 +5,11 @@
 //! geometry (shadow map, reflection/refraction views, the scene in the main
 //! view) → water objects (light paths; drawn from the camera after the god
 //! rays) → water (medium classification, surface) → god rays → tonemap (or a
-//! debug view). `probe` answers queries outside the frame; `mips` builds mip
-//! chains for the others.
+//! debug view). `probe` answers queries outside the frame.
 
 pub mod caustics;
 pub mod geometry;
 pub mod godrays;
-pub mod mips;
 pub mod ocean;
 pub mod probe;
 pub mod raytrace;

@@ -57,7 +57,7 @@ pub struct CausticsPass {
 
 /// The pipelines, specialised to one surface model.
 struct Pipelines {
-    model: crate::passes::surface::SurfaceKind,
+    model: crate::surface_kind::SurfaceKind,
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
@@ -69,9 +69,9 @@ impl Pipelines {
     fn new(
         device: &wgpu::Device,
         [frame_only, surface, layout, beam_layout]: [&wgpu::BindGroupLayout; 4],
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) -> Self {
-        let constants = crate::passes::surface::specialised_to(model);
+        let constants = crate::surface_kind::specialised_to(model);
         let options =
             || wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let module = shader(device, "caustics", &source());
@@ -130,7 +130,7 @@ impl CausticsPass {
         device: &wgpu::Device,
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
         caps: &crate::capabilities::Capabilities,
     ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -157,7 +157,7 @@ impl CausticsPass {
         device: &wgpu::Device,
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) {
         if model != self.pipelines.model {
             let layouts = [frame_only, surface, &self.layout, &self.beam_layout];
@@ -363,7 +363,7 @@ impl Caustics {
             &shared.device,
             &l.frame_only,
             &l.surface,
-            crate::passes::surface::SurfaceKind::of(scene),
+            crate::surface_kind::SurfaceKind::of(scene),
             &shared.caps,
         );
         let c = &scene.caustics;
@@ -404,7 +404,7 @@ impl Technique for Caustics {
             &shared.device,
             &l.frame_only,
             &l.surface,
-            crate::passes::surface::SurfaceKind::of(new),
+            crate::surface_kind::SurfaceKind::of(new),
         );
         Ok(self.resize(&shared.device, new))
     }

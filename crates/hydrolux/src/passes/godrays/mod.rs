@@ -58,6 +58,19 @@ crate::uniforms::uniform! { GodRayParams;
     }
 }
 
+/// The god rays' uniforms from the plan's decisions.
+fn uniforms(g: &crate::plan::GodRaysPlan) -> GodRayUniforms {
+    let [sx, sy, sz] = g.scattering;
+    let [ex, ey, ez] = g.extinction;
+    GodRayUniforms {
+        counts: [g.photons, g.steps, g.buffer.0, g.buffer.1],
+        region: [g.region_centre[0], g.region_centre[1], g.region_half, g.tube_width],
+        limits: [g.distance, g.end_depth, g.stencil as f32, (!g.in_air) as u32 as f32],
+        scattering: [sx, sy, sz, g.phase_g],
+        extinction: [ex, ey, ez, 0.0],
+    }
+}
+
 /// WGSL `Tube` (shaders/tube.wgsl): 48 bytes per path.
 pub const TUBE_BYTES: u64 = 48;
 
@@ -110,7 +123,7 @@ pub struct GodRaysPass {
     composite_layout: wgpu::BindGroupLayout,
     build: wgpu::ComputePipeline,
     /// The surface model `build` is specialised to.
-    model: crate::passes::surface::SurfaceKind,
+    model: crate::surface_kind::SurfaceKind,
     ribbons: wgpu::RenderPipeline,
     march: wgpu::RenderPipeline,
     fog: wgpu::RenderPipeline,
@@ -165,10 +178,10 @@ impl GodRaysPass {
     fn build_pipeline(
         device: &wgpu::Device,
         layouts: [&wgpu::BindGroupLayout; 3],
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) -> wgpu::ComputePipeline {
         let module = shader(device, "god-ray tubes", &tubes_source());
-        let constants = crate::passes::surface::specialised_to(model);
+        let constants = crate::surface_kind::specialised_to(model);
         compute_pipeline_with(device, "god-ray tubes", &module, "build", &layouts, &constants)
     }
 
@@ -178,7 +191,7 @@ impl GodRaysPass {
         device: &wgpu::Device,
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) {
         if model != self.model {
             let layouts = [frame_only, surface, &self.build_layout];
@@ -193,7 +206,7 @@ impl GodRaysPass {
         frame_only: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
         hdr_format: wgpu::TextureFormat,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) -> Self {
         let (vs, fs, cs) =
             (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE);
@@ -530,6 +543,8 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
 /// the water-object technique, which writes it).
 pub(crate) struct GodRays {
     pub pass: GodRaysPass,
+    /// The buffer and its depth at the current screen size (`Technique::resize`).
+    pub targets: Option<GodRayTargets>,
     pub tubes: GodRayTubes,
     pub object_tubes: Option<GodRayTubes>,
 }
@@ -543,10 +558,10 @@ impl GodRays {
             &l.frame_only,
             &l.surface,
             crate::targets::HDR_FORMAT,
-            crate::passes::surface::SurfaceKind::of(scene),
+            crate::surface_kind::SurfaceKind::of(scene),
         );
         let tubes = pass.create_tubes(&shared.device, scene.godrays.photons);
-        GodRays { pass, tubes, object_tubes: None }
+        GodRays { pass, targets: None, tubes, object_tubes: None }
     }
 
     /// Remake the tubes when the photon count changed.
@@ -576,15 +591,21 @@ impl Technique for GodRays {
             &shared.device,
             &l.frame_only,
             &l.surface,
-            crate::passes::surface::SurfaceKind::of(new),
+            crate::surface_kind::SurfaceKind::of(new),
         );
         self.resize(&shared.device, new);
         Ok(false)
     }
 
+    fn resize(&mut self, shared: &crate::technique::Shared, t: &crate::targets::Targets) {
+        let scale = t.settings.godray_resolution;
+        let (depth, medium) = (&t.depth_view, t.medium_view());
+        self.targets = Some(self.pass.create_targets(&shared.device, t.size, scale, depth, medium));
+    }
+
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
         if let Some(g) = &frame.plan.godrays {
-            self.pass.prepare(queue, &g.uniforms);
+            self.pass.prepare(queue, &uniforms(g));
         }
     }
 
@@ -604,13 +625,15 @@ impl Technique for GodRays {
         } else {
             Shafts::Water(frame.scene.godrays.method)
         };
-        let targets = frame.targets();
+        let (targets, Some(own)) = (frame.targets(), &self.targets) else {
+            return;
+        };
         self.pass.record(
             encoder,
             [&frame.bound.globals, &frame.shared.frame_only, &frame.bound.surface],
             shafts,
             &self.tubes,
-            &targets.godrays,
+            own,
             &targets.hdr_view,
             timer,
         );

@@ -5,9 +5,9 @@
 //! per cascade and build their mips (`assemble.wgsl`). The CPU twin is
 //! `hydrolux_core::waves::ocean`.
 
-use super::mips::{Downsampler, MipChain, storage_array_texture};
 use crate::error::OceanTooLarge;
 use crate::gpu_util::*;
+use crate::mips::{Downsampler, MipChain, storage_array_texture};
 use crate::shaders;
 use crate::timing::GpuTimer;
 use crate::uniforms::{AssembleUniforms, EvolveUniforms};
@@ -128,9 +128,9 @@ impl OceanPass {
             entries: &[
                 uniform_entry(0, cs),
                 storage_entry(1, cs, true),
-                storage_texture_entry(2, super::mips::FORMAT, d2a),
-                storage_texture_entry(3, super::mips::FORMAT, d2a),
-                storage_texture_entry(4, super::mips::FORMAT, d2a),
+                storage_texture_entry(2, crate::mips::FORMAT, d2a),
+                storage_texture_entry(3, crate::mips::FORMAT, d2a),
+                storage_texture_entry(4, crate::mips::FORMAT, d2a),
             ],
         });
         let spectrum_module = shader(device, "ocean spectrum", &spectrum_source());

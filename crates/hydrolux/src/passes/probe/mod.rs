@@ -14,7 +14,7 @@ pub fn source() -> String {
 pub struct ProbePass {
     layout: wgpu::BindGroupLayout,
     /// The surface model the pipelines are specialised to, as the renderer's are.
-    model: crate::passes::surface::SurfaceKind,
+    model: crate::surface_kind::SurfaceKind,
     surface: wgpu::ComputePipeline,
     sky: wgpu::ComputePipeline,
     fresnel: wgpu::ComputePipeline,
@@ -25,7 +25,7 @@ impl ProbePass {
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) -> Self {
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -39,10 +39,10 @@ impl ProbePass {
         device: &wgpu::Device,
         [globals, surface]: [&wgpu::BindGroupLayout; 2],
         layout: wgpu::BindGroupLayout,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) -> Self {
         let module = shader(device, "probe", &source());
-        let constants = crate::passes::surface::specialised_to(model);
+        let constants = crate::surface_kind::specialised_to(model);
         let p = |entry| {
             let layouts = [globals, surface, &layout];
             compute_pipeline_with(device, entry, &module, entry, &layouts, &constants)
@@ -62,7 +62,7 @@ impl ProbePass {
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
         surface: &wgpu::BindGroupLayout,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
     ) {
         if model != self.model {
             *self = Self::with_layout(device, [globals, surface], self.layout.clone(), model);

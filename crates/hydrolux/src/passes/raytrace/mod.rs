@@ -320,7 +320,7 @@ impl Traced {
             entries: &[storage_entry(1, cs, true), storage_entry(2, cs, false)],
         });
         let constants =
-            crate::passes::surface::specialised_to(crate::passes::surface::SurfaceKind::of(scene));
+            crate::surface_kind::specialised_to(crate::surface_kind::SurfaceKind::of(scene));
         let resample_module = shader(device, "traced resample", &resample_source());
         let resample = compute_pipeline_with(
             device,
@@ -430,11 +430,7 @@ impl Traced {
     }
 
     /// Put the traced objects where they are now (moving bodies).
-    pub fn move_objects(
-        &mut self,
-        queue: &wgpu::Queue,
-        geometry: &crate::passes::geometry::SceneGeometry,
-    ) {
+    pub fn move_objects(&mut self, queue: &wgpu::Queue, geometry: &crate::meshes::SceneGeometry) {
         if self.objects.is_empty() {
             return;
         }

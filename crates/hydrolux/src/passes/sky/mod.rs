@@ -3,8 +3,8 @@
 //! up), and drawn per pixel behind the scene with the sun's disk.
 //! CPU twin: `hydrolux_core::sky`.
 
-use super::mips::{Downsampler, FORMAT, MipChain};
 use crate::gpu_util::*;
+use crate::mips::{Downsampler, FORMAT, MipChain};
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;

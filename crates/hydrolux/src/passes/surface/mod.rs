@@ -11,6 +11,7 @@ use crate::passes::ocean::OceanPass;
 use crate::passes::ripples::RipplePass;
 use crate::passes::ripples::dynamics::Dynamics;
 use crate::passes::whitewater::{StepInput as WhitewaterStep, Whitewater};
+use crate::surface_kind::model_index;
 use crate::technique::{FrameContext, Shared, Stage, Technique};
 use crate::timing::GpuTimer;
 use crate::uniforms::SurfaceUniforms;
@@ -200,7 +201,7 @@ impl Surface {
             device,
             "no foam",
             (1, 1),
-            crate::passes::mips::FORMAT,
+            crate::mips::FORMAT,
             wgpu::TextureUsages::TEXTURE_BINDING,
         )
         .create_view(&Default::default());
@@ -401,43 +402,6 @@ fn ripple_reach(scene: &Scene) -> f64 {
     let drops = scene.drops.iter().map(|d| d.strength.abs());
     let rain = scene.emitters.iter().map(|e| 1.3 * e.strength.abs());
     0.25 + drops.chain(rain).fold(0.0f32, f32::max) as f64
-}
-
-/// The shaders' index of a surface model (`surface.wgsl`: `counts.y` and
-/// the `SURFACE_MODEL` pipeline constant).
-pub fn model_index(model: WaterModel) -> u32 {
-    match model {
-        WaterModel::Fft => 0,
-        WaterModel::Sines => 1,
-        WaterModel::Flat | WaterModel::None => 2,
-        WaterModel::Heightfield => 3,
-    }
-}
-
-/// What pipelines that draw the surface are specialised to: its model and
-/// whether (and how) interactive water is added.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SurfaceKind {
-    pub model: WaterModel,
-    /// `RIPPLES` in `surface.wgsl`: 0 none, 1 walls, 2 open.
-    pub ripples: u32,
-}
-
-impl SurfaceKind {
-    pub fn of(scene: &Scene) -> Self {
-        let ripples = scene.ripple_settings().map_or(0, |s| match s.grid.boundary {
-            RippleBoundary::Walls => 1,
-            RippleBoundary::Open | RippleBoundary::Periodic => 2,
-        });
-        SurfaceKind { model: scene.water.model, ripples }
-    }
-}
-
-/// Pipeline constants that specialise a pipeline importing `surface` to one
-/// kind (see `SURFACE_MODEL` and `RIPPLES` in `surface.wgsl`); such a
-/// pipeline is rebuilt when the scene's kind changes.
-pub fn specialised_to(kind: SurfaceKind) -> [(&'static str, f64); 2] {
-    [("SURFACE_MODEL", model_index(kind.model) as f64), ("RIPPLES", kind.ripples as f64)]
 }
 
 impl Technique for Surface {

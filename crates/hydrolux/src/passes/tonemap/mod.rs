@@ -16,6 +16,9 @@ pub struct TonemapPass {
     pub layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     sampler: wgpu::Sampler,
+    /// Its inputs at the current screen size: the HDR image and what the
+    /// debug views show (`Technique::resize`).
+    input: Option<wgpu::BindGroup>,
 }
 
 impl TonemapPass {
@@ -52,7 +55,7 @@ impl TonemapPass {
             &[globals, &layout, shadow_values],
             target_format,
         );
-        TonemapPass { layout, pipeline, sampler }
+        TonemapPass { layout, pipeline, sampler, input: None }
     }
 
     /// The HDR image and the screen-size textures the debug views show, in
@@ -115,6 +118,15 @@ impl Technique for TonemapPass {
         Ok(TonemapPass::new(&shared.device, &l.globals, &l.shadow_values, shared.target_format))
     }
 
+    fn resize(&mut self, shared: &crate::technique::Shared, t: &crate::targets::Targets) {
+        let views =
+            [&t.hdr_view, &t.reflection.color_view, &t.refraction.color_view, &t.depth_view];
+        let [hdr, reflection, refraction, depth] = views;
+        let medium = t.medium_view();
+        self.input =
+            Some(self.input_group(&shared.device, [hdr, reflection, refraction, depth, medium]));
+    }
+
     fn record(
         &mut self,
         stage: Stage,
@@ -123,7 +135,7 @@ impl Technique for TonemapPass {
         timer: Option<&mut GpuTimer>,
     ) {
         if let (Stage::Output, Some(output)) = (stage, frame.output) {
-            let input = &frame.targets().tonemap_input;
+            let Some(input) = &self.input else { return };
             let groups = [&frame.bound.globals, input, &frame.bound.shadow_values];
             TonemapPass::record(self, encoder, output, groups, timer);
         }

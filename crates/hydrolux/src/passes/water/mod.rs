@@ -11,19 +11,11 @@ use wgpu::util::DeviceExt;
 
 /// Grid cells from a ring's centre to its edge.
 pub const RING_HALF: i32 = 32;
-/// Vertex spacing of the finest ring, metres.
-pub const BASE_SPACING: f32 = 0.25;
-/// Rings that carry displacement: the outermost reaches 8·2⁸ = 2 km, where
-/// waves of a few metres are below a pixel at 1080p.
-pub const DISPLACED_RINGS: u32 = 9;
+pub use crate::surface_kind::{BASE_SPACING, DISPLACED_RINGS};
 /// Cells from the far field's centre to its edge (hole inside half of it).
 pub const FAR_HALF: i32 = 4;
 /// The far field's outer edge is this many times the last ring's (≈100 km).
 pub const FAR_SCALE: f32 = 50.0;
-
-pub fn ring_count() -> u32 {
-    DISPLACED_RINGS
-}
 
 pub fn source() -> String {
     let consts = format!(
@@ -161,8 +153,10 @@ pub struct WaterPass {
     /// Layout of its inputs (the reflection and refraction textures), which
     /// the screen targets bind.
     pub inputs_layout: wgpu::BindGroupLayout,
+    /// Its inputs at the current screen size (`Technique::resize`).
+    inputs: Option<wgpu::BindGroup>,
     /// The surface model the pipelines are specialised to.
-    model: crate::passes::surface::SurfaceKind,
+    model: crate::surface_kind::SurfaceKind,
     /// What `water.method = "raytrace"` traces (group 3; stand-ins otherwise).
     pub traced: crate::passes::raytrace::Traced,
     pub traced_layout: wgpu::BindGroupLayout,
@@ -223,12 +217,12 @@ impl WaterPass {
         surface: &wgpu::BindGroupLayout,
         inputs: &wgpu::BindGroupLayout,
         main_depth_format: wgpu::TextureFormat,
-        model: crate::passes::surface::SurfaceKind,
+        model: crate::surface_kind::SurfaceKind,
         traced: crate::passes::raytrace::Traced,
         traced_layout: wgpu::BindGroupLayout,
     ) -> Self {
         let module = shader(device, "water", &source());
-        let mut constants = crate::passes::surface::specialised_to(model).to_vec();
+        let mut constants = crate::surface_kind::specialised_to(model).to_vec();
         let tracing = traced.method == hydrolux_core::scene::WaterMethod::Raytrace;
         constants.push(("RAYTRACE", tracing as u32 as f64));
         let options =
@@ -309,6 +303,7 @@ impl WaterPass {
         };
         WaterPass {
             inputs_layout: inputs.clone(),
+            inputs: None,
             model,
             traced,
             traced_layout,
@@ -473,7 +468,7 @@ impl WaterPass {
         traced_layout: wgpu::BindGroupLayout,
     ) -> Result<Self, crate::error::RenderError> {
         let l = &shared.layouts;
-        let model = crate::passes::surface::SurfaceKind::of(scene);
+        let model = crate::surface_kind::SurfaceKind::of(scene);
         let traced = crate::passes::raytrace::Traced::new(shared, scene, &traced_layout)?;
         Ok(WaterPass::new(
             &shared.device,
@@ -499,18 +494,58 @@ impl Technique for WaterPass {
         WaterPass::for_scene(shared, scene, inputs, traced_layout)
     }
 
+    /// The reflection and refraction textures (colour and depth) of the
+    /// new size, bound as the water's inputs.
+    fn resize(&mut self, shared: &crate::technique::Shared, t: &crate::targets::Targets) {
+        let sampler = shared.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("clamp"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let tv = wgpu::BindingResource::TextureView;
+        let views = [
+            &t.reflection.sampled_view,
+            &t.refraction.color_view,
+            &t.refraction.depth_view,
+            &t.reflection_under.sampled_view,
+            &t.refraction_over.color_view,
+            &t.refraction_over.depth_view,
+        ];
+        let mut entries: Vec<_> = views
+            .iter()
+            .enumerate()
+            .map(|(i, v)| wgpu::BindGroupEntry {
+                binding: if i < 3 { i as u32 } else { i as u32 + 1 },
+                resource: tv(v),
+            })
+            .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: 3,
+            resource: wgpu::BindingResource::Sampler(&sampler),
+        });
+        self.inputs = Some(shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("water inputs"),
+            layout: &self.inputs_layout,
+            entries: &entries,
+        }));
+    }
+
     /// A new surface model gets pipelines specialised to it; the inputs'
-    /// layout stays, so the screen targets keep their bind group.
+    /// layout stays, and with it their bind group.
     fn set_scene(
         &mut self,
         shared: &crate::technique::Shared,
         old: &Scene,
         new: &Scene,
     ) -> Result<bool, crate::error::RenderError> {
-        let model = crate::passes::surface::SurfaceKind::of(new);
+        let model = crate::surface_kind::SurfaceKind::of(new);
         if model != self.model || !self.traced.fits(old, new) {
             let (inputs, traced_layout) = (self.inputs_layout.clone(), self.traced_layout.clone());
+            let group = self.inputs.take();
             *self = WaterPass::for_scene(shared, new, inputs, traced_layout)?;
+            self.inputs = group;
         }
         Ok(false)
     }
@@ -534,7 +569,7 @@ impl Technique for WaterPass {
             return;
         }
         let (globals, surface) = (&frame.bound.globals, &frame.bound.surface);
-        let inputs = &frame.targets().water_inputs;
+        let Some(inputs) = &self.inputs else { return };
         match stage {
             Stage::Medium => self.record_medium(pass, globals, surface, inputs, &plan.camera),
             Stage::Main => {

@@ -18,8 +18,8 @@
 //! front faces by two refractions into a copy of the image behind them.
 
 use crate::gpu_util::*;
-use crate::passes::geometry::{
-    self, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,
+use crate::meshes::{
+    self as meshes, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,
 };
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
@@ -57,6 +57,16 @@ crate::uniforms::uniform! { ObjectLightParams;
         pub counts: [u32; 4],
         pub info: [f32; 4],
         pub extra: [f32; 4],
+    }
+}
+
+/// The light paths' uniforms from the plan's decisions.
+fn light_uniforms(o: &crate::plan::ObjectLightPlan) -> ObjectLightUniforms {
+    ObjectLightUniforms {
+        inv_view_proj: o.view_proj.inverse().to_cols_array_2d(),
+        counts: [o.resolution, MARCH_STEPS, 0, 0],
+        info: [o.texel_area, o.ior, o.floor_y, o.reach],
+        extra: [FIXED_POINT_SCALE, o.floor as u32 as f32, 0.0, 0.0],
     }
 }
 
@@ -116,7 +126,7 @@ fn mesh_pipeline(
             module,
             entry_point: Some(vs),
             compilation_options: Default::default(),
-            buffers: &[Some(geometry::vertex_layout())],
+            buffers: &[Some(meshes::vertex_layout())],
         },
         primitive: wgpu::PrimitiveState { cull_mode: Some(cull), ..Default::default() },
         depth_stencil: Some(depth),
@@ -564,6 +574,9 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
 /// depend only on the scene, so they are made once per scene).
 pub(crate) struct WaterObjects {
     pub pass: WaterObjectPass,
+    /// Back faces and the image behind them at the current screen size,
+    /// when the scene has refractive objects (`Technique::resize`).
+    targets: Option<ObjectTargets>,
     pub light: ObjectLight,
     pub current: bool,
 }
@@ -583,7 +596,7 @@ impl Technique for WaterObjects {
         let (device, l) = (&shared.device, &shared.layouts);
         let pass = WaterObjectPass::new(device, &l.globals, &l.frame_only, &shared.meshes);
         let light = pass.create_light(device, Self::resolution(&shared.geometry, scene));
-        Ok(WaterObjects { pass, light, current: false })
+        Ok(WaterObjects { pass, targets: None, light, current: false })
     }
 
     fn set_scene(
@@ -601,9 +614,16 @@ impl Technique for WaterObjects {
         Ok(changed)
     }
 
+    fn resize(&mut self, shared: &crate::technique::Shared, t: &crate::targets::Targets) {
+        self.targets = t
+            .settings
+            .refractive_objects
+            .then(|| self.pass.create_targets(&shared.device, t.size, &t.depth_view));
+    }
+
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
         if let Some(o) = &frame.plan.object_light {
-            self.pass.prepare(queue, &o.uniforms);
+            self.pass.prepare(queue, &light_uniforms(o));
         }
     }
 
@@ -630,7 +650,7 @@ impl Technique for WaterObjects {
             }
             Stage::Composite => {
                 let targets = frame.targets();
-                if let Some(object_targets) = &targets.water_object {
+                if let Some(object_targets) = &self.targets {
                     self.pass.record_camera(
                         encoder,
                         &frame.bound.globals,

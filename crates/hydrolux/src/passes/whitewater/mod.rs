@@ -14,9 +14,9 @@
 pub mod draw;
 
 use crate::gpu_util::*;
-use crate::passes::mips::{Downsampler, MipChain};
-use crate::passes::surface::{SurfaceKind, specialised_to};
+use crate::mips::{Downsampler, MipChain};
 use crate::shaders;
+use crate::surface_kind::{SurfaceKind, specialised_to};
 use crate::uniforms::uniform;
 use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
 use hydrolux_core::waves::ocean::OceanSpectrum;
@@ -267,7 +267,7 @@ impl Whitewater {
             mip_level_count: cells.ilog2() + 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: crate::passes::mips::FORMAT,
+            format: crate::mips::FORMAT,
             usage: wgpu::TextureUsages::STORAGE_BINDING
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
@@ -281,11 +281,7 @@ impl Whitewater {
                 storage_entry(0, cs, true),
                 storage_entry(1, cs, true),
                 storage_entry(2, cs, false),
-                storage_texture_entry(
-                    3,
-                    crate::passes::mips::FORMAT,
-                    wgpu::TextureViewDimension::D2Array,
-                ),
+                storage_texture_entry(3, crate::mips::FORMAT, wgpu::TextureViewDimension::D2Array),
                 storage_entry(4, cs, true),
                 storage_entry(5, cs, false),
                 storage_entry(6, cs, false),

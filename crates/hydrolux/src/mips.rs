@@ -107,7 +107,7 @@ pub(crate) fn source() -> String {
     shaders::compose("", "#import downsample")
 }
 
-pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
+pub(crate) const INFO: crate::info::TechniqueInfo = crate::info::TechniqueInfo {
     name: "mips",
     shaders: || vec![("downsample".to_string(), source())],
     uniforms: Vec::new,
