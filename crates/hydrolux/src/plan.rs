@@ -76,9 +76,9 @@ pub(crate) struct GodRaysPlan {
     /// The tube region's centre (x, z) and half side (m); zero in the air.
     pub region_centre: [f32; 2],
     pub region_half: f32,
-    /// Width (m) of a tube: the surface photons' spacing, or in the air the
-    /// objects' light-view texel (their paths' width).
-    pub tube_width: f32,
+    /// Half-width (m) of a ribbon: the surface photons' spacing, or in the
+    /// air the objects' light-view texel (their paths' width).
+    pub ribbon_half_width: f32,
     /// How far from the eye shafts are drawn (m), and the depth the
     /// surface's tubes end at (m; 0 in the air).
     pub distance: f32,
@@ -448,7 +448,7 @@ fn godrays(
             buffer,
             region_centre: [region.centre.x, region.centre.y],
             region_half: region.half,
-            tube_width: region.spacing(g.photons),
+            ribbon_half_width: region.spacing(g.photons),
             distance: g.distance,
             end_depth,
             stencil: STENCIL_WATER,
@@ -469,7 +469,7 @@ fn godrays(
         buffer,
         region_centre: [0.0, 0.0],
         region_half: 0.0,
-        tube_width: half_width,
+        ribbon_half_width: half_width,
         distance: s.air.fog_distance,
         end_depth: 0.0,
         stencil: STENCIL_AIR,
@@ -621,7 +621,7 @@ mod tests {
         assert!(g.in_air);
         assert_eq!(p.frame.volume.fog_marched, 1);
         // The fog's ribbons are as wide as the objects' light-view texels.
-        assert!((g.tube_width - o.texel_area.sqrt()).abs() < 1e-6);
+        assert!((g.ribbon_half_width - o.texel_area.sqrt()).abs() < 1e-6);
         w.object_light_current = true;
         assert!(!plan(&s, &w, 1.0).object_light.unwrap().due);
     }

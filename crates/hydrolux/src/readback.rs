@@ -218,7 +218,7 @@ impl Renderer {
         Some(FoamDump {
             cells: w.grid.cells,
             cell_size: w.grid.cell,
-            origin: [area[0], area[1]],
+            origin: area.origin,
             amount: w.read_foam(self.device(), self.queue()),
             time: self.simulation_time(),
         })

@@ -274,9 +274,14 @@ uniform! { Object;
     pub(crate) struct ObjectUniforms {
         pub model: Mat4,
         pub normal_matrix: [[f32; 4]; 3],
-        pub albedo: [f32; 4],
-        pub pattern_color: [f32; 4],
-        pub flags: [u32; 4],
+        pub albedo: [f32; 3],
+        pub uv_scale: f32,
+        pub pattern_color: [f32; 3],
+        pub tile_size: f32,
+        pub pattern: u32,
+        pub ior: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
     }
 }
 
@@ -284,21 +289,32 @@ uniform! { SurfaceParams;
     /// WGSL `SurfaceParams` (shaders/surface.wgsl).
     pub(crate) struct SurfaceUniforms {
         pub cascade_sizes: [f32; 4],
-        pub counts: [u32; 4],
+        pub cascades: u32,
+        pub model: u32,
+        pub sine_count: u32,
+        pub fft_resolution: u32,
         pub waves: [[f32; 4]; 64],
         pub wave_q: [[f32; 4]; 16],
-        pub ripple_area: [f32; 4],
+        pub ripple_origin: [f32; 2],
+        pub ripple_side: f32,
+        pub ripple_cell: f32,
         pub ripple_window: [f32; 4],
-        pub foam_area: [f32; 4],
-        pub foam_wind: [f32; 4],
+        pub foam_origin: [f32; 2],
+        pub foam_side: f32,
+        pub foam_tiles: u32,
+        pub foam_wind: [f32; 2],
+        pub foam_streak: f32,
+        pub _pad0: f32,
     }
 }
 
 uniform! { EvolveParams;
     /// WGSL `EvolveParams` (passes/ocean/spectrum.wgsl).
     pub(crate) struct EvolveUniforms {
-        pub tau_n: [u32; 4],
-        pub choppiness: [f32; 4],
+        pub phase: u32,
+        pub n: u32,
+        pub cascades: u32,
+        pub choppiness: f32,
     }
 }
 

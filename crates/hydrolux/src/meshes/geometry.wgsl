@@ -23,7 +23,7 @@ fn vs_main(v: VsIn) -> VsOut {
     out.clip = view.view_proj * vec4<f32>(world, 1.0);
     out.world = world;
     out.normal = object.normal_matrix * v.normal;
-    out.uv = v.uv * object.albedo.w;
+    out.uv = v.uv * object.uv_scale;
     return out;
 }
 
@@ -36,19 +36,19 @@ fn pattern_mix(world: vec3<f32>, n: vec3<f32>) -> f32 {
     } else if (a.z > a.y) {
         p = world.xy;
     }
-    let q = p / object.pattern_color.w;
+    let q = p / object.tile_size;
     // Where a pixel covers a good part of a tile, fade to the pattern's mean
     // coverage instead of aliasing into moiré.
     let w = max(fwidth(q), vec2<f32>(1e-4));
     let far = smoothstep(0.15, 0.5, max(w.x, w.y));
-    if (object.flags.x == 1u) {
+    if (object.pattern == 1u) {
         // Grout lines 6% of a tile wide (3% each side), anti-aliased by the
         // pixel footprint; they cover 1 − 0.94² ≈ 11.6% of the area.
         let f = abs(fract(q) - 0.5);
         let line = smoothstep(vec2<f32>(0.47) - w, vec2<f32>(0.47) + w, f);
         return mix(max(line.x, line.y), 0.1164, far);
     }
-    if (object.flags.x == 2u) {
+    if (object.pattern == 2u) {
         let c = floor(q);
         return mix(f32((i32(c.x) + i32(c.y)) & 1), 0.5, far);
     }
@@ -97,8 +97,8 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     if (frame.modes.debug_view >= VIEW_RIPPLES) {
         return vec4<f32>(vec3<f32>(0.12 + 0.1 * n.y), 1.0);
     }
-    var albedo = object.albedo.rgb * textureSample(albedo_tex, albedo_sampler, in.uv).rgb;
-    albedo = mix(albedo, object.pattern_color.rgb, pattern_mix(in.world, n));
+    var albedo = object.albedo * textureSample(albedo_tex, albedo_sampler, in.uv).rgb;
+    albedo = mix(albedo, object.pattern_color, pattern_mix(in.world, n));
     let visibility = sun_visibility(in.world, n);
     var irradiance: vec3<f32>;
     if (in.world.y < 0.0 && has_water()) {

@@ -10,12 +10,17 @@ struct Object {
     model: mat4x4<f32>,
     // Inverse-transpose of the model's upper 3×3, as columns.
     normal_matrix: mat3x3<f32>,
-    // rgb albedo; w texture coordinate scale.
-    albedo: vec4<f32>,
-    // rgb second pattern colour (grout); w tile size (m).
-    pattern_color: vec4<f32>,
-    // x pattern (0 none, 1 tiles, 2 checker).
-    flags: vec4<u32>,
+    albedo: vec3<f32>,
+    // Texture coordinate scale.
+    uv_scale: f32,
+    // Second pattern colour (grout), and the tile size (m).
+    pattern_color: vec3<f32>,
+    tile_size: f32,
+    // Pattern (0 none, 1 tiles, 2 checker); index of refraction (0: opaque).
+    pattern: u32,
+    ior: f32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 @group(1) @binding(0) var<uniform> view: View;

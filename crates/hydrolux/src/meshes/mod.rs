@@ -303,24 +303,18 @@ impl GeometryPass {
                     normal.y_axis.extend(0.0).into(),
                     normal.z_axis.extend(0.0).into(),
                 ],
-                albedo: [m.albedo[0], m.albedo[1], m.albedo[2], m.uv_scale],
-                pattern_color: [
-                    m.pattern_color[0],
-                    m.pattern_color[1],
-                    m.pattern_color[2],
-                    m.tile_size,
-                ],
-                flags: [
-                    match m.pattern {
-                        Pattern::None => 0,
-                        Pattern::Tiles => 1,
-                        Pattern::Checker => 2,
-                    },
-                    // The index of refraction, as bits (0: opaque).
-                    m.ior.to_bits(),
-                    0,
-                    0,
-                ],
+                albedo: m.albedo,
+                uv_scale: m.uv_scale,
+                pattern_color: m.pattern_color,
+                tile_size: m.tile_size,
+                pattern: match m.pattern {
+                    Pattern::None => 0,
+                    Pattern::Tiles => 1,
+                    Pattern::Checker => 2,
+                },
+                ior: m.ior,
+                _pad0: 0,
+                _pad1: 0,
             };
             let buffer = uniform_buffer(device, &o.name, &u);
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -12,48 +12,56 @@
 // no sampled-texture slots left.
 
 struct Heightfield {
-    // xy world (x, z) of sample (0, 0), z the sample spacing (m), w the
-    // height beyond the sampled square
-    place: vec4<f32>,
-    // x cells per side at level 0 (a power of two), y samples per side n,
-    // z the pyramid's top level, w the most pyramid steps a ray takes
-    // (water.trace_steps; spent without a hit, the ray misses)
-    size: vec4<u32>,
-    // x first sample in hf_heights, y first bound in hf_bounds
-    base: vec4<u32>,
+    // World (x, z) of sample (0, 0), the sample spacing (m), the height
+    // beyond the sampled square.
+    origin: vec2<f32>,
+    spacing: f32,
+    outside: f32,
+    // Cells per side at level 0 (a power of two), samples per side n, the
+    // pyramid's top level, the most pyramid steps a ray takes
+    // (water.trace_steps; spent without a hit, the ray misses).
+    cells: u32,
+    samples: u32,
+    top_level: u32,
+    max_steps: u32,
+    // First sample in hf_heights, first bound in hf_bounds.
+    first_sample: u32,
+    first_bound: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 fn hf_sample(hf: Heightfield, i: i32, j: i32) -> f32 {
-    let n = i32(hf.size.y);
+    let n = i32(hf.samples);
     if (i < 0 || j < 0 || i >= n || j >= n) {
-        return hf.place.w;
+        return hf.outside;
     }
-    return hf_heights[hf.base.x + u32(j * n + i)];
+    return hf_heights[hf.first_sample + u32(j * n + i)];
 }
 
 // Where level k of the pyramid starts: the levels below it hold
 // Σ (side/2^l)² = (side² − (side/2^k)²)·4/3 entries.
 fn hf_level_base(hf: Heightfield, k: u32) -> u32 {
-    let side = hf.size.x;
+    let side = hf.cells;
     let s = side >> k;
-    return hf.base.y + (side * side - s * s) / 3u * 4u;
+    return hf.first_bound + (side * side - s * s) / 3u * 4u;
 }
 
 fn hf_bounds_at(hf: Heightfield, k: u32, b: vec2<i32>) -> vec2<f32> {
-    let s = i32(hf.size.x >> k);
+    let s = i32(hf.cells >> k);
     return hf_bounds[hf_level_base(hf, k) + u32(b.y * s + b.x)];
 }
 
 // Bilinear height at world (x, z); the outside height off the grid.
 fn hf_height(hf: Heightfield, x: f32, z: f32) -> f32 {
-    let u = (x - hf.place.x) / hf.place.z;
-    let v = (z - hf.place.y) / hf.place.z;
-    let c = f32(hf.size.y) - 1.0;
+    let u = (x - hf.origin.x) / hf.spacing;
+    let v = (z - hf.origin.y) / hf.spacing;
+    let c = f32(hf.samples) - 1.0;
     if (!(u >= 0.0 && v >= 0.0 && u <= c && v <= c)) {
-        return hf.place.w;
+        return hf.outside;
     }
-    let i = min(i32(floor(u)), i32(hf.size.y) - 2);
-    let j = min(i32(floor(v)), i32(hf.size.y) - 2);
+    let i = min(i32(floor(u)), i32(hf.samples) - 2);
+    let j = min(i32(floor(v)), i32(hf.samples) - 2);
     let a = u - f32(i);
     let b = v - f32(j);
     let h00 = hf_sample(hf, i, j);
@@ -111,10 +119,10 @@ fn cell_crossing(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, i: i32, j: i32, t0
     let h10 = hf_sample(hf, i + 1, j);
     let h01 = hf_sample(hf, i, j + 1);
     let h11 = hf_sample(hf, i + 1, j + 1);
-    let a0 = (o.x - hf.place.x) / hf.place.z - f32(i);
-    let a1 = d.x / hf.place.z;
-    let b0 = (o.z - hf.place.y) / hf.place.z - f32(j);
-    let b1 = d.z / hf.place.z;
+    let a0 = (o.x - hf.origin.x) / hf.spacing - f32(i);
+    let a1 = d.x / hf.spacing;
+    let b0 = (o.z - hf.origin.y) / hf.spacing - f32(j);
+    let b1 = d.z / hf.spacing;
     let ea = h10 - h00;
     let eb = h01 - h00;
     let k = h00 - h10 - h01 + h11;
@@ -131,9 +139,9 @@ fn trace_heightfield(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) ->
     if (o.y < hf_height(hf, o.x, o.z)) {
         s = -1.0;
     }
-    let top = hf.size.z;
-    let span = f32(hf.size.x) * hf.place.z;
-    let lo = hf.place.xy;
+    let top = hf.top_level;
+    let span = f32(hf.cells) * hf.spacing;
+    let lo = hf.origin;
     var t_in = 0.0;
     var t_out = t_max;
     let oxz = vec2<f32>(o.x, o.z);
@@ -151,12 +159,12 @@ fn trace_heightfield(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) ->
         }
     }
     // Off the grid the heightfield is the plane y = outside.
-    let c0 = o.y - hf.place.w;
+    let c0 = o.y - hf.outside;
     if (t_in >= t_out) {
         return first_root(c0, d.y, 0.0, 0.0, t_max);
     }
     // A thousandth of a cell sideways along the ray: where it goes next.
-    let nudge = 1e-3 * hf.place.z / max(max(abs(d.x), abs(d.z)), 1e-3);
+    let nudge = 1e-3 * hf.spacing / max(max(abs(d.x), abs(d.z)), 1e-3);
     let before = first_root(c0, d.y, 0.0, 0.0, t_in);
     if (before != NO_ROOT) {
         return before;
@@ -171,10 +179,10 @@ fn trace_heightfield(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) ->
     }
     var t = t_in;
     var level = top;
-    for (var guard = 0u; guard < hf.size.w && t < t_out; guard++) {
-        let size = hf.place.z * f32(1u << level);
+    for (var guard = 0u; guard < hf.max_steps && t < t_out; guard++) {
+        let size = hf.spacing * f32(1u << level);
         let p = o + d * (t + nudge);
-        let n = i32(hf.size.x >> level);
+        let n = i32(hf.cells >> level);
         let bi = clamp(i32(floor((p.x - lo.x) / size)), 0, n - 1);
         let bj = clamp(i32(floor((p.z - lo.y) / size)), 0, n - 1);
         var t_exit = t_out;
@@ -212,7 +220,7 @@ fn trace_heightfield(hf: Heightfield, o: vec3<f32>, d: vec3<f32>, t_max: f32) ->
         // The budget is spent short of the grid's far side.
         return NO_ROOT;
     }
-    if (t_out < t_max && s * (o.y + t_out * d.y - hf.place.w) < 0.0) {
+    if (t_out < t_max && s * (o.y + t_out * d.y - hf.outside) < 0.0) {
         return t_out;
     }
     return first_root(c0, d.y, 0.0, t_out, t_max);

@@ -7,23 +7,33 @@
 struct SurfaceParams {
     // Patch size (m) of each FFT cascade; for a heightfield, xy its [Lx, Lz].
     cascade_sizes: vec4<f32>,
-    // x cascades, y model (0 fft, 1 sines, 2 flat, 3 heightfield), z sine count, w FFT resolution N.
-    counts: vec4<u32>,
+    // FFT cascades, surface model (0 fft, 1 sines, 2 flat, 3 heightfield),
+    // sine waves, FFT resolution N.
+    cascades: u32,
+    model: u32,
+    sine_count: u32,
+    fft_resolution: u32,
     // kx, kz, amplitude, phase (rad) of each sine wave.
     waves: array<vec4<f32>, 64>,
     // Horizontal (Gerstner) amplitude Q·A of each wave, four per vec4.
     wave_q: array<vec4<f32>, 16>,
-    // Interactive water (RIPPLES > 0): xy world point of the ripple
-    // texture's uv (0, 0), z its side (m), w its cell (m).
-    ripple_area: vec4<f32>,
+    // Interactive water (RIPPLES > 0): world point of the ripple texture's
+    // uv (0, 0), its side (m), its cell (m).
+    ripple_origin: vec2<f32>,
+    ripple_side: f32,
+    ripple_cell: f32,
     // The simulated domain: x min, z min, x max, z max (m).
     ripple_window: vec4<f32>,
-    // White water's foam: xy world point of its window's low corner, z its
-    // side (m; 0: no foam), w 1 if it tiles the plane (passes/whitewater).
-    foam_area: vec4<f32>,
-    // xy the wind's direction (unit, towards; the foam's streaks lie along
-    // it), z how much longer than wide its streaks are (1: round patches).
-    foam_wind: vec4<f32>,
+    // White water's foam: world point of its window's low corner, its side
+    // (m; 0: no foam), 1 if it tiles the plane (passes/whitewater).
+    foam_origin: vec2<f32>,
+    foam_side: f32,
+    foam_tiles: u32,
+    // The wind's direction (unit, towards; the foam's streaks lie along
+    // it), how much longer than wide its streaks are (1: round patches).
+    foam_wind: vec2<f32>,
+    foam_streak: f32,
+    _pad0: f32,
 }
 
 @group(1) @binding(0) var<uniform> surface: SurfaceParams;
@@ -66,7 +76,7 @@ fn zero_sample() -> SurfaceSample {
 // slope variance moves into `slope_variance`, i.e. into the roughness.
 fn sines_sample(p: vec2<f32>, footprint: f32) -> SurfaceSample {
     var s = zero_sample();
-    for (var i = 0u; i < surface.counts.z; i++) {
+    for (var i = 0u; i < surface.sine_count; i++) {
         let w0 = surface.waves[i];
         let k = max(length(w0.xy), 1e-6);
         let keep = 1.0 - smoothstep(0.2, 0.5, footprint * k / TAU);
@@ -91,7 +101,7 @@ fn sines_sample(p: vec2<f32>, footprint: f32) -> SurfaceSample {
 
 fn cascade_uv(p: vec2<f32>, c: u32) -> vec2<f32> {
     // Texel j holds the grid point x = j·L/N, i.e. uv = x/L + 0.5/N.
-    return p / surface.cascade_sizes[c] + vec2<f32>(0.5 / f32(surface.counts.w));
+    return p / surface.cascade_sizes[c] + vec2<f32>(0.5 / f32(surface.fft_resolution));
 }
 
 fn add_cascade(s: ptr<function, SurfaceSample>, d: vec4<f32>, g: vec4<f32>, m: vec4<f32>) {
@@ -107,9 +117,9 @@ fn add_cascade(s: ptr<function, SurfaceSample>, d: vec4<f32>, g: vec4<f32>, m: v
 // (vertex and compute stages; 0 reads the finest level).
 fn fft_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
     var s = zero_sample();
-    for (var c = 0u; c < surface.counts.x; c++) {
+    for (var c = 0u; c < surface.cascades; c++) {
         let uv = cascade_uv(p, c);
-        let texel = surface.cascade_sizes[c] / f32(surface.counts.w);
+        let texel = surface.cascade_sizes[c] / f32(surface.fft_resolution);
         let lod = max(log2(max(footprint, 1e-6) / texel), 0.0);
         let d = textureSampleLevel(displacement_tex, surface_sampler, uv, c, lod);
         let g = textureSampleLevel(derivative_tex, surface_sampler, uv, c, lod);
@@ -123,7 +133,7 @@ fn fft_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
 // (fragment stage: anisotropic filtering, no aliasing at the horizon).
 fn fft_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> SurfaceSample {
     var s = zero_sample();
-    for (var c = 0u; c < surface.counts.x; c++) {
+    for (var c = 0u; c < surface.cascades; c++) {
         let uv = cascade_uv(p, c);
         let l = surface.cascade_sizes[c];
         let gx = dpdx / l;
@@ -178,7 +188,7 @@ const SURFACE_MODEL_DYNAMIC: u32 = 255u;
 
 fn surface_model() -> u32 {
     if (SURFACE_MODEL == SURFACE_MODEL_DYNAMIC) {
-        return surface.counts.y;
+        return surface.model;
     }
     return SURFACE_MODEL;
 }
@@ -199,10 +209,10 @@ fn ripples_sample(p: vec2<f32>) -> vec4<f32> {
     if (any(p < w.xy) || any(p > w.zw)) {
         return vec4<f32>(0.0);
     }
-    let side = surface.ripple_area.z;
-    var uv = (p - surface.ripple_area.xy) / side;
+    let side = surface.ripple_side;
+    var uv = (p - surface.ripple_origin) / side;
     if (RIPPLES == 1u) {
-        let half_texel = surface.ripple_area.w / (2.0 * side);
+        let half_texel = surface.ripple_cell / (2.0 * side);
         uv = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
     }
     return textureSampleLevel(ripple_tex, surface_sampler, uv, 0.0);
@@ -220,7 +230,7 @@ fn add_ripples(s: ptr<function, SurfaceSample>, p: vec2<f32>, footprint: f32) {
         return;
     }
     let r = ripples_at(p);
-    let keep = 1.0 - smoothstep(1.0, 4.0, footprint / surface.ripple_area.w);
+    let keep = 1.0 - smoothstep(1.0, 4.0, footprint / surface.ripple_cell);
     (*s).disp.y += r.x;
     (*s).slope += r.yz * keep;
     (*s).slope_variance += r.yz * r.yz * (1.0 - keep * keep);
@@ -275,27 +285,25 @@ fn foam_transmittance(cover: f32) -> f32 {
 
 // The foam's cover at p (any stage; the cells' own values, 0 without foam).
 fn foam_cover_at(p: vec2<f32>) -> f32 {
-    let a = surface.foam_area;
-    if (a.z <= 0.0) {
+    if (surface.foam_side <= 0.0) {
         return 0.0;
     }
-    let uv = (p - a.xy) / a.z;
-    if (a.w < 0.5 && (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)))) {
+    let uv = (p - surface.foam_origin) / surface.foam_side;
+    if (surface.foam_tiles == 0u && (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)))) {
         return 0.0;
     }
-    return textureSampleLevel(foam_tex, surface_sampler, p / a.z, 0.0).x;
+    return textureSampleLevel(foam_tex, surface_sampler, p / surface.foam_side, 0.0).x;
 }
 
 // The foam's cover at p, filtered over the footprint given by the screen
 // derivatives of p (fragment stage); 0 where there is no foam.
 fn foam_cover_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> f32 {
-    let a = surface.foam_area;
-    if (a.z <= 0.0) {
+    if (surface.foam_side <= 0.0) {
         return 0.0;
     }
-    let uv = (p - a.xy) / a.z;
+    let uv = (p - surface.foam_origin) / surface.foam_side;
     var inside = 1.0;
-    if (a.w < 0.5) {
+    if (surface.foam_tiles == 0u) {
         // A window: faded out over its last 5% (not cut at its edge).
         let edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
         inside = clamp(edge / 0.05, 0.0, 1.0);
@@ -304,6 +312,6 @@ fn foam_cover_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> f32 {
         }
     }
     // The texture holds world cells modulo the window: sample at p / side.
-    let st = p / a.z;
-    return inside * textureSampleGrad(foam_tex, surface_sampler_aniso, st, dpdx / a.z, dpdy / a.z).x;
+    let st = p / surface.foam_side;
+    return inside * textureSampleGrad(foam_tex, surface_sampler_aniso, st, dpdx / surface.foam_side, dpdy / surface.foam_side).x;
 }

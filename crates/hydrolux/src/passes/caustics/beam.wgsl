@@ -9,11 +9,16 @@
 #import constants, frame, optics, surface
 
 struct BeamParams {
-    // x photons per side (unused here), y map cells per side, z beam grid
-    // cells per side, w layers.
-    counts: vec4<u32>,
-    // xy patch size (m), z floor depth (m).
-    extent: vec4<f32>,
+    // Photons per side, map cells per side (M), beam grid cells per side,
+    // layers (layer k lies at depth (k + 1)/layers × the floor depth).
+    photons: u32,
+    cells: u32,
+    beam_cells: u32,
+    layers: u32,
+    // Patch size (m), floor depth (m), fixed-point scale.
+    patch_size: vec2<f32>,
+    floor_depth: f32,
+    fixed_point_scale: f32,
 }
 
 @group(2) @binding(0) var<uniform> beam: BeamParams;
@@ -26,8 +31,8 @@ struct BeamOut {
 // The displaced surface point of grid vertex (i, j) and where its refracted
 // sunlight meets the floor; w = 0 when no light gets through there.
 fn project(i: u32, j: u32, depth: f32) -> array<vec4<f32>, 2> {
-    let n = beam.counts.z;
-    let size = beam.extent.xy;
+    let n = beam.beam_cells;
+    let size = beam.patch_size;
     let x0 = (f32(i) / f32(n) - 0.5) * size.x;
     let z0 = (f32(j) / f32(n) - 0.5) * size.y;
     let s = surface_sample_footprint(vec2<f32>(x0, z0), 0.0);
@@ -44,7 +49,7 @@ fn project(i: u32, j: u32, depth: f32) -> array<vec4<f32>, 2> {
 
 @vertex
 fn vs_beam(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32) -> BeamOut {
-    let n = beam.counts.z;
+    let n = beam.beam_cells;
     let cell = v / 6u;
     let ci = cell % n;
     let cj = cell / n;
@@ -52,7 +57,7 @@ fn vs_beam(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32
     var corners = array<vec2<u32>, 6>(vec2<u32>(0u, 0u), vec2<u32>(0u, 1u), vec2<u32>(1u, 0u), vec2<u32>(1u, 0u), vec2<u32>(0u, 1u), vec2<u32>(1u, 1u));
     let first = (v % 6u) / 3u * 3u;
     let layer = instance / 9u;
-    let depth = beam.extent.z * f32(layer + 1u) / f32(beam.counts.w);
+    let depth = beam.floor_depth * f32(layer + 1u) / f32(beam.layers);
     let a = project(ci + corners[first].x, cj + corners[first].y, depth);
     let b = project(ci + corners[first + 1u].x, cj + corners[first + 1u].y, depth);
     let c = project(ci + corners[first + 2u].x, cj + corners[first + 2u].y, depth);
@@ -64,15 +69,15 @@ fn vs_beam(@builtin(vertex_index) v: u32, @builtin(instance_index) instance: u32
     let ior = frame.water.ior;
     // Foam over the cell scatters most of the light back up.
     let centre = (vec2<f32>(f32(ci), f32(cj)) + 0.5) / f32(n) - 0.5;
-    let foam = foam_transmittance(foam_cover_at(centre * beam.extent.xy));
+    let foam = foam_transmittance(foam_cover_at(centre * beam.patch_size));
     let t = (1.0 - fresnel_exact(dot(normalize(area_vector), l), 1.0, ior)) * foam;
     let floor_area = 0.5 * abs(cross(vec3<f32>(c[1].x - a[1].x, 0.0, c[1].z - a[1].z), vec3<f32>(b[1].x - a[1].x, 0.0, b[1].z - a[1].z)).y);
     var out: BeamOut;
     // Folds make the projected area vanish: cap the focus.
     out.irradiance = min(shown * t / max(floor_area, 1e-9), 64.0) * a[1].w * b[1].w * c[1].w;
     let periodic = instance % 9u;
-    let shift = vec2<f32>(f32(periodic % 3u) - 1.0, f32(periodic / 3u) - 1.0) * beam.extent.xy;
-    let p = (own[1].xz + shift) / beam.extent.xy * 2.0;
+    let shift = vec2<f32>(f32(periodic % 3u) - 1.0, f32(periodic / 3u) - 1.0) * beam.patch_size;
+    let p = (own[1].xz + shift) / beam.patch_size * 2.0;
     out.clip = vec4<f32>(p.x, -p.y, 0.0, 1.0);
     return out;
 }

@@ -11,11 +11,16 @@
 #import constants, frame, optics, surface, photon
 
 struct CausticParams {
-    // x photons per side, y map cells per side (M), z beam grid cells per
-    // side, w layers (layer k lies at depth (k + 1)/layers × the floor depth).
-    counts: vec4<u32>,
-    // xy patch size (m), z floor depth (m), w fixed-point scale.
-    extent: vec4<f32>,
+    // Photons per side, map cells per side (M), beam grid cells per side,
+    // layers (layer k lies at depth (k + 1)/layers × the floor depth).
+    photons: u32,
+    cells: u32,
+    beam_cells: u32,
+    layers: u32,
+    // Patch size (m), floor depth (m), fixed-point scale.
+    patch_size: vec2<f32>,
+    floor_depth: f32,
+    fixed_point_scale: f32,
 }
 
 @group(2) @binding(0) var<uniform> params: CausticParams;
@@ -23,33 +28,33 @@ struct CausticParams {
 @group(2) @binding(2) var map_out: texture_storage_2d_array<rgba16float, write>;
 
 fn layer_depth(layer: u32) -> f32 {
-    return params.extent.z * f32(layer + 1u) / f32(params.counts.w);
+    return params.floor_depth * f32(layer + 1u) / f32(params.layers);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
-    let m = params.counts.y;
-    if (id.x < m && id.y < m && id.z < params.counts.w) {
+    let m = params.cells;
+    if (id.x < m && id.y < m && id.z < params.layers) {
         atomicStore(&accum[(id.z * m + id.y) * m + id.x], 0u);
     }
 }
 
 fn cell_index(layer: u32, i: i32, j: i32) -> u32 {
-    let m = i32(params.counts.y);
+    let m = i32(params.cells);
     return (layer * u32(m) + u32(((j % m) + m) % m)) * u32(m) + u32(((i % m) + m) % m);
 }
 
 fn deposit(layer: u32, i: i32, j: i32, value: f32) {
-    atomicAdd(&accum[cell_index(layer, i, j)], u32(value * params.extent.w + 0.5));
+    atomicAdd(&accum[cell_index(layer, i, j)], u32(value * params.fixed_point_scale + 0.5));
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
-    let n = params.counts.x;
+    let n = params.photons;
     if (id.x >= n || id.y >= n) {
         return;
     }
-    let size = params.extent.xy;
+    let size = params.patch_size;
     let x0 = ((f32(id.x) + 0.5) / f32(n) - 0.5) * size.x;
     let z0 = ((f32(id.y) + 0.5) / f32(n) - 0.5) * size.y;
     let photon = refracted_photon(vec2<f32>(x0, z0));
@@ -58,10 +63,10 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let pos = photon.pos;
     let dir = photon.dir;
-    let m = f32(params.counts.y);
+    let m = f32(params.cells);
     let cell_area = size.x * size.y / (m * m);
     let energy = photon.weight * (size.x * size.y / f32(n * n)) / cell_area;
-    for (var layer = 0u; layer < params.counts.w; layer++) {
+    for (var layer = 0u; layer < params.layers; layer++) {
         let hit = pos + dir * (max(pos.y + layer_depth(layer), 0.0) / -dir.y);
         // Bilinear (tent) weights over the four nearest cell centres.
         let f = (hit.xz / size + 0.5) * m - 0.5;
@@ -77,14 +82,14 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 fn accumulated(layer: u32, i: i32, j: i32) -> f32 {
-    return f32(atomicLoad(&accum[cell_index(layer, i, j)])) / params.extent.w;
+    return f32(atomicLoad(&accum[cell_index(layer, i, j)])) / params.fixed_point_scale;
 }
 
 // Periodic [1 2 1]/4 × [1 2 1]/4 filter (seed 000 uses a 3×3 Gaussian).
 @compute @workgroup_size(8, 8, 1)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
-    let m = params.counts.y;
-    if (id.x >= m || id.y >= m || id.z >= params.counts.w) {
+    let m = params.cells;
+    if (id.x >= m || id.y >= m || id.z >= params.layers) {
         return;
     }
     let i = i32(id.x);
@@ -109,11 +114,11 @@ const SUN_MAP_RADIUS: f32 = 0.04;
 
 @compute @workgroup_size(8, 8, 1)
 fn procedural(@builtin(global_invocation_id) id: vec3<u32>) {
-    let m = params.counts.y;
-    if (id.x >= m || id.y >= m || id.z >= params.counts.w) {
+    let m = params.cells;
+    if (id.x >= m || id.y >= m || id.z >= params.layers) {
         return;
     }
-    let size = params.extent.xy;
+    let size = params.patch_size;
     let depth = layer_depth(id.z);
     let on_floor = (vec2<f32>(id.xy) + 0.5) / f32(m) - 0.5;
     let floor_point = vec3<f32>(on_floor.x * size.x, -depth, on_floor.y * size.y);

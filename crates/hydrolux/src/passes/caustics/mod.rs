@@ -26,8 +26,13 @@ pub fn source() -> String {
 crate::uniforms::uniform! { CausticParams;
     /// WGSL `CausticParams` (and `BeamParams`, the same layout).
     pub struct CausticUniforms {
-        pub counts: [u32; 4],
-        pub extent: [f32; 4],
+        pub photons: u32,
+        pub cells: u32,
+        pub beam_cells: u32,
+        pub layers: u32,
+        pub patch_size: [f32; 2],
+        pub floor_depth: f32,
+        pub fixed_point_scale: f32,
     }
 }
 
@@ -250,8 +255,13 @@ impl CausticsPass {
         floor_depth: f32,
     ) {
         let u = CausticUniforms {
-            counts: [map.photons_per_side, map.resolution, Self::beam_cells(map), map.layers],
-            extent: [patch[0], patch[1], floor_depth, FIXED_POINT_SCALE],
+            photons: map.photons_per_side,
+            cells: map.resolution,
+            beam_cells: Self::beam_cells(map),
+            layers: map.layers,
+            patch_size: patch,
+            floor_depth,
+            fixed_point_scale: FIXED_POINT_SCALE,
         };
         queue.write_buffer(&map.params, 0, bytemuck::bytes_of(&u));
     }

@@ -4,24 +4,35 @@
 #import constants, frame, medium, tube
 
 struct GodRayParams {
-    // x photons per side, y march steps, zw buffer size (texels).
-    counts: vec4<u32>,
-    // xy centre of the traced square of surface, z its half side (m),
-    // w ribbon half-width (m).
-    region: vec4<f32>,
-    // x distance from the eye within which shafts are drawn (m), y depth at
-    // which tubes end (m), z the medium drawn (stencil value: 0 air, 1
-    // water), w 1 when tubes are tested against the shadow map.
-    limits: vec4<f32>,
-    // The medium the light scatters in: rgb scattering σs (m⁻¹), w
+    // Photons per side (0: the fog is marched), march steps per texel.
+    photons: u32,
+    steps: u32,
+    // The buffer's size (texels).
+    buffer_size: vec2<u32>,
+    // Centre (x, z) of the traced square of surface and its half side (m).
+    region_centre: vec2<f32>,
+    region_half: f32,
+    // Half-width (m) of a ribbon.
+    ribbon_half_width: f32,
+    // Distance from the eye within which shafts are drawn (m); depth at
+    // which tubes end (m).
+    distance: f32,
+    end_depth: f32,
+    // The medium drawn (stencil value: 0 air, 1 water).
+    medium: u32,
+    // 1 when tubes are tested against the shadow map (in the water).
+    shadow_tested: u32,
+    // The medium the light scatters in: scattering σs (m⁻¹) and the
     // Henyey–Greenstein g.
-    scattering: vec4<f32>,
-    // rgb extinction σk (m⁻¹).
-    extinction: vec4<f32>,
+    scattering: vec3<f32>,
+    phase_g: f32,
+    // Extinction σk (m⁻¹).
+    extinction: vec3<f32>,
+    _pad0: f32,
 }
 
 fn medium_transmittance(distance: f32) -> vec3<f32> {
-    return exp(-params.extinction.rgb * max(distance, 0.0));
+    return exp(-params.extinction * max(distance, 0.0));
 }
 
 // Where the view ray at NDC `ndc` meets depth `z` (reversed-Z).
@@ -49,6 +60,6 @@ fn scene_distance(ndc: vec2<f32>, z: f32) -> f32 {
 // ray along `view`, by a beam of irradiance `e_perp` (relative to the sun's)
 // travelling along `travel`, `s` m from the eye.
 fn scattered_to_eye(e_perp: vec3<f32>, travel: vec3<f32>, view: vec3<f32>, s: f32) -> vec3<f32> {
-    let phase = henyey_greenstein(dot(travel, -view), params.scattering.w);
-    return params.scattering.rgb * phase * e_perp * frame.light.sun_illuminance * medium_transmittance(s);
+    let phase = henyey_greenstein(dot(travel, -view), params.phase_g);
+    return params.scattering * phase * e_perp * frame.light.sun_illuminance * medium_transmittance(s);
 }

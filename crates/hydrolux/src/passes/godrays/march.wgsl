@@ -29,12 +29,12 @@ struct MarchRay {
 
 fn march_ray(pos: vec2<f32>) -> MarchRay {
     let texel = vec2<i32>(pos);
-    let ndc = texel_ndc(vec2<f32>(texel), vec2<f32>(params.counts.zw));
+    let ndc = texel_ndc(vec2<f32>(texel), vec2<f32>(params.buffer_size));
     var r: MarchRay;
     r.eye = frame.view.position;
     r.view = normalize(world_at(ndc, 0.5) - r.eye);
-    let end = min(params.limits.x, scene_distance(ndc, bitcast<f32>(textureLoad(scene_depth, texel, 0).r)));
-    r.ds = end / f32(params.counts.y);
+    let end = min(params.distance, scene_distance(ndc, bitcast<f32>(textureLoad(scene_depth, texel, 0).r)));
+    r.ds = end / f32(params.steps);
     // Banding turned into fine noise, which the upsampling smooths.
     r.jitter = interleaved_gradient_noise(pos);
     return r;
@@ -47,7 +47,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let view = r.view;
     let ds = r.ds;
     let jitter = r.jitter;
-    let steps = params.counts.y;
+    let steps = params.steps;
     // Each step: the closed form of its segment (exact for flat water)
     // times the focusing and visibility sampled in it.
     var sum = vec3<f32>(0.0);
@@ -72,14 +72,14 @@ fn fs_fog(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let view = r.view;
     let ds = r.ds;
     let jitter = r.jitter;
-    let steps = params.counts.y;
+    let steps = params.steps;
     // Each step: the closed form of its segment, ∫ e^(−σk·s) ds, times the
     // visibility sampled in it.
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < steps; i++) {
         let s0 = f32(i) * ds;
         let p = eye + view * (s0 + jitter * ds);
-        let k = max(params.extinction.rgb, vec3<f32>(1e-6));
+        let k = max(params.extinction, vec3<f32>(1e-6));
         let segment = (medium_transmittance(s0) - medium_transmittance(s0 + ds)) / k;
         sum += scattered_to_eye(vec3<f32>(sun_visibility_point(p)), -frame.light.sun_dir, view, 0.0) * segment;
     }

@@ -50,24 +50,40 @@ pub fn resolve_source() -> String {
 crate::uniforms::uniform! { GodRayParams;
     /// WGSL `GodRayParams` (common.wgsl).
     pub struct GodRayUniforms {
-        pub counts: [u32; 4],
-        pub region: [f32; 4],
-        pub limits: [f32; 4],
-        pub scattering: [f32; 4],
-        pub extinction: [f32; 4],
+        pub photons: u32,
+        pub steps: u32,
+        pub buffer_size: [u32; 2],
+        pub region_centre: [f32; 2],
+        pub region_half: f32,
+        pub ribbon_half_width: f32,
+        pub distance: f32,
+        pub end_depth: f32,
+        pub medium: u32,
+        pub shadow_tested: u32,
+        pub scattering: [f32; 3],
+        pub phase_g: f32,
+        pub extinction: [f32; 3],
+        pub _pad0: f32,
     }
 }
 
 /// The god rays' uniforms from the plan's decisions.
 fn uniforms(g: &crate::plan::GodRaysPlan) -> GodRayUniforms {
-    let [sx, sy, sz] = g.scattering;
-    let [ex, ey, ez] = g.extinction;
     GodRayUniforms {
-        counts: [g.photons, g.steps, g.buffer.0, g.buffer.1],
-        region: [g.region_centre[0], g.region_centre[1], g.region_half, g.tube_width],
-        limits: [g.distance, g.end_depth, g.stencil as f32, (!g.in_air) as u32 as f32],
-        scattering: [sx, sy, sz, g.phase_g],
-        extinction: [ex, ey, ez, 0.0],
+        photons: g.photons,
+        steps: g.steps,
+        buffer_size: [g.buffer.0, g.buffer.1],
+        region_centre: g.region_centre,
+        region_half: g.region_half,
+        ribbon_half_width: g.ribbon_half_width,
+        distance: g.distance,
+        end_depth: g.end_depth,
+        medium: g.stencil,
+        shadow_tested: (!g.in_air) as u32,
+        scattering: g.scattering,
+        phase_g: g.phase_g,
+        extinction: g.extinction,
+        _pad0: 0.0,
     }
 }
 

@@ -22,7 +22,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 @fragment
 fn fs_reduce(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<u32> {
     let full = vec2<f32>(textureDimensions(full_depth));
-    let small = vec2<f32>(params.counts.zw);
+    let small = vec2<f32>(params.buffer_size);
     let lo = vec2<i32>(floor(floor(pos.xy) * full / small));
     let hi = min(vec2<i32>(ceil((floor(pos.xy) + 1.0) * full / small)) - 1, vec2<i32>(full) - 1);
     var nearest = 0.0;
@@ -41,7 +41,7 @@ fn pixel_distance(ndc: vec2<f32>, z: f32) -> f32 {
 @fragment
 fn fs_composite(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(pos.xy);
-    if (textureLoad(medium_tex, px, 0).r != u32(params.limits.z)) {
+    if (textureLoad(medium_tex, px, 0).r != params.medium) {
         discard;
     }
     let full = vec2<f32>(textureDimensions(full_depth));

@@ -39,9 +39,9 @@ fn vs_ribbon(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -
     }
     // A half-width and a half to spare: the view ray's closest approach to
     // the axis is not exactly along `side` away from the ribbon's middle.
-    side = normalize(side) * params.region.w * 1.5;
+    side = normalize(side) * params.ribbon_half_width * 1.5;
     // Past the ends by a half-width too, for the same reason.
-    let ends = t.dir.xyz * params.region.w;
+    let ends = t.dir.xyz * params.ribbon_half_width;
     let world = t.start.xyz - ends + (t.dir.xyz * t.start.w + 2.0 * ends) * corner.x + side * corner.y;
     out.world = world;
     out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
@@ -65,20 +65,20 @@ fn fs_ribbon(in: RibbonOut) -> @location(0) vec4<f32> {
     let dt = dot(t.dir.xyz, w0);
     let s = (b * dt - dv) / denom;
     let d = (dt - b * dv) / denom;
-    let u = length(w0 + view * s - t.dir.xyz * d) / params.region.w;
-    if (s <= 0.0 || d < 0.0 || d > t.start.w || u > 1.0 || s > params.limits.x) {
+    let u = length(w0 + view * s - t.dir.xyz * d) / params.ribbon_half_width;
+    if (s <= 0.0 || d < 0.0 || d > t.start.w || u > 1.0 || s > params.distance) {
         discard;
     }
     let texel = vec2<i32>(in.clip.xy);
-    let size = vec2<f32>(params.counts.zw);
+    let size = vec2<f32>(params.buffer_size);
     let z = bitcast<f32>(textureLoad(scene_depth, texel, 0).r);
     if (s > scene_distance(texel_ndc(vec2<f32>(texel), size), z)) {
         discard;
     }
     let p = eye + view * s;
-    let profile = (1.0 - u) / (params.region.w * max(sqrt(denom), MIN_SIN_ALPHA));
+    let profile = (1.0 - u) / (params.ribbon_half_width * max(sqrt(denom), MIN_SIN_ALPHA));
     var visible = 1.0;
-    if (params.limits.w > 0.5) {
+    if (params.shadow_tested != 0u) {
         visible = sun_visibility_point(p);
     }
     let e = t.dir.w * profile * visible * t.tint.rgb * medium_transmittance(d);

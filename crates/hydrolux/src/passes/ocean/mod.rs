@@ -232,8 +232,10 @@ impl OceanPass {
     /// Per-frame input: the simulation time.
     pub fn prepare(&self, queue: &wgpu::Queue, time: f64) {
         let u = EvolveUniforms {
-            tau_n: [time_phase(time), self.n, self.cascades, 0],
-            choppiness: [self.choppiness, 0.0, 0.0, 0.0],
+            phase: time_phase(time),
+            n: self.n,
+            cascades: self.cascades,
+            choppiness: self.choppiness,
         };
         queue.write_buffer(&self.evolve_uniforms, 0, bytemuck::bytes_of(&u));
     }

@@ -13,10 +13,11 @@ struct SpectrumMode {
 }
 
 struct EvolveParams {
-    // x time phase τ = frac(t/T)·2³²; y N; z cascades; w unused
-    tau_n: vec4<u32>,
-    // x choppiness λ
-    choppiness: vec4<f32>,
+    // Time phase τ = frac(t/T)·2³², FFT size N, cascades; choppiness λ.
+    phase: u32,
+    n: u32,
+    cascades: u32,
+    choppiness: f32,
 }
 
 @group(0) @binding(0) var<uniform> params: EvolveParams;
@@ -25,7 +26,7 @@ struct EvolveParams {
 
 @compute @workgroup_size(8, 8, 1)
 fn evolve(@builtin(global_invocation_id) id: vec3<u32>) {
-    let n = params.tau_n.y;
+    let n = params.n;
     if (id.x >= n || id.y >= n) {
         return;
     }
@@ -33,7 +34,7 @@ fn evolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.y * n + id.x;
     let m = modes[c * n * n + i];
     // Exact phase: whole cycles × τ wraps mod 2³², i.e. mod one period.
-    let turns = m.omega_cycles * params.tau_n.x;
+    let turns = m.omega_cycles * params.phase;
     let theta = f32(turns) * (TAU / 4294967296.0);
     let h = cmul(m.h0, cexp_i(-theta)) + cmul(m.h0_minus_conj, cexp_i(theta));
     let kv = vec2<f32>(m.kx, m.kz);
@@ -42,7 +43,7 @@ fn evolve(@builtin(global_invocation_id) id: vec3<u32>) {
     if (k > 0.0) {
         inv_k = 1.0 / k;
     }
-    let lambda = params.choppiness.x;
+    let lambda = params.choppiness;
     let dx = cmul_i(h * (-lambda * kv.x * inv_k));
     let dz = cmul_i(h * (-lambda * kv.y * inv_k));
     let hx = cmul_i(h * kv.x);

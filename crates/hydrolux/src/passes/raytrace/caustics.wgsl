@@ -21,7 +21,7 @@
 const PHOTON_FIXED_POINT: f32 = 65536.0;
 
 fn cells() -> u32 {
-    return u32(traced.caustics.w);
+    return traced.caustic_cells;
 }
 
 @compute @workgroup_size(64)
@@ -40,22 +40,21 @@ fn deposit(i: i32, j: i32, energy: f32) {
 
 @compute @workgroup_size(8, 8, 1)
 fn caustic_trace(@builtin(global_invocation_id) id: vec3<u32>) {
-    let e = traced.emission;
     if (id.x >= traced.emission_count.x || id.y >= traced.emission_count.y) {
         return;
     }
-    let rest = e.xy + (vec2<f32>(id.xy) + 0.5) * e.z;
+    let rest = traced.emission_origin + (vec2<f32>(id.xy) + 0.5) * traced.emission_spacing;
     let photon = refracted_photon(rest);
     if (photon.weight <= 0.0) {
         return;
     }
     let pos = photon.pos;
     // The surface there lies under the land: no water, no photon.
-    if (traced.flags.x != 0.0 && pos.y <= hf_height(traced.ground, pos.x, pos.z)) {
+    if (traced.has_ground != 0u && pos.y <= hf_height(traced.ground, pos.x, pos.z)) {
         return;
     }
     let l = frame.light.sun_dir;
-    let reach = traced.flags.y;
+    let reach = traced.reach;
     if (trace_ground(pos, l) != NO_ROOT || objects_block(pos, l, reach)) {
         return;
     }
@@ -64,13 +63,12 @@ fn caustic_trace(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let hit = pos + photon.dir * t;
-    let w = traced.caustics;
-    let f = (hit.xz - w.xy) / w.z - 0.5;
+    let f = (hit.xz - traced.caustic_corner) / traced.caustic_cell - 0.5;
     let base = floor(f);
     let a = f - base;
     let i = i32(base.x);
     let j = i32(base.y);
-    let energy = photon.weight * e.w;
+    let energy = photon.weight * traced.photon_energy;
     deposit(i, j, energy * (1.0 - a.x) * (1.0 - a.y));
     deposit(i + 1, j, energy * a.x * (1.0 - a.y));
     deposit(i, j + 1, energy * (1.0 - a.x) * a.y);

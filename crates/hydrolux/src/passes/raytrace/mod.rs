@@ -19,9 +19,17 @@ use hydrolux_core::scene::{Pattern, Scene, WaterMethod};
 uniform! { Heightfield;
     /// WGSL `Heightfield` (shaders/heightfield_trace.wgsl).
     pub(crate) struct HeightfieldUniforms {
-        pub place: [f32; 4],
-        pub size: [u32; 4],
-        pub base: [u32; 4],
+        pub origin: [f32; 2],
+        pub spacing: f32,
+        pub outside: f32,
+        pub cells: u32,
+        pub samples: u32,
+        pub top_level: u32,
+        pub max_steps: u32,
+        pub first_sample: u32,
+        pub first_bound: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
     }
 }
 
@@ -30,12 +38,23 @@ uniform! { TracedParams;
     pub(crate) struct TracedUniforms {
         pub ground: HeightfieldUniforms,
         pub water: HeightfieldUniforms,
-        pub ground_albedo: [f32; 4],
-        pub ground_pattern: [f32; 4],
-        pub flags: [f32; 4],
-        pub caustics: [f32; 4],
-        pub emission: [f32; 4],
-        pub emission_count: [u32; 4],
+        pub ground_albedo: [f32; 3],
+        pub ground_tile_size: f32,
+        pub ground_pattern_color: [f32; 3],
+        pub ground_pattern: f32,
+        pub has_ground: u32,
+        pub reach: f32,
+        pub object_count: u32,
+        pub _pad0: u32,
+        pub caustic_corner: [f32; 2],
+        pub caustic_cell: f32,
+        pub caustic_cells: u32,
+        pub emission_origin: [f32; 2],
+        pub emission_spacing: f32,
+        pub photon_energy: f32,
+        pub emission_count: [u32; 2],
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 
@@ -45,15 +64,18 @@ uniform! { TracedParams;
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct TracedObject {
     pub inverse_model: [[f32; 4]; 4],
-    /// rgb albedo, w the pattern's tile size (m)
-    pub albedo: [f32; 4],
-    /// rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
-    pub pattern: [f32; 4],
-    /// x the shape: 0 sphere, 1 box, 2 cylinder (unit primitives), 3 plane
-    pub shape: [u32; 4],
+    pub albedo: [f32; 3],
+    /// The pattern's tile size (m).
+    pub tile_size: f32,
+    /// The pattern's second colour, and the pattern (0 none, 1 tiles, 2 checker).
+    pub pattern_color: [f32; 3],
+    pub pattern: f32,
+    /// 0 sphere, 1 box, 2 cylinder (unit primitives), 3 plane.
+    pub shape: u32,
+    pub _pad: [u32; 3],
 }
 
-/// Shape codes of `TracedObject.shape.x` (`shaders/ray_primitive.wgsl`).
+/// Shape codes of `TracedObject.shape` (`shaders/ray_primitive.wgsl`).
 const SHAPE_SPHERE: u32 = 0;
 const SHAPE_BOX: u32 = 1;
 const SHAPE_CYLINDER: u32 = 2;
@@ -88,14 +110,12 @@ fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
             let m = &o.material;
             let object = TracedObject {
                 inverse_model: Scene::object_transform(o).inverse().to_cols_array_2d(),
-                albedo: [m.albedo[0], m.albedo[1], m.albedo[2], m.tile_size],
-                pattern: [
-                    m.pattern_color[0],
-                    m.pattern_color[1],
-                    m.pattern_color[2],
-                    pattern_code(m.pattern),
-                ],
-                shape: [shape, 0, 0, 0],
+                albedo: m.albedo,
+                tile_size: m.tile_size,
+                pattern_color: m.pattern_color,
+                pattern: pattern_code(m.pattern),
+                shape,
+                _pad: [0; 3],
             };
             (i, object)
         })
@@ -261,31 +281,33 @@ impl Traced {
         }
         let uniforms = TracedUniforms {
             ground: HeightfieldUniforms {
-                place: [ground.origin[0], ground.origin[1], ground.cell, ground.outside],
-                size: [ground_side, ground.n as u32, ground_side.ilog2(), steps],
-                base: [0, 0, 0, 0],
+                origin: ground.origin,
+                spacing: ground.cell,
+                outside: ground.outside,
+                cells: ground_side,
+                samples: ground.n as u32,
+                top_level: ground_side.ilog2(),
+                max_steps: steps,
+                ..Default::default()
             },
             water: HeightfieldUniforms {
-                place: [0.0, 0.0, water_cell, 0.0],
-                size: [water_side, water_n, water_side.ilog2(), steps],
-                base: [ground_samples, ground_bounds, 0, 0],
+                spacing: water_cell,
+                cells: water_side,
+                samples: water_n,
+                top_level: water_side.ilog2(),
+                max_steps: steps,
+                first_sample: ground_samples,
+                first_bound: ground_bounds,
+                ..Default::default()
             },
-            ground_albedo: [
-                material.albedo[0],
-                material.albedo[1],
-                material.albedo[2],
-                material.tile_size,
-            ],
-            ground_pattern: [
-                material.pattern_color[0],
-                material.pattern_color[1],
-                material.pattern_color[2],
-                pattern,
-            ],
-            flags: [has_ground as u32 as f32, TRACE_REACH, objects.len() as f32, 0.0],
-            caustics: [0.0; 4],
-            emission: [0.0; 4],
-            emission_count: [0; 4],
+            ground_albedo: material.albedo,
+            ground_tile_size: material.tile_size,
+            ground_pattern_color: material.pattern_color,
+            ground_pattern: pattern,
+            has_ground: has_ground as u32,
+            reach: TRACE_REACH,
+            object_count: objects.len() as u32,
+            ..Default::default()
         };
         let buffer = uniform_buffer(device, "traced", &uniforms);
         fn whole(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
@@ -458,10 +480,9 @@ impl Traced {
         }
         let queue = &frame.shared.queue;
         let camera = frame.plan.camera.position;
-        let cells = self.uniforms.water.size[0];
+        let cells = self.uniforms.water.cells;
         let origin = water_window([camera.x, camera.z], cells);
-        self.uniforms.water.place[0] = origin[0];
-        self.uniforms.water.place[1] = origin[1];
+        self.uniforms.water.origin = origin;
         let caustics_due = self.plan_caustics(frame);
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&self.uniforms));
         {
@@ -497,7 +518,7 @@ impl Traced {
         pass.set_pipeline(&c.clear);
         pass.dispatch_workgroups((c.cells * c.cells).div_ceil(64), 1, 1);
         pass.set_pipeline(&c.trace);
-        let [nx, nz, _, _] = self.uniforms.emission_count;
+        let [nx, nz] = self.uniforms.emission_count;
         pass.dispatch_workgroups(nx.div_ceil(8), nz.div_ceil(8), 1);
         pass.set_pipeline(&c.resolve);
         pass.dispatch_workgroups(c.cells.div_ceil(8), c.cells.div_ceil(8), 1);
@@ -510,7 +531,7 @@ impl Traced {
         use hydrolux_core::raytrace::caustics::{Emission, window_for};
         let (scene, plan) = (frame.scene, frame.plan);
         let Some(layered) = plan.caustics.as_ref().filter(|_| self.caustics.cells > 0) else {
-            self.uniforms.caustics = [0.0; 4];
+            self.set_caustic_window([0.0; 4]);
             self.caustics.last = None;
             return false;
         };
@@ -526,13 +547,23 @@ impl Traced {
         );
         let w = [window.origin[0], window.origin[1], window.cell, window.m as f32];
         let e = [emission.origin[0], emission.origin[1], spacing, (spacing / window.cell).powi(2)];
-        self.uniforms.caustics = w;
-        self.uniforms.emission = e;
-        self.uniforms.emission_count = [emission.count[0] as u32, emission.count[1] as u32, 0, 0];
+        self.set_caustic_window(w);
+        self.uniforms.emission_origin = emission.origin;
+        self.uniforms.emission_spacing = spacing;
+        self.uniforms.photon_energy = e[3];
+        self.uniforms.emission_count = emission.count.map(|c| c as u32);
         let due = layered.due || self.objects_moved || self.caustics.last != Some((w, e));
         self.caustics.last = Some((w, e));
         self.objects_moved = false;
         due
+    }
+
+    /// The traced caustics' window (x, z of its corner, cell, cells per
+    /// side; all 0: off).
+    fn set_caustic_window(&mut self, w: [f32; 4]) {
+        self.uniforms.caustic_corner = [w[0], w[1]];
+        self.uniforms.caustic_cell = w[2];
+        self.uniforms.caustic_cells = w[3] as u32;
     }
 
     /// The traced caustics' light per cell of their window (row = z), and
@@ -544,12 +575,15 @@ impl Traced {
         queue: &wgpu::Queue,
     ) -> Option<(Vec<f32>, [f32; 4])> {
         let c = &self.caustics;
-        if c.cells == 0 || self.uniforms.caustics[3] == 0.0 {
+        if c.cells == 0 || self.uniforms.caustic_cells == 0 {
             return None;
         }
         let n = (c.cells * c.cells) as usize;
         let bytes = read_buffer(device, queue, &c.light, 4 * n as u64);
-        Some((bytemuck::cast_slice(&bytes).to_vec(), self.uniforms.caustics))
+        let u = &self.uniforms;
+        let [x, z] = u.caustic_corner;
+        let window = [x, z, u.caustic_cell, u.caustic_cells as f32];
+        Some((bytemuck::cast_slice(&bytes).to_vec(), window))
     }
 
     /// Trace `rays` (origin, direction, reach) against the ground on the
@@ -604,9 +638,9 @@ impl Traced {
         let w = &self.uniforms.water;
         let bytes = read_buffer(device, queue, &self.heights, self.heights.size());
         let all: &[f32] = bytemuck::cast_slice(&bytes);
-        let n = (w.size[1] * w.size[1]) as usize;
-        let from = w.base[0] as usize;
-        (all[from..from + n].to_vec(), [w.place[0], w.place[1]])
+        let n = (w.samples * w.samples) as usize;
+        let from = w.first_sample as usize;
+        (all[from..from + n].to_vec(), w.origin)
     }
 }
 

@@ -18,7 +18,7 @@
 fn reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     let hf = traced.water;
     let k = level.x;
-    let side = hf.size.x >> k;
+    let side = hf.cells >> k;
     if (id.x >= side || id.y >= side) {
         return;
     }

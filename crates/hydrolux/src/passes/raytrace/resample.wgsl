@@ -15,16 +15,16 @@ const RESAMPLE_ITERATIONS: u32 = 6u;
 @compute @workgroup_size(8, 8, 1)
 fn resample(@builtin(global_invocation_id) id: vec3<u32>) {
     let hf = traced.water;
-    let n = hf.size.y;
+    let n = hf.samples;
     if (id.x >= n || id.y >= n) {
         return;
     }
-    let x = hf.place.xy + vec2<f32>(id.xy) * hf.place.z;
+    let x = hf.origin + vec2<f32>(id.xy) * hf.spacing;
     var rest = x;
-    var s = surface_sample_footprint(rest, hf.place.z);
+    var s = surface_sample_footprint(rest, hf.spacing);
     for (var k = 0u; k < RESAMPLE_ITERATIONS; k++) {
         rest = x - s.disp.xz;
-        s = surface_sample_footprint(rest, hf.place.z);
+        s = surface_sample_footprint(rest, hf.spacing);
     }
-    hf_heights[hf.base.x + id.y * n + id.x] = s.disp.y;
+    hf_heights[hf.first_sample + id.y * n + id.x] = s.disp.y;
 }

@@ -6,33 +6,47 @@
 struct TracedParams {
     ground: Heightfield,
     water: Heightfield,
-    // rgb the ground's albedo, w its pattern's tile size (m)
-    ground_albedo: vec4<f32>,
-    // rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
-    ground_pattern: vec4<f32>,
-    // x 1 if there is ground, y the furthest a ray is traced (m), z the
-    // traced objects
-    flags: vec4<f32>,
-    // The traced caustics' window (caustics.wgsl): xy world (x, z) of its
-    // corner, z its cell (m), w cells per side (0: off)
-    caustics: vec4<f32>,
-    // Their photons: xy the rest position of the first one's cell corner,
-    // z the spacing (m), w the energy of one in units of a cell's
-    // (spacing² / cell²)
-    emission: vec4<f32>,
-    // x, y photons per row and column
-    emission_count: vec4<u32>,
+    // The ground's albedo and its pattern's tile size (m).
+    ground_albedo: vec3<f32>,
+    ground_tile_size: f32,
+    // The pattern's second colour, and the pattern (0 none, 1 tiles, 2 checker).
+    ground_pattern_color: vec3<f32>,
+    ground_pattern: f32,
+    // 1 if there is ground, the furthest a ray is traced (m), the traced objects.
+    has_ground: u32,
+    reach: f32,
+    object_count: u32,
+    _pad0: u32,
+    // The traced caustics' window (caustics.wgsl): world (x, z) of its
+    // corner, its cell (m), cells per side (0: off).
+    caustic_corner: vec2<f32>,
+    caustic_cell: f32,
+    caustic_cells: u32,
+    // Their photons: the rest position of the first one's cell corner, the
+    // spacing (m), the energy of one in units of a cell's (spacing² / cell²).
+    emission_origin: vec2<f32>,
+    emission_spacing: f32,
+    photon_energy: f32,
+    // Photons per row and column.
+    emission_count: vec2<u32>,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // An object traced as its unit primitive (box [−½, ½]³, sphere of radius ½,
 // cylinder of radius ½ and height 1 along y), transformed.
 struct TracedObject {
     inverse_model: mat4x4<f32>,
-    // rgb albedo, w the pattern's tile size (m)
-    albedo: vec4<f32>,
-    // rgb the pattern's second colour, w the pattern (0 none, 1 tiles, 2 checker)
-    pattern: vec4<f32>,
-    // x the shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER
-    // (ray_primitive.wgsl) or TRACED_PLANE (traced_hits.wgsl)
-    shape: vec4<u32>,
+    // Albedo, and the pattern's tile size (m).
+    albedo: vec3<f32>,
+    tile_size: f32,
+    // The pattern's second colour, and the pattern (0 none, 1 tiles, 2 checker).
+    pattern_color: vec3<f32>,
+    pattern: f32,
+    // The shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER
+    // (ray_primitive.wgsl) or TRACED_PLANE (traced_hits.wgsl).
+    shape: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }

@@ -6,15 +6,15 @@
 
 // Where a traced ray first meets the ground (t; NO_ROOT: nowhere).
 fn trace_ground(o: vec3<f32>, d: vec3<f32>) -> f32 {
-    if (traced.flags.x == 0.0) {
+    if (traced.has_ground == 0u) {
         return NO_ROOT;
     }
-    return trace_heightfield(traced.ground, o, d, traced.flags.y);
+    return trace_heightfield(traced.ground, o, d, traced.reach);
 }
 
 // The ground's normal at world (x, z), from its heightfield.
 fn ground_normal(x: f32, z: f32) -> vec3<f32> {
-    let e = traced.ground.place.z;
+    let e = traced.ground.spacing;
     let hx = hf_height(traced.ground, x + e, z) - hf_height(traced.ground, x - e, z);
     let hz = hf_height(traced.ground, x, z + e) - hf_height(traced.ground, x, z - e);
     return normalize(vec3<f32>(-hx, 2.0 * e, -hz));
@@ -69,10 +69,10 @@ fn hit_primitive(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
 // The first traced object along o + t·d within t_max (world space).
 fn trace_objects(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> ObjectHit {
     var best = ObjectHit(NO_ROOT, 0u, vec3<f32>(0.0, 1.0, 0.0));
-    let count = u32(traced.flags.z);
+    let count = traced.object_count;
     for (var i = 0u; i < count; i++) {
         let inv = traced_objects[i].inverse_model;
-        let h = hit_primitive(traced_objects[i].shape.x, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
+        let h = hit_primitive(traced_objects[i].shape, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
         if (h.x < best.t && h.x <= t_max) {
             // World normal: the inverse transpose, i.e. n·M⁻¹.
             best = ObjectHit(h.x, i, normalize((vec4<f32>(h.yzw, 0.0) * inv).xyz));
@@ -84,10 +84,10 @@ fn trace_objects(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> ObjectHit {
 // Whether a traced object lies on the ray o + t·d for t in (0, t_max), or
 // the ray starts inside one.
 fn objects_block(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
-    let count = u32(traced.flags.z);
+    let count = traced.object_count;
     for (var i = 0u; i < count; i++) {
         let inv = traced_objects[i].inverse_model;
-        let t = traced_interval(traced_objects[i].shape.x, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
+        let t = traced_interval(traced_objects[i].shape, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
         if (t.x <= t.y && t.y > 0.0 && t.x < t_max) {
             return true;
         }
@@ -100,10 +100,9 @@ fn objects_block(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
 // between cell centres), or −1 off its window or when it is off. Needs
 // `ground_light: array<f32>`.
 fn traced_ground_light(q: vec3<f32>) -> f32 {
-    let w = traced.caustics;
-    let m = i32(w.w);
-    let f = (q.xz - w.xy) / w.z;
-    if (m == 0 || any(f < vec2<f32>(0.0)) || any(f >= vec2<f32>(w.w))) {
+    let m = i32(traced.caustic_cells);
+    let f = (q.xz - traced.caustic_corner) / traced.caustic_cell;
+    if (m == 0 || any(f < vec2<f32>(0.0)) || any(f >= vec2<f32>(f32(m)))) {
         return -1.0;
     }
     let g = f - 0.5;

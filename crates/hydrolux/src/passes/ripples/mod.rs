@@ -22,13 +22,24 @@ use hydrolux_core::waves::ripples::{
 uniform! { RippleParams;
     /// WGSL `RippleParams` (passes/ripples/ripples.wgsl).
     pub(crate) struct RippleUniforms {
-        pub grid: [u32; 4],
-        pub window: [i32; 4],
-        pub space: [f32; 4],
-        pub physics: [f32; 4],
-        pub sponge: [f32; 4],
-        pub bodies: [i32; 4],
-        pub spray: [f32; 4],
+        pub cells: u32,
+        pub fft_size: u32,
+        pub edges: u32,
+        pub sponge_cells: u32,
+        pub window_origin: [i32; 2],
+        pub first_drop: i32,
+        pub drop_count: i32,
+        pub cell: f32,
+        pub dt: f32,
+        pub depths: [f32; 2],
+        pub gravity: f32,
+        pub tension: f32,
+        pub viscosity: f32,
+        pub damping: f32,
+        pub sponge_rate: f32,
+        pub kick_per_unit: f32,
+        pub first_move: i32,
+        pub move_count: i32,
     }
 }
 
@@ -391,23 +402,24 @@ impl RipplePass {
         let s = &self.settings;
         let g = &s.grid;
         RippleUniforms {
-            grid: [
-                g.cells as u32,
-                g.fft_size() as u32,
-                edges_index(g.boundary),
-                g.sponge_cells() as u32,
-            ],
-            window: [
-                self.window.origin[0] as i32,
-                self.window.origin[1] as i32,
-                first_drop as i32,
-                drops as i32,
-            ],
-            space: [g.cell_size as f32, s.dt as f32, s.depths[0] as f32, s.depths[1] as f32],
-            physics: [GRAVITY as f32, s.tension as f32, s.viscosity as f32, s.damping as f32],
-            sponge: [sponge_rate(g) as f32, 0.0, 0.0, 0.0],
-            bodies: [0; 4],
-            spray: [self.kick_per_unit, 0.0, 0.0, 0.0],
+            cells: g.cells as u32,
+            fft_size: g.fft_size() as u32,
+            edges: edges_index(g.boundary),
+            sponge_cells: g.sponge_cells() as u32,
+            window_origin: self.window.origin.map(|c| c as i32),
+            first_drop: first_drop as i32,
+            drop_count: drops as i32,
+            cell: g.cell_size as f32,
+            dt: s.dt as f32,
+            depths: s.depths.map(|d| d as f32),
+            gravity: GRAVITY as f32,
+            tension: s.tension as f32,
+            viscosity: s.viscosity as f32,
+            damping: s.damping as f32,
+            sponge_rate: sponge_rate(g) as f32,
+            kick_per_unit: self.kick_per_unit,
+            first_move: 0,
+            move_count: 0,
         }
     }
 
@@ -452,7 +464,8 @@ impl RipplePass {
             // The publish's slot (the last) holds the last step's bodies.
             let step_moves: Vec<[[f32; 4]; 5]> =
                 if i < count as usize { gpu_moves(&input.moves) } else { self.last_moves.clone() };
-            u.bodies = [moves.len() as i32, step_moves.len() as i32, 0, 0];
+            u.first_move = moves.len() as i32;
+            u.move_count = step_moves.len() as i32;
             moves.extend(step_moves);
             let at = i * self.slot_size as usize;
             slots[at..at + std::mem::size_of::<RippleUniforms>()]

@@ -8,20 +8,31 @@
 #import constants, complex, ray_primitive
 
 struct RippleParams {
-    // x domain cells N, y FFT size F, z edges (0 walls, 1 open, 2 periodic), w sponge cells
-    grid: vec4<u32>,
-    // xy world cell of the window's first cell; z first drop of this step, w drop count
-    window: vec4<i32>,
-    // x cell size (m), y step (s), z depth level 0, w depth level 1 (m)
-    space: vec4<f32>,
-    // x g (m/s²), y σ/ρ (m³/s²), z ν (m²/s), w extra damping (1/s)
-    physics: vec4<f32>,
-    // x the sponge's peak damping rate (1/s)
-    sponge: vec4<f32>,
-    // x first body move of this step, y their count
-    bodies: vec4<i32>,
-    // x Δφ (m²/s) per unit of landing spray (hydrolux-core whitewater::kick_per_unit)
-    spray: vec4<f32>,
+    // Domain cells N, FFT size F, edges (0 walls, 1 open, 2 periodic), sponge cells.
+    cells: u32,
+    fft_size: u32,
+    edges: u32,
+    sponge_cells: u32,
+    // World cell of the window's first cell; first drop of this step, drop count.
+    window_origin: vec2<i32>,
+    first_drop: i32,
+    drop_count: i32,
+    // Cell size (m), step (s), the two depth levels (m).
+    cell: f32,
+    dt: f32,
+    depths: vec2<f32>,
+    // g (m/s²), σ/ρ (m³/s²), ν (m²/s), extra damping (1/s).
+    gravity: f32,
+    tension: f32,
+    viscosity: f32,
+    damping: f32,
+    // The sponge's peak damping rate (1/s); Δφ (m²/s) per unit of landing
+    // spray (hydrolux-core coupling::kick_per_unit); first body move of this
+    // step, their count.
+    sponge_rate: f32,
+    kick_per_unit: f32,
+    first_move: i32,
+    move_count: i32,
 }
 
 // A body in the water during one step (twin: waves::ripples::BodyMove):
@@ -118,8 +129,8 @@ fn held_depth(m: BodyMove, w: vec2<f32>) -> f32 {
 // RippleSim::step_with.
 fn hull_depth(w: vec2<f32>) -> f32 {
     var d = 0.0;
-    for (var b = 0; b < params.bodies.y; b++) {
-        d += body_depth(moves[params.bodies.x + b], w);
+    for (var b = 0; b < params.move_count; b++) {
+        d += body_depth(moves[params.first_move + b], w);
     }
     return d;
 }
@@ -129,8 +140,8 @@ fn hull_depth(w: vec2<f32>) -> f32 {
 // `publish` gives the water beside it the free surface's slopes, and white
 // water makes no foam of its hollow.
 fn hull_covers(w: vec2<f32>) -> bool {
-    for (var b = 0; b < params.bodies.y; b++) {
-        if (body_depth(moves[params.bodies.x + b], w) > 0.0) {
+    for (var b = 0; b < params.move_count; b++) {
+        if (body_depth(moves[params.first_move + b], w) > 0.0) {
             return true;
         }
     }
@@ -142,12 +153,12 @@ const EDGES_WALLS: u32 = 0u;
 // The domain cell a grid cell holds: walls mirror (cell 2N−1−i holds i);
 // open and periodic grids hold the world cell ≡ g (mod N) in the window.
 fn domain_cell(g: vec2<u32>) -> vec2<u32> {
-    let n = params.grid.x;
-    if (params.grid.z == EDGES_WALLS) {
+    let n = params.cells;
+    if (params.edges == EDGES_WALLS) {
         return select(vec2<u32>(2u * n - 1u) - g, g, g < vec2<u32>(n));
     }
     let ni = i32(n);
-    return vec2<u32>(((vec2<i32>(g) - params.window.xy) % ni + ni) % ni);
+    return vec2<u32>(((vec2<i32>(g) - params.window_origin) % ni + ni) % ni);
 }
 
 // The texel (of the surface's texture and of `kicks`) holding grid cell
@@ -155,24 +166,24 @@ fn domain_cell(g: vec2<u32>) -> vec2<u32> {
 // texture tiles the plane). Twin: ripples::grid_cell of domain_cell.
 fn texel_of(g: vec2<u32>) -> u32 {
     var t = g;
-    if (params.grid.z == EDGES_WALLS) {
+    if (params.edges == EDGES_WALLS) {
         t = domain_cell(g);
     }
-    return t.y * params.grid.x + t.x;
+    return t.y * params.cells + t.x;
 }
 
 fn world_of(d: vec2<u32>) -> vec2<f32> {
-    return (vec2<f32>(params.window.xy + vec2<i32>(d)) + 0.5) * params.space.x;
+    return (vec2<f32>(params.window_origin + vec2<i32>(d)) + 0.5) * params.cell;
 }
 
 fn grid_index(g: vec2<u32>) -> u32 {
-    return g.y * params.grid.y + g.x;
+    return g.y * params.fft_size + g.x;
 }
 
 // Blend weight of depth level 1, linear in √d.
 fn depth_weight(d: f32) -> f32 {
-    let a = sqrt(params.space.z);
-    let b = sqrt(params.space.w);
+    let a = sqrt(params.depths.x);
+    let b = sqrt(params.depths.y);
     if (b > a) {
         return clamp((sqrt(max(d, 0.0)) - a) / (b - a), 0.0, 1.0);
     }
@@ -183,18 +194,18 @@ fn depth_weight(d: f32) -> f32 {
 fn state(g: vec2<u32>) -> vec2<f32> {
     let d = domain_cell(g);
     let v = spectral[grid_index(g)];
-    return mix(v.xy, v.zw, depth_weight(depth[d.y * params.grid.x + d.x]));
+    return mix(v.xy, v.zw, depth_weight(depth[d.y * params.cells + d.x]));
 }
 
 // The crater of drop (x, z, R, s) at world point w, with its mirror images
 // in walls (volume-neutral next to a wall).
 fn drop_height(drop: vec4<f32>, w: vec2<f32>) -> f32 {
     var images = 1;
-    if (params.grid.z == EDGES_WALLS) {
+    if (params.edges == EDGES_WALLS) {
         images = 3;
     }
-    let lo = vec2<f32>(params.window.xy) * params.space.x;
-    let hi = lo + f32(params.grid.x) * params.space.x;
+    let lo = vec2<f32>(params.window_origin) * params.cell;
+    let hi = lo + f32(params.cells) * params.cell;
     var dh = 0.0;
     for (var ix = 0; ix < images; ix++) {
         for (var iz = 0; iz < images; iz++) {
@@ -215,11 +226,11 @@ fn drop_height(drop: vec4<f32>, w: vec2<f32>) -> f32 {
 
 // Per-step damping of the sponge ring of an open domain.
 fn sponge(d: vec2<u32>) -> f32 {
-    let width = params.grid.w;
+    let width = params.sponge_cells;
     if (width == 0u) {
         return 1.0;
     }
-    let n = params.grid.x;
+    let n = params.cells;
     let e = min(min(d.x, n - 1u - d.x), min(d.y, n - 1u - d.y));
     if (e >= width) {
         return 1.0;
@@ -228,12 +239,12 @@ fn sponge(d: vec2<u32>) -> f32 {
         return 0.0;
     }
     let x = f32(width - e) / f32(width);
-    return exp(-params.sponge.x * x * x * params.space.y);
+    return exp(-params.sponge_rate * x * x * params.dt);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
-    let f = params.grid.y;
+    let f = params.fft_size;
     if (id.x >= f || id.y >= f) {
         return;
     }
@@ -244,7 +255,7 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     // Breaking: the water trades height with neighbours it stands steeper
     // than the limiting Stokes wave against (twin: waves::ripples::breaking;
     // BREAKING_SLOPE and BREAKING_RELAX are the twin's, set by ripples/mod.rs).
-    let most = BREAKING_SLOPE * params.space.x;
+    let most = BREAKING_SLOPE * params.cell;
     var give = 0.0;
     let around = array<vec2<u32>, 4>(
         vec2<u32>((g.x + 1u) % f, g.y),
@@ -277,22 +288,22 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     // where the water touches the hulls (water that fell away below a
     // hull's bottom feels no push from it).
     if (h_before >= -here_down - HULL_GAP) {
-        s.y -= params.physics.x * here_down * params.space.y;
+        s.y -= params.gravity * here_down * params.dt;
     }
-    let first = params.window.z;
-    for (var i = 0; i < params.window.w; i++) {
+    let first = params.first_drop;
+    for (var i = 0; i < params.drop_count; i++) {
         s.x += drop_height(drops[first + i], w);
     }
     // Landing spray: an impulsive pressure P changes φ by −P/ρ.
-    s.y -= f32(atomicLoad(&kicks[texel_of(g)])) * params.spray.x;
+    s.y -= f32(atomicLoad(&kicks[texel_of(g)])) * params.kick_per_unit;
     s *= sponge(d);
     // Contact: water touching a hull follows it up, to its new bottom or
     // the mean level; water that rose past a hull's bottom is put back
     // there. What the hulls let in or push out comes from or joins the
     // level (`spectral_step`). Twin: the contact of RippleSim::step_with.
     var was = 0.0;
-    for (var b = 0; b < params.bodies.y; b++) {
-        was += held_depth(moves[params.bodies.x + b], w);
+    for (var b = 0; b < params.move_count; b++) {
+        was += held_depth(moves[params.first_move + b], w);
     }
     let rise = -here_down - s.x;
     if (was > here_down && h_before >= -was - HULL_GAP && rise > 0.0) {
@@ -315,26 +326,26 @@ fn rotation(k: f32, h: f32) -> vec4<f32> {
     if (k == 0.0) {
         return vec4<f32>(1.0, 1.0, 0.0, 0.0);
     }
-    let dt = params.space.y;
+    let dt = params.dt;
     let kk = k * tanh(min(k * h, 20.0));
-    let bb = params.physics.x + params.physics.y * k * k;
+    let bb = params.gravity + params.tension * k * k;
     let wt = sqrt(kk * bb) * dt;
     var sinc = 1.0;
     if (wt > 1e-4) {
         sinc = sin(wt) / wt;
     }
-    let decay = exp(-(2.0 * params.physics.z * k * k + params.physics.w) * dt);
+    let decay = exp(-(2.0 * params.viscosity * k * k + params.damping) * dt);
     return vec4<f32>(decay, cos(wt), kk * dt * sinc, bb * dt * sinc);
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
-    let f = params.grid.y;
+    let f = params.fft_size;
     if (id.x >= f || id.y >= f) {
         return;
     }
     let i = id.y * f + id.x;
-    let n = params.grid.x;
+    let n = params.cells;
     if (id.x < n && id.y < n) {
         atomicStore(&kicks[id.y * n + id.x], 0u);
     }
@@ -350,7 +361,7 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
         select(f32(id.x), f32(id.x) - f32(f), id.x > half),
         select(f32(id.y), f32(id.y) - f32(f), id.y > half),
     );
-    let k = length(signed) * TAU / (f32(f) * params.space.x);
+    let k = length(signed) * TAU / (f32(f) * params.cell);
     let norm = 1.0 / (f32(f) * f32(f));
     var out = vec4<f32>(0.0);
     if (i == 0u) {
@@ -360,12 +371,12 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // Open water has no level of its own: what the window gains or loses
     // flows away to the ocean around it.
-    if (k == 0.0 && params.grid.z == 1u) {
+    if (k == 0.0 && params.edges == 1u) {
         spectral[i] = out;
         return;
     }
     for (var l = 0u; l < 2u; l++) {
-        let r = rotation(k, params.space[2u + l]);
+        let r = rotation(k, params.depths[l]);
         let h1 = (hk * r.y + pk * r.z) * r.x;
         let p1 = (pk * r.y - hk * r.w) * r.x;
         let z = (h1 + cmul_i(p1)) * norm;
@@ -391,8 +402,8 @@ fn free_height(g_n: vec2<u32>, h: f32, covered: bool) -> f32 {
 // texture (h and central-difference slopes).
 @compute @workgroup_size(8, 8, 1)
 fn publish(@builtin(global_invocation_id) id: vec3<u32>) {
-    let n = params.grid.x;
-    let f = params.grid.y;
+    let n = params.cells;
+    let f = params.fft_size;
     if (id.x >= n || id.y >= n) {
         return;
     }
@@ -408,7 +419,7 @@ fn publish(@builtin(global_invocation_id) id: vec3<u32>) {
     let west = free_height(vec2<u32>((g.x + f - 1u) % f, g.y), h, covered);
     let north = free_height(vec2<u32>(g.x, (g.y + 1u) % f), h, covered);
     let south = free_height(vec2<u32>(g.x, (g.y + f - 1u) % f), h, covered);
-    var slope = vec2<f32>(east - west, north - south) / (2.0 * params.space.x);
+    var slope = vec2<f32>(east - west, north - south) / (2.0 * params.cell);
     if (covered) {
         // The hollow's walls are the hull's: hidden, and no free surface.
         slope = vec2<f32>(0.0);

@@ -355,17 +355,24 @@ impl Surface {
                 RippleBoundary::Walls => lo,
                 _ => [0.0, 0.0],
             };
-            u.ripple_area = [origin[0], origin[1], side, g.cell_size as f32];
+            u.ripple_origin = origin;
+            u.ripple_side = side;
+            u.ripple_cell = g.cell_size as f32;
             u.ripple_window = [lo[0], lo[1], lo[0] + side, lo[1] + side];
         }
         if let Some(w) = &self.whitewater {
-            u.foam_area = w.foam_area();
-            u.foam_wind = w.foam_wind();
+            let area = w.foam_area();
+            u.foam_origin = area.origin;
+            u.foam_side = area.side;
+            u.foam_tiles = area.tiles as u32;
+            (u.foam_wind, u.foam_streak) = w.foam_wind();
         }
         let model = model_index(s.water.model);
         let waves = &self.sines.waves;
-        u.counts =
-            [self.ocean.cascades, model, waves.len().min(MAX_SINE_WAVES) as u32, self.ocean.n];
+        u.cascades = self.ocean.cascades;
+        u.model = model;
+        u.sine_count = waves.len().min(MAX_SINE_WAVES) as u32;
+        u.fft_resolution = self.ocean.n;
         for (i, (w, phase)) in
             waves.iter().zip(self.sines.phases(time)).enumerate().take(MAX_SINE_WAVES)
         {

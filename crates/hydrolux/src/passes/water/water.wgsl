@@ -272,7 +272,7 @@ fn traced_sun_visibility(q: vec3<f32>, n: vec3<f32>) -> f32 {
         o += up * t_surface;
     }
     let l = frame.light.sun_dir;
-    if (trace_ground(o, l) != NO_ROOT || objects_block(o, l, traced.flags.y)) {
+    if (trace_ground(o, l) != NO_ROOT || objects_block(o, l, traced.reach)) {
         return 0.0;
     }
     return 1.0;
@@ -306,15 +306,15 @@ fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, ground: bool) -> 
 fn object_radiance(o: vec3<f32>, d: vec3<f32>, hit: ObjectHit, footprint: f32) -> vec3<f32> {
     let obj = traced_objects[hit.index];
     let q = o + d * hit.t;
-    let w = pattern_at(q, hit.normal, obj.albedo.w, obj.pattern.w, footprint);
-    return lit_radiance(q, hit.normal, mix(obj.albedo.rgb, obj.pattern.rgb, w), false);
+    let w = pattern_at(q, hit.normal, obj.tile_size, obj.pattern, footprint);
+    return lit_radiance(q, hit.normal, mix(obj.albedo, obj.pattern_color, w), false);
 }
 
 // The light the ground sends back at q, seen over `footprint` metres.
 fn ground_radiance(q: vec3<f32>, footprint: f32) -> vec3<f32> {
     let n = ground_normal(q.x, q.z);
-    let w = pattern_at(q, vec3<f32>(0.0, 1.0, 0.0), traced.ground_albedo.w, traced.ground_pattern.w, footprint);
-    return lit_radiance(q, n, mix(traced.ground_albedo.rgb, traced.ground_pattern.rgb, w), true);
+    let w = pattern_at(q, vec3<f32>(0.0, 1.0, 0.0), traced.ground_tile_size, traced.ground_pattern, footprint);
+    return lit_radiance(q, n, mix(traced.ground_albedo, traced.ground_pattern_color, w), true);
 }
 
 // What a traced ray o + t·d meets first, ground (within t_ground) or an
@@ -340,7 +340,7 @@ fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: ve
     // heightfield is the mean level, which a trough lies under.
     var o = p + n * 0.02;
     o.y = max(o.y, hf_height(traced.water, o.x, o.z) + 0.02);
-    let tw = trace_heightfield(traced.water, o, r, traced.flags.y);
+    let tw = trace_heightfield(traced.water, o, r, traced.reach);
     let seen = traced_scene(o, r, min(trace_ground(o, r), tw), distance(frame.view.position, p), pixel_angle);
     if (seen.w < NO_ROOT) {
         return through_fog(p, o + r * seen.w, seen.rgb);
@@ -349,7 +349,7 @@ fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: ve
         // Another wave: what it reflects of the sky (one more bounce, by
         // its heightfield's normal) over the water's own colour.
         let q = o + r * tw;
-        let e = traced.water.place.z;
+        let e = traced.water.spacing;
         let hx = hf_height(traced.water, q.x + e, q.z) - hf_height(traced.water, q.x - e, q.z);
         let hz = hf_height(traced.water, q.x, q.z + e) - hf_height(traced.water, q.x, q.z - e);
         let m = normalize(vec3<f32>(-hx, 2.0 * e, -hz));
@@ -438,7 +438,7 @@ fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
 // Foam as seen in a pixel: its cover filtered over the footprint (the
 // fraction of the pixel that is foam, so it never shimmers), broken up into
 // lacy patches and bubbles by noise at three scales (5.6 m, 1.4 m, 0.35 m
-// across the wind, `foam_wind.z` times longer along it: wind streaks): a
+// across the wind, `foam_streak` times longer along it: wind streaks): a
 // cell of cover c shows foam where the noise lies below c, a dense sheet
 // keeps a few holes. Each octave fades into its mean once a pixel's
 // footprint (geometric mean of its two axes, so grazing views keep their
@@ -452,8 +452,8 @@ fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
     }
     let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
     // Noise space: along the wind shrunk by the streaks' length.
-    let wind = surface.foam_wind.xy;
-    let q = vec2<f32>(dot(p, wind) / max(surface.foam_wind.z, 1.0), dot(p, vec2<f32>(-wind.y, wind.x)));
+    let wind = surface.foam_wind;
+    let q = vec2<f32>(dot(p, wind) / max(surface.foam_streak, 1.0), dot(p, vec2<f32>(-wind.y, wind.x)));
     var n = 0.5;
     var kept = 0.0;
     var scale = 5.6;

@@ -54,9 +54,18 @@ crate::uniforms::uniform! { ObjectLightParams;
     /// WGSL `ObjectLightParams` (paths.wgsl).
     pub struct ObjectLightUniforms {
         pub inv_view_proj: [[f32; 4]; 4],
-        pub counts: [u32; 4],
-        pub info: [f32; 4],
-        pub extra: [f32; 4],
+        pub resolution: u32,
+        pub march_steps: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub texel_area: f32,
+        pub ior: f32,
+        pub floor_y: f32,
+        pub reach: f32,
+        pub fixed_point_scale: f32,
+        pub has_floor: u32,
+        pub _pad2: f32,
+        pub _pad3: f32,
     }
 }
 
@@ -64,9 +73,15 @@ crate::uniforms::uniform! { ObjectLightParams;
 fn light_uniforms(o: &crate::plan::ObjectLightPlan) -> ObjectLightUniforms {
     ObjectLightUniforms {
         inv_view_proj: o.view_proj.inverse().to_cols_array_2d(),
-        counts: [o.resolution, MARCH_STEPS, 0, 0],
-        info: [o.texel_area, o.ior, o.floor_y, o.reach],
-        extra: [FIXED_POINT_SCALE, o.floor as u32 as f32, 0.0, 0.0],
+        resolution: o.resolution,
+        march_steps: MARCH_STEPS,
+        texel_area: o.texel_area,
+        ior: o.ior,
+        floor_y: o.floor_y,
+        reach: o.reach,
+        fixed_point_scale: FIXED_POINT_SCALE,
+        has_floor: o.floor as u32,
+        ..Default::default()
     }
 }
 

@@ -13,13 +13,22 @@
 struct ObjectLightParams {
     // Light clip → world.
     inv_view_proj: mat4x4<f32>,
-    // x texels per side (K), y march steps.
-    counts: vec4<u32>,
-    // x texel area across the beam (m²), y index of refraction, z height of
-    // the floor plane (m), w longest path to march (m).
-    info: vec4<f32>,
-    // x fixed-point scale of the splat, y 1 if there is a floor plane.
-    extra: vec4<f32>,
+    // Texels per side of the light view (K), march steps.
+    resolution: u32,
+    march_steps: u32,
+    _pad0: u32,
+    _pad1: u32,
+    // Texel area across the beam (m²), index of refraction, height of the
+    // floor plane (m), longest path to march (m).
+    texel_area: f32,
+    ior: f32,
+    floor_y: f32,
+    reach: f32,
+    // Fixed-point scale of the splat; 1 if there is a floor plane.
+    fixed_point_scale: f32,
+    has_floor: u32,
+    _pad2: f32,
+    _pad3: f32,
 }
 
 @group(1) @binding(0) var<uniform> params: ObjectLightParams;
@@ -43,7 +52,7 @@ fn from_light(uv: vec2<f32>, z: f32) -> vec3<f32> {
 }
 
 fn texel_of(uv: vec2<f32>) -> vec2<i32> {
-    let k = i32(params.counts.x);
+    let k = i32(params.resolution);
     return clamp(vec2<i32>(floor(uv * f32(k))), vec2<i32>(0), vec2<i32>(k - 1));
 }
 
@@ -67,8 +76,8 @@ fn depth_at(uv: vec2<f32>, which: u32) -> f32 {
 // March from p along dir until the ray passes behind the depth map `which`,
 // then refine by bisection; the distance, or −1 if it leaves the view first.
 fn march(p: vec3<f32>, dir: vec3<f32>, which: u32) -> f32 {
-    let steps = params.counts.y;
-    let dt = params.info.w / f32(steps);
+    let steps = params.march_steps;
+    let dt = params.reach / f32(steps);
     var prev = 0.0;
     for (var i = 1u; i <= steps; i++) {
         let t = f32(i) * dt;
@@ -96,18 +105,18 @@ fn march(p: vec3<f32>, dir: vec3<f32>, which: u32) -> f32 {
 }
 
 fn deposit(channel: u32, texel: vec2<i32>, value: f32) {
-    let k = i32(params.counts.x);
+    let k = i32(params.resolution);
     if (any(texel < vec2<i32>(0)) || any(texel >= vec2<i32>(k))) {
         return;
     }
     let index = channel * u32(k * k) + u32(texel.y * k + texel.x);
-    atomicAdd(&accum[index], u32(value * params.extra.x + 0.5));
+    atomicAdd(&accum[index], u32(value * params.fixed_point_scale + 0.5));
 }
 
 // Add irradiance `e` (relative to the sun's, on a plane facing it) landing
 // at p, with bilinear weights over the four nearest texels.
 fn splat(p: vec3<f32>, e: vec3<f32>) {
-    let k = f32(params.counts.x);
+    let k = f32(params.resolution);
     let f = to_light(p).xy * k - 0.5;
     let base = floor(f);
     let a = f - base;
@@ -122,7 +131,7 @@ fn splat(p: vec3<f32>, e: vec3<f32>) {
 
 @compute @workgroup_size(8, 8, 1)
 fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
-    let k = params.counts.x;
+    let k = params.resolution;
     if (id.x < k && id.y < k) {
         for (var c = 0u; c < 3u; c++) {
             atomicStore(&accum[c * k * k + id.y * k + id.x], 0u);
@@ -132,7 +141,7 @@ fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
 
 @compute @workgroup_size(8, 8, 1)
 fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
-    let k = params.counts.x;
+    let k = params.resolution;
     if (id.x >= k || id.y >= k) {
         return;
     }
@@ -142,7 +151,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
     tube.tint = vec4<f32>(0.0);
     let front = bitcast<vec4<f32>>(textureLoad(front_tex, vec2<i32>(id.xy), 0));
     let l = frame.light.sun_dir;
-    let ior = params.info.y;
+    let ior = params.ior;
     let n0 = normalize(front.xyz);
     let cos0 = dot(n0, l);
     if (front.w <= 1.0 && cos0 > 0.0) {
@@ -161,13 +170,13 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
                 let tint = exp(-frame.water.absorption * s1);
                 var s2 = march(p1, t2, 1u);
                 if (s2 < 0.0) {
-                    s2 = params.info.w;
-                    if (params.extra.y > 0.5 && t2.y < -1e-4) {
-                        s2 = min(s2, (params.info.z - p1.y) / t2.y);
+                    s2 = params.reach;
+                    if (params.has_floor != 0u && t2.y < -1e-4) {
+                        s2 = min(s2, (params.floor_y - p1.y) / t2.y);
                     }
                 }
                 tube.start = vec4<f32>(p1, s2);
-                tube.dir = vec4<f32>(t2, transmitted * params.info.x);
+                tube.dir = vec4<f32>(t2, transmitted * params.texel_area);
                 tube.tint = vec4<f32>(tint, 1.0);
                 splat(p1 + t2 * s2, transmitted * tint);
             }
@@ -179,7 +188,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
 // A [1 2 1]/4 × [1 2 1]/4 filter into the map; alpha: the scene's depth.
 @compute @workgroup_size(8, 8, 1)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
-    let k = params.counts.x;
+    let k = params.resolution;
     if (id.x >= k || id.y >= k) {
         return;
     }
@@ -192,7 +201,7 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             let w = (2.0 - f32(abs(di))) * (2.0 - f32(abs(dj))) / 16.0;
             for (var c = 0u; c < 3u; c++) {
-                sum[c] += w * f32(atomicLoad(&accum[c * k * k + u32(t.y) * k + u32(t.x)])) / params.extra.x;
+                sum[c] += w * f32(atomicLoad(&accum[c * k * k + u32(t.y) * k + u32(t.x)])) / params.fixed_point_scale;
             }
         }
     }

@@ -66,7 +66,7 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let v = normalize(in.world - eye);
     let n0 = normalize(in.normal);
     // ior stored as bits in flags.y (geometry upload).
-    let ior = bitcast<f32>(object.flags.y);
+    let ior = object.ior;
     let cos0 = max(-dot(v, n0), 0.0);
     let r0 = fresnel_exact(cos0, 1.0, ior);
     let reflected = sky_towards(reflect(v, n0));

@@ -10,8 +10,14 @@ use hydrolux_core::scene::Scene;
 uniform! { DrawParams;
     /// WGSL `DrawParams` (passes/whitewater/particles.wgsl).
     pub(crate) struct DrawUniforms {
-        pub list: [u32; 4],
-        pub sizes: [f32; 4],
+        pub capacity: u32,
+        pub list: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub spray_size: f32,
+        pub bubble_size: f32,
+        pub shutter: f32,
+        pub vertical_reach: f32,
     }
 }
 
@@ -118,8 +124,14 @@ impl ParticleDraw {
         let shared = frame.shared;
         let targets = frame.targets();
         let u = DrawUniforms {
-            list: [self.capacity, list, 0, 0],
-            sizes: [self.sizes[0], self.sizes[1], SHUTTER_S, vertical_reach],
+            capacity: self.capacity,
+            list,
+            _pad0: 0,
+            _pad1: 0,
+            spray_size: self.sizes[0],
+            bubble_size: self.sizes[1],
+            shutter: SHUTTER_S,
+            vertical_reach,
         };
         shared.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         let depth = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -28,16 +28,45 @@ use hydrolux_core::whitewater::{
 uniform! { WhitewaterParams;
     /// WGSL `WhitewaterParams` (passes/whitewater/whitewater.wgsl).
     pub(crate) struct WhitewaterUniforms {
-        pub grid: [i32; 4],
-        pub foam: [f32; 4],
-        pub drift: [f32; 4],
-        pub counts: [u32; 4],
-        pub air: [f32; 4],
+        pub grid_low: [i32; 2],
+        pub grid_cells: i32,
+        pub grid_periodic: i32,
+        pub cell: f32,
+        pub dt: f32,
+        pub foam_keep: f32,
+        pub fold_threshold: f32,
+        pub drift: [f32; 2],
+        pub fold_gain: f32,
+        pub ripple_gain: f32,
+        pub step: u32,
+        pub splash_count: u32,
+        pub capacity: u32,
+        pub parity: u32,
+        pub wind: [f32; 2],
+        pub floor_depth: f32,
+        pub max_age: f32,
         pub domain: [f32; 4],
-        pub emission: [f32; 4],
-        pub camera: [f32; 4],
-        pub bases: [u32; 4],
+        pub drop_radius: f32,
+        pub spray_rate: f32,
+        pub bubble_rate: f32,
+        pub emission_radius: f32,
+        pub camera: [f32; 2],
+        pub run: u32,
+        pub _pad0: u32,
+        pub deposits_base: u32,
+        pub gained_base: u32,
+        pub heads_base: u32,
+        pub bucket_mask: u32,
     }
+}
+
+/// Where the foam's window lies: the world point of its low corner (m),
+/// its side (m), and whether it tiles the plane (open water).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoamWindow {
+    pub origin: [f32; 2],
+    pub side: f32,
+    pub tiles: bool,
 }
 
 pub fn source() -> String {
@@ -540,15 +569,35 @@ impl Whitewater {
         };
         let parity = (self.steps % 2) as usize;
         let u = WhitewaterUniforms {
-            grid: [self.grid.low[0], self.grid.low[1], n as i32, self.grid.periodic as i32],
-            foam: [self.grid.cell, self.dt, self.keep, self.threshold],
-            drift: [self.drift[0], self.drift[1], FOLD_GAIN, RIPPLE_GAIN],
-            counts: [self.steps as u32, splashes.len() as u32, self.capacity, parity as u32],
-            air: [self.wind[0], self.wind[1], self.floor_depth, MAX_AGE],
+            grid_low: self.grid.low,
+            grid_cells: n as i32,
+            grid_periodic: self.grid.periodic as i32,
+            cell: self.grid.cell,
+            dt: self.dt,
+            foam_keep: self.keep,
+            fold_threshold: self.threshold,
+            drift: self.drift,
+            fold_gain: FOLD_GAIN,
+            ripple_gain: RIPPLE_GAIN,
+            step: self.steps as u32,
+            splash_count: splashes.len() as u32,
+            capacity: self.capacity,
+            parity: parity as u32,
+            wind: self.wind,
+            floor_depth: self.floor_depth,
+            max_age: MAX_AGE,
             domain,
-            emission: [SPRAY_DROP_RADIUS, self.spray_rate, self.bubble_rate, EMISSION_RADIUS],
-            camera: [cam[0], cam[1], self.run as f32, 0.0],
-            bases: [COUNTERS, COUNTERS + n * n, COUNTERS + n * n + self.capacity, self.table - 1],
+            drop_radius: SPRAY_DROP_RADIUS,
+            spray_rate: self.spray_rate,
+            bubble_rate: self.bubble_rate,
+            emission_radius: EMISSION_RADIUS,
+            camera: cam,
+            run: self.run,
+            _pad0: 0,
+            deposits_base: COUNTERS,
+            gained_base: COUNTERS + n * n,
+            heads_base: COUNTERS + n * n + self.capacity,
+            bucket_mask: self.table - 1,
         };
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         let group = &self.groups[parity];
@@ -614,26 +663,26 @@ impl Whitewater {
         self.mips_due = false;
     }
 
-    /// The surface's `foam_area`: x, z of the window's low corner (m), its
-    /// side (m), 1 if it tiles the plane (0 if not).
-    pub fn foam_area(&self) -> [f32; 4] {
+    /// Where the foam's window lies (the surface's `foam_origin`,
+    /// `foam_side`, `foam_tiles`).
+    pub fn foam_area(&self) -> FoamWindow {
         let side = self.grid.cell * self.grid.cells as f32;
-        let lo = [0, 1].map(|a| self.grid.low[a] as f32 * self.grid.cell);
-        [lo[0], lo[1], side, self.grid.periodic as u32 as f32]
+        let origin = [0, 1].map(|a| self.grid.low[a] as f32 * self.grid.cell);
+        FoamWindow { origin, side, tiles: self.grid.periodic }
     }
 
-    /// The surface's `foam_wind`: the wind's direction and how streaky the
+    /// The surface's `foam_wind` and `foam_streak`: the wind's direction and how streaky the
     /// foam is. Wind rows foam into streaks along itself (Langmuir
     /// circulation, wind streaks): longer the stronger it blows, 1 + U/6
     /// (up to 4) times as long as wide; still air leaves round patches.
-    pub fn foam_wind(&self) -> [f32; 4] {
+    pub fn foam_wind(&self) -> ([f32; 2], f32) {
         let d = self.drift;
         let speed = (d[0] * d[0] + d[1] * d[1]).sqrt();
         if speed <= 0.0 {
-            return [1.0, 0.0, 1.0, 0.0];
+            return ([1.0, 0.0], 1.0);
         }
         let u10 = speed / WIND_DRIFT;
-        [d[0] / speed, d[1] / speed, (1.0 + u10 / 6.0).min(4.0), 0.0]
+        ([d[0] / speed, d[1] / speed], (1.0 + u10 / 6.0).min(4.0))
     }
 
     /// Which alive list holds the particles now.

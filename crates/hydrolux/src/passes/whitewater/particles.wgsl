@@ -10,10 +10,17 @@
 #import constants, frame, sky_bindings, medium, particle, fog
 
 struct DrawParams {
-    // x capacity C, y alive list (0, 1)
-    list: vec4<u32>,
-    // x spray parcel size (m), y bubble cloud size (m), z shutter (s), w vertical reach of the surface (m)
-    sizes: vec4<f32>,
+    // Capacity C, which alive list is drawn (0, 1).
+    capacity: u32,
+    list: u32,
+    _pad0: u32,
+    _pad1: u32,
+    // Spray parcel size (m), bubble cloud size (m), shutter (s), vertical
+    // reach of the surface (m).
+    spray_size: f32,
+    bubble_size: f32,
+    shutter: f32,
+    vertical_reach: f32,
 }
 
 @group(1) @binding(0) var<uniform> params: DrawParams;
@@ -35,7 +42,7 @@ struct VertexOut {
 
 @vertex
 fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> VertexOut {
-    let slot = slots[params.list.y * params.list.x + i];
+    let slot = slots[params.list * params.capacity + i];
     let p = particles[slot];
     let corners = array<vec2<f32>, 6>(
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
@@ -43,7 +50,7 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
     );
     let c = corners[v];
     let is_bubble = p.kind == BUBBLE;
-    let size = select(params.sizes.x, max(params.sizes.y, 2.0 * p.radius), is_bubble);
+    let size = select(params.spray_size, max(params.bubble_size, 2.0 * p.radius), is_bubble);
     let eye = frame.view.position;
     let dist = max(distance(p.position, eye), 1e-3);
     // At least one pixel across; fainter by the area it lacks.
@@ -56,7 +63,7 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
     var half_length = 0.5 * drawn;
     // A streak along the motion across the view over the shutter.
     let across = p.velocity - forward * dot(p.velocity, forward);
-    let travel = length(across) * params.sizes.z;
+    let travel = length(across) * params.shutter;
     if (travel > drawn) {
         right = across / length(across);
         up = normalize(cross(right, forward));
@@ -97,7 +104,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         // still shows, dimmed by the water between.
         var through = vec3<f32>(1.0);
         if (particle_distance > scene_distance) {
-            let at_surface = abs(behind.y) < params.sizes.w;
+            let at_surface = abs(behind.y) < params.vertical_reach;
             if (!at_surface || eye.y < 0.0) {
                 discard;
             }

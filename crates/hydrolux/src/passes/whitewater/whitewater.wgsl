@@ -10,24 +10,47 @@
 #import constants, surface, particle
 
 struct WhitewaterParams {
-    // xy world cell of the window's low corner, z cells per side, w 1 if it tiles the plane
-    grid: vec4<i32>,
-    // x cell (m), y step dt (s), z foam kept per step e^(−dt/τ), w fold threshold J₀
-    foam: vec4<f32>,
-    // xy surface drift (m/s), z foam per second of a fully breaking cell, w ripple-slope source gain
-    drift: vec4<f32>,
-    // x step number, y splashes this step, z pool capacity, w which alive list is read (0, 1)
-    counts: vec4<u32>,
-    // xy wind at the surface (m/s), z floor depth (m), w particle age cap (s)
-    air: vec4<f32>,
-    // the particles' domain: x min, z min, x max, z max (m)
+    // The foam grid: world cell of the window's low corner, cells per
+    // side, 1 if it tiles the plane.
+    grid_low: vec2<i32>,
+    grid_cells: i32,
+    grid_periodic: i32,
+    // Cell (m), step dt (s), foam kept per step e^(−dt/τ), fold threshold J₀.
+    cell: f32,
+    dt: f32,
+    foam_keep: f32,
+    fold_threshold: f32,
+    // Surface drift (m/s), foam per second of a fully breaking cell,
+    // ripple-slope source gain.
+    drift: vec2<f32>,
+    fold_gain: f32,
+    ripple_gain: f32,
+    // Step number, splashes this step, pool capacity, which alive list is
+    // read (0, 1).
+    step: u32,
+    splash_count: u32,
+    capacity: u32,
+    parity: u32,
+    // Wind at the surface (m/s), floor depth (m), particle age cap (s).
+    wind: vec2<f32>,
+    floor_depth: f32,
+    max_age: f32,
+    // The particles' domain: x min, z min, x max, z max (m).
     domain: vec4<f32>,
-    // x spray drop radius (m), y crest spray per m²·s, z crest bubbles per m²·s, w emission radius (m)
-    emission: vec4<f32>,
-    // xy camera (x, z), z what runs (bit 0 fold source, bit 1 ripple source, bit 2 particles)
-    camera: vec4<f32>,
-    // Bases in `atomics`: x deposits, y gained, z hash heads; w the hash's bucket mask
-    bases: vec4<u32>,
+    // Spray drop radius (m), crest spray and bubbles per m²·s, emission radius (m).
+    drop_radius: f32,
+    spray_rate: f32,
+    bubble_rate: f32,
+    emission_radius: f32,
+    // Camera (x, z); what runs (bit 0 fold source, bit 1 ripple source, bit 2 particles).
+    camera: vec2<f32>,
+    run: u32,
+    _pad0: u32,
+    // Bases in `atomics`: deposits, gained, hash heads; the hash's bucket mask.
+    deposits_base: u32,
+    gained_base: u32,
+    heads_base: u32,
+    bucket_mask: u32,
 }
 
 struct Splash {
@@ -55,7 +78,7 @@ struct Splash {
 @group(0) @binding(3) var cover_out: texture_storage_2d_array<rgba16float, write>;
 @group(0) @binding(4) var<storage, read> splashes: array<Splash>;
 @group(0) @binding(5) var<storage, read_write> particles: array<Particle>;
-// Every atomic, at the bases in `params.bases`: the counters (alive count
+// Every atomic, at the bases in `params` (`deposits_base`…): the counters (alive count
 // of list 0 and list 1, free slots, emitted in total, lost), the foam left
 // by particles this step per cell (in 1/DEPOSIT_SCALE of F), the volume
 // merged into each slot this step, the merge hash's bucket heads.
@@ -137,7 +160,7 @@ fn sample_bubble_radius(u: f32) -> f32 {
 // ---------------------------------------------------------------- foam
 
 fn cells() -> i32 {
-    return params.grid.z;
+    return params.grid_cells;
 }
 
 fn storage_index(i: i32, j: i32) -> u32 {
@@ -146,9 +169,9 @@ fn storage_index(i: i32, j: i32) -> u32 {
 }
 
 fn inside(i: i32, j: i32) -> bool {
-    let lo = params.grid.xy;
+    let lo = params.grid_low;
     let n = cells();
-    return params.grid.w == 1 || (i >= lo.x && i < lo.x + n && j >= lo.y && j < lo.y + n);
+    return params.grid_periodic == 1 || (i >= lo.x && i < lo.x + n && j >= lo.y && j < lo.y + n);
 }
 
 fn foam_at(i: i32, j: i32) -> f32 {
@@ -159,7 +182,7 @@ fn foam_at(i: i32, j: i32) -> f32 {
 }
 
 fn foam_sample(x: f32, z: f32) -> f32 {
-    let c = params.foam.x;
+    let c = params.cell;
     let u = x / c - 0.5;
     let v = z / c - 0.5;
     let fi = floor(u);
@@ -176,50 +199,50 @@ fn foam_sample(x: f32, z: f32) -> f32 {
 fn world_cell(k: u32) -> vec2<i32> {
     let n = cells();
     let s = vec2<i32>(i32(k) % n, i32(k) / n);
-    let lo = params.grid.xy;
+    let lo = params.grid_low;
     return lo + (((s - lo) % n) + n) % n;
 }
 
 fn cell_of(x: f32, z: f32) -> u32 {
-    let c = params.foam.x;
+    let c = params.cell;
     return storage_index(i32(floor(x / c)), i32(floor(z / c)));
 }
 
 fn deposit(x: f32, z: f32, foam: f32) {
-    let c = params.foam.x;
+    let c = params.cell;
     let i = i32(floor(x / c));
     let j = i32(floor(z / c));
     if (!inside(i, j)) {
         return;
     }
     let units = u32(round(foam / (c * c) * DEPOSIT_SCALE));
-    atomicAdd(&atomics[params.bases.x + storage_index(i, j)], units);
+    atomicAdd(&atomics[params.deposits_base + storage_index(i, j)], units);
 }
 
 // Take a free slot for a new particle, or NONE when the pool is full.
 fn take_slot() -> u32 {
     let free = atomicSub(&atomics[COUNT_FREE], 1u);
-    if (free == 0u || free > params.counts.z) {
+    if (free == 0u || free > params.capacity) {
         atomicAdd(&atomics[COUNT_FREE], 1u);
         return NONE;
     }
-    return slots[FREE * params.counts.z + free - 1u];
+    return slots[FREE * params.capacity + free - 1u];
 }
 
 fn out_list() -> u32 {
-    return 1u - params.counts.w;
+    return 1u - params.parity;
 }
 
 fn append_alive(slot: u32) {
     let o = out_list();
     let at = atomicAdd(&atomics[o], 1u);
-    slots[o * params.counts.z + at] = slot;
+    slots[o * params.capacity + at] = slot;
 }
 
 fn release(slot: u32) {
     particles[slot].kind = DEAD;
     let at = atomicAdd(&atomics[COUNT_FREE], 1u);
-    slots[FREE * params.counts.z + at] = slot;
+    slots[FREE * params.capacity + at] = slot;
 }
 
 fn spawn(p: Particle) {
@@ -229,7 +252,7 @@ fn spawn(p: Particle) {
         return;
     }
     particles[slot] = p;
-    atomicStore(&atomics[params.bases.y + slot], 0u);
+    atomicStore(&atomics[params.gained_base + slot], 0u);
     atomicAdd(&atomics[COUNT_EMITTED], 1u);
     append_alive(slot);
 }
@@ -237,17 +260,17 @@ fn spawn(p: Particle) {
 // The foam's sources at a cell centre (F per second), and particles born
 // where crests break.
 fn foam_source(k: u32, x: f32, z: f32) -> f32 {
-    let run = u32(params.camera.z);
+    let run = params.run;
     if ((run & 3u) == 0u) {
         return 0.0;
     }
     // Prefiltered over the cell, as the calibration reads it: waves shorter
     // than a cell do not break a cell's worth of sea.
-    let s = surface_sample_footprint(vec2<f32>(x, z), params.foam.x);
+    let s = surface_sample_footprint(vec2<f32>(x, z), params.cell);
     var source = 0.0;
     if ((run & 1u) != 0u) {
-        let fold = clamp((params.foam.w - surface_jacobian(s)) / FOLD_RAMP, 0.0, 1.0);
-        source += params.drift.z * fold;
+        let fold = clamp((params.fold_threshold - surface_jacobian(s)) / FOLD_RAMP, 0.0, 1.0);
+        source += params.fold_gain * fold;
         if ((run & 4u) != 0u && fold > 0.0) {
             emit_crest(k, vec2<f32>(x, z), s, fold);
         }
@@ -257,7 +280,7 @@ fn foam_source(k: u32, x: f32, z: f32) -> f32 {
         // hollow is no free surface and makes none.
         let r = ripples_sample(vec2<f32>(x, z));
         let free = 1.0 - r.w;
-        source += params.drift.w * free * clamp((length(r.yz) - 0.3) / 0.3, 0.0, 1.0);
+        source += params.ripple_gain * free * clamp((length(r.yz) - 0.3) / 0.3, 0.0, 1.0);
     }
     return source;
 }
@@ -265,29 +288,29 @@ fn foam_source(k: u32, x: f32, z: f32) -> f32 {
 // Spray torn from a breaking crest and bubbles entrained under it, on the
 // tile of the periodic window nearest the camera, within the emission radius.
 fn emit_crest(k: u32, p: vec2<f32>, s: SurfaceSample, fold: f32) {
-    let period = params.foam.x * f32(cells());
+    let period = params.cell * f32(cells());
     var w = p + s.disp.xz;
-    if (params.grid.w == 1) {
-        w -= period * round((w - params.camera.xy) / period);
+    if (params.grid_periodic == 1) {
+        w -= period * round((w - params.camera) / period);
     }
-    if (distance(w, params.camera.xy) > params.emission.w) {
+    if (distance(w, params.camera) > params.emission_radius) {
         return;
     }
-    let area = params.foam.x * params.foam.x * params.foam.y * fold;
-    let step = params.counts.x;
-    let spray = u32(params.emission.y * area + random(step, k, 11u));
-    let bubbles = u32(params.emission.z * area + random(step, k, 12u));
-    let wind = params.air.xy;
+    let area = params.cell * params.cell * params.dt * fold;
+    let step = params.step;
+    let spray = u32(params.spray_rate * area + random(step, k, 11u));
+    let bubbles = u32(params.bubble_rate * area + random(step, k, 12u));
+    let wind = params.wind;
     for (var m = 0u; m < min(spray + bubbles, 8u); m++) {
         let id = hash_u32(step ^ hash_u32(k * 16u + m)) | 0x80000000u;
         let r1 = random(step, id, 1u);
         let r2 = random(step, id, 2u);
         let r3 = random(step, id, 3u);
-        let jitter = (vec2<f32>(r1, r2) - 0.5) * params.foam.x;
+        let jitter = (vec2<f32>(r1, r2) - 0.5) * params.cell;
         var q = Particle(vec3<f32>(w.x + jitter.x, s.disp.y, w.y + jitter.y), 0.0, vec3<f32>(0.0), BUBBLE, id, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
         if (m < spray) {
             q.kind = SPRAY;
-            q.radius = params.emission.x;
+            q.radius = params.drop_radius;
             q.position.y += 0.05;
             // Torn off at the crest's speed, mostly with the wind.
             q.velocity = vec3<f32>(wind.x * (0.3 + 0.4 * r3), 1.0 + 2.5 * r3, wind.y * (0.3 + 0.4 * r3));
@@ -318,20 +341,20 @@ fn foam_step(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let ij = world_cell(k);
-    let c = params.foam.x;
-    let dt = params.foam.y;
+    let c = params.cell;
+    let dt = params.dt;
     let x = (f32(ij.x) + 0.5) * c;
     let z = (f32(ij.y) + 0.5) * c;
     let carried = foam_sample(x - params.drift.x * dt, z - params.drift.y * dt);
     var source = foam_source(k, x, z);
-    for (var i = 0u; i < params.counts.y; i++) {
+    for (var i = 0u; i < params.splash_count; i++) {
         let sp = splashes[i];
         let d = vec2<f32>(x, z) - sp.position.xz;
         let u = dot(d, d) / (sp.radius * sp.radius);
         source += sp.foam * max(1.0 - u, 0.0) / dt;
     }
-    let landed = f32(atomicExchange(&atomics[params.bases.x + k], 0u)) / DEPOSIT_SCALE;
-    let f = min(carried * params.foam.z + source * dt + landed, FOAM_MAX);
+    let landed = f32(atomicExchange(&atomics[params.deposits_base + k], 0u)) / DEPOSIT_SCALE;
+    let f = min(carried * params.foam_keep + source * dt + landed, FOAM_MAX);
     foam_out[k] = f;
     let si = vec2<i32>(i32(k % n), i32(k / n));
     textureStore(cover_out, si, 0, vec4<f32>(foam_cover(f), 0.0, 0.0, 1.0));
@@ -345,7 +368,7 @@ fn foam_step(@builtin(global_invocation_id) id: vec3<u32>) {
 
 @compute @workgroup_size(1)
 fn begin() {
-    let count = atomicLoad(&atomics[params.counts.w]);
+    let count = atomicLoad(&atomics[params.parity]);
     atomicStore(&atomics[out_list()], 0u);
     args[0] = (count + 63u) / 64u;
     args[1] = 1u;
@@ -364,8 +387,8 @@ fn kick_texel(p: vec2<f32>) -> i32 {
     if (RIPPLES == 0u) {
         return -1;
     }
-    let cell = surface.ripple_area.w;
-    let n = i32(round(surface.ripple_area.z / cell));
+    let cell = surface.ripple_cell;
+    let n = i32(round(surface.ripple_side / cell));
     let c = vec2<i32>(floor(p / cell));
     let d = c - vec2<i32>(round(surface.ripple_window.xy / cell));
     if (any(d < vec2<i32>(0)) || any(d >= vec2<i32>(n))) {
@@ -396,23 +419,23 @@ fn finish() {
 }
 
 fn alive_slot(i: u32) -> u32 {
-    return slots[params.counts.w * params.counts.z + i];
+    return slots[params.parity * params.capacity + i];
 }
 
 fn alive_count() -> u32 {
-    return atomicLoad(&atomics[params.counts.w]);
+    return atomicLoad(&atomics[params.parity]);
 }
 
 @compute @workgroup_size(64)
 fn hash_clear(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x <= params.bases.w) {
-        atomicStore(&atomics[params.bases.z + id.x], NONE);
+    if (id.x <= params.bucket_mask) {
+        atomicStore(&atomics[params.heads_base + id.x], NONE);
     }
 }
 
 fn bucket(c: vec3<i32>) -> u32 {
     let h = hash_u32(u32(c.x) ^ hash_u32(u32(c.y) ^ hash_u32(u32(c.z))));
-    return h & params.bases.w;
+    return h & params.bucket_mask;
 }
 
 fn merge_cell(p: vec3<f32>) -> vec3<i32> {
@@ -425,12 +448,12 @@ fn hash_insert(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let slot = alive_slot(id.x);
-    slots[TARGET * params.counts.z + slot] = NONE;
+    slots[TARGET * params.capacity + slot] = NONE;
     if (particles[slot].kind != BUBBLE) {
         return;
     }
-    slots[CHAIN * params.counts.z + slot] =
-        atomicExchange(&atomics[params.bases.z + bucket(merge_cell(particles[slot].position))], slot);
+    slots[CHAIN * params.capacity + slot] =
+        atomicExchange(&atomics[params.heads_base + bucket(merge_cell(particles[slot].position))], slot);
 }
 
 // Each bubble picks the touching bubble of smallest id below its own.
@@ -451,7 +474,7 @@ fn merge_pick(@builtin(global_invocation_id) id: vec3<u32>) {
         for (var dy = -1; dy <= 1; dy++) {
             for (var dx = -1; dx <= 1; dx++) {
                 let c = home + vec3<i32>(dx, dy, dz);
-                var j = atomicLoad(&atomics[params.bases.z + bucket(c)]);
+                var j = atomicLoad(&atomics[params.heads_base + bucket(c)]);
                 for (var guard = 0u; j != NONE && guard < 64u; guard++) {
                     let b = particles[j];
                     let d = a.position - b.position;
@@ -460,12 +483,12 @@ fn merge_pick(@builtin(global_invocation_id) id: vec3<u32>) {
                         best = j;
                         best_id = b.id;
                     }
-                    j = slots[CHAIN * params.counts.z + j];
+                    j = slots[CHAIN * params.capacity + j];
                 }
             }
         }
     }
-    slots[TARGET * params.counts.z + slot] = best;
+    slots[TARGET * params.capacity + slot] = best;
 }
 
 // A bubble merges into its pick unless that one merges too; volume moves whole.
@@ -475,9 +498,9 @@ fn merge_apply(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let slot = alive_slot(id.x);
-    let t = slots[TARGET * params.counts.z + slot];
-    if (t != NONE && slots[TARGET * params.counts.z + t] == NONE) {
-        atomicAdd(&atomics[params.bases.y + t], particles[slot].volume);
+    let t = slots[TARGET * params.capacity + slot];
+    if (t != NONE && slots[TARGET * params.capacity + t] == NONE) {
+        atomicAdd(&atomics[params.gained_base + t], particles[slot].volume);
         particles[slot].kind = DEAD;
     }
 }
@@ -508,11 +531,11 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
         release(slot);
         return;
     }
-    let dt = params.foam.y;
+    let dt = params.dt;
     let newborn = p.age == 0.0;
     p.age += dt;
     if (p.kind == BUBBLE) {
-        let more = atomicExchange(&atomics[params.bases.y + slot], 0u);
+        let more = atomicExchange(&atomics[params.gained_base + slot], 0u);
         if (more > 0u) {
             p.volume = p.volume + min(more, 0xffffffffu - p.volume);
             p.radius = bubble_radius(p.volume);
@@ -528,7 +551,7 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
         let goal = vec3<f32>(water.x, water.y + rise, water.z);
         p.velocity = goal + (p.velocity - goal) * keep;
     } else {
-        let wind = params.air.xy;
+        let wind = params.wind;
         let k = drop_drag(p.radius);
         let rel = vec3<f32>(p.velocity.x - wind.x, p.velocity.y, p.velocity.z - wind.y);
         let speed = sqrt(rel.x * rel.x + rel.y * rel.y + rel.z * rel.z);
@@ -539,14 +562,14 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
     let finite = all(abs(p.position) < vec3<f32>(1e30)) && all(abs(p.velocity) < vec3<f32>(1e30));
     let d = params.domain;
     let inside = finite && p.position.x >= d.x && p.position.x <= d.z && p.position.z >= d.y
-        && p.position.z <= d.w && p.age <= params.air.w;
+        && p.position.z <= d.w && p.age <= params.max_age;
     if (!inside) {
         release(slot);
         return;
     }
     let h = water_height(p.position.x, p.position.z);
     if (p.kind == BUBBLE) {
-        p.position.y = max(p.position.y, -params.air.z + p.radius);
+        p.position.y = max(p.position.y, -params.floor_depth + p.radius);
         if (p.position.y >= h) {
             deposit(p.position.x, p.position.z, f32(p.volume) * VOLUME_UNIT_M3 * BURST_FOAM_PER_M3);
             release(slot);
@@ -567,7 +590,7 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
 // `first` to `first + spray + bubbles`).
 @compute @workgroup_size(64)
 fn emit(@builtin(global_invocation_id) id: vec3<u32>) {
-    let n = params.counts.y;
+    let n = params.splash_count;
     if (n == 0u) {
         return;
     }
@@ -581,7 +604,7 @@ fn emit(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let s = splashes[i];
     let k = id.x - s.first;
-    let step = params.counts.x;
+    let step = params.step;
     let pid = step * 1048576u + i * 1024u + k;
     let r1 = random(step, pid, 1u);
     let r2 = random(step, pid, 2u);
@@ -595,7 +618,7 @@ fn emit(@builtin(global_invocation_id) id: vec3<u32>) {
         let up = s.speed * (0.6 + 0.4 * r3);
         let out = s.speed * 0.5 * r2;
         p.kind = SPRAY;
-        p.radius = params.emission.x;
+        p.radius = params.drop_radius;
         p.position.y += 0.01;
         p.velocity = vec3<f32>(s.velocity.x * 0.5 + out * ca, up, s.velocity.z * 0.5 + out * sa);
     } else {
