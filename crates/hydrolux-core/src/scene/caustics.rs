@@ -42,6 +42,26 @@ impl Default for CausticsDesc {
 }
 
 impl CausticsDesc {
+    /// This section as quality tier `q` renders it ([`Quality::apply`]).
+    pub fn apply_quality(&mut self, q: Quality) {
+        match q {
+            Quality::Low => {
+                self.photons = self.photons.min(128);
+                self.map_resolution = self.map_resolution.min(128);
+                self.layers = self.layers.min(2);
+            }
+            Quality::Medium => {
+                self.photons = self.photons.min(256);
+                self.map_resolution = self.map_resolution.min(256);
+            }
+            Quality::Ultra => {
+                self.map_resolution = self.map_resolution.max(512);
+                self.photons = self.photons.max(1024);
+            }
+            Quality::High | Quality::Auto => {}
+        }
+    }
+
     /// The `[caustics]` section's rules (one line naming the bad key and what
     /// is allowed); checks that span sections are in `Scene::validate`.
     pub fn validate(&self) -> Result<(), SceneError> {

@@ -48,6 +48,13 @@ impl Default for GodRaysDesc {
 }
 
 impl GodRaysDesc {
+    /// This section as quality tier `q` renders it ([`Quality::apply`]).
+    pub fn apply_quality(&mut self, q: Quality) {
+        if q == Quality::Low {
+            self.resolution = self.resolution.min(0.25);
+        }
+    }
+
     /// The `[godrays]` section's rules (one line naming the bad key and what
     /// is allowed); checks that span sections are in `Scene::validate`.
     pub fn validate(&self) -> Result<(), SceneError> {

@@ -65,6 +65,13 @@ impl Default for OceanDesc {
 }
 
 impl OceanDesc {
+    /// This section as quality tier `q` renders it ([`Quality::apply`]).
+    pub fn apply_quality(&mut self, q: Quality) {
+        if q == Quality::Low {
+            self.resolution = self.resolution.min(128);
+        }
+    }
+
     /// The `[ocean]` section's rules (one line naming the bad key and what
     /// is allowed); checks that span sections are in `Scene::validate`.
     pub fn validate(&self) -> Result<(), SceneError> {

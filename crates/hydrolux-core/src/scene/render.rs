@@ -65,8 +65,9 @@ impl Quality {
         }
     }
 
-    /// `scene` as this (resolved) tier renders it. `high` is the scene as
-    /// written. Lower tiers cap what costs most per frame; `ultra` raises
+    /// `scene` as this (resolved) tier renders it: each section applies its
+    /// own caps (`apply_quality`, beside its `validate`). `high` is the scene
+    /// as written. Lower tiers cap what costs most per frame; `ultra` raises
     /// the floors of the textures that alias first:
     /// - low: caustics ≤ 128 photons per side on ≤ 128² maps, ≤ 2 layers;
     ///   traced water ≤ 128 cells, ≤ 256 steps a ray;
@@ -84,47 +85,13 @@ impl Quality {
     ///   foam ≥ 512 cells.
     pub fn apply(self, scene: &Scene) -> Scene {
         let mut s = scene.clone();
-        let cap_u = |v: &mut u32, max: u32| *v = (*v).min(max);
-        let cap_f = |v: &mut f32, max: f32| *v = v.min(max);
-        match self {
-            Quality::Low => {
-                cap_u(&mut s.caustics.photons, 128);
-                cap_u(&mut s.caustics.map_resolution, 128);
-                cap_u(&mut s.caustics.layers, 2);
-                cap_u(&mut s.water.trace_resolution, 128);
-                cap_u(&mut s.water.trace_steps, 256);
-                cap_u(&mut s.render.shadow_resolution, 1024);
-                cap_f(&mut s.render.reflection_resolution, 0.25);
-                cap_f(&mut s.godrays.resolution, 0.25);
-                cap_u(&mut s.ocean.resolution, 128);
-                cap_u(&mut s.ripples.resolution, 64.max(scene.ripple_cells_needed()));
-                cap_u(&mut s.whitewater.resolution, 128);
-                cap_u(&mut s.whitewater.budget, 16_384);
-                cap_f(&mut s.whitewater.memory, 6.0);
-                if s.whitewater.rate > 10 {
-                    s.whitewater.rate = 10;
-                }
-            }
-            Quality::Medium => {
-                cap_u(&mut s.caustics.photons, 256);
-                cap_u(&mut s.caustics.map_resolution, 256);
-                cap_u(&mut s.render.shadow_resolution, 2048);
-                cap_u(&mut s.water.trace_resolution, 256);
-                cap_u(&mut s.water.trace_steps, 1024);
-                cap_u(&mut s.ripples.resolution, 128.max(scene.ripple_cells_needed()));
-                cap_u(&mut s.whitewater.budget, 65_536);
-            }
-            Quality::Ultra => {
-                s.caustics.map_resolution = s.caustics.map_resolution.max(512);
-                s.caustics.photons = s.caustics.photons.max(1024);
-                s.render.shadow_resolution = s.render.shadow_resolution.max(4096);
-                s.render.reflection_resolution = 1.0;
-                s.water.trace_resolution = s.water.trace_resolution.max(512);
-                s.whitewater.budget = s.whitewater.budget.max(1 << 20);
-                s.whitewater.resolution = s.whitewater.resolution.max(512);
-            }
-            Quality::High | Quality::Auto => {}
-        }
+        s.caustics.apply_quality(self);
+        s.water.apply_quality(self);
+        s.render.apply_quality(self);
+        s.godrays.apply_quality(self);
+        s.ocean.apply_quality(self);
+        s.ripples.apply_quality(self, scene.ripple_cells_needed());
+        s.whitewater.apply_quality(self);
         s
     }
 }
@@ -174,6 +141,23 @@ impl Default for RenderDesc {
 }
 
 impl RenderDesc {
+    /// This section as quality tier `q` renders it ([`Quality::apply`]):
+    /// the shadow map and the reflections' texel density.
+    pub fn apply_quality(&mut self, q: Quality) {
+        match q {
+            Quality::Low => {
+                self.shadow_resolution = self.shadow_resolution.min(1024);
+                self.reflection_resolution = self.reflection_resolution.min(0.25);
+            }
+            Quality::Medium => self.shadow_resolution = self.shadow_resolution.min(2048),
+            Quality::Ultra => {
+                self.shadow_resolution = self.shadow_resolution.max(4096);
+                self.reflection_resolution = 1.0;
+            }
+            Quality::High | Quality::Auto => {}
+        }
+    }
+
     /// The `[render]` section's rules (one line naming the bad key and what
     /// is allowed); checks that span sections are in `Scene::validate`.
     pub fn validate(&self) -> Result<(), SceneError> {

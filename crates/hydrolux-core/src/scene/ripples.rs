@@ -4,7 +4,7 @@
 //! `waves::ripples`.
 
 use super::rules::range;
-use super::{Scene, SceneError};
+use super::{Quality, Scene, SceneError};
 use crate::waves::ripples::{
     Drop, RippleBoundary, RippleGrid, RippleSettings, WATER_TENSION, WATER_VISCOSITY,
 };
@@ -112,6 +112,18 @@ impl Scene {
 pub const CLOCK_HZ: u32 = 120;
 
 impl RipplesDesc {
+    /// This section as quality tier `q` renders it ([`Quality::apply`]):
+    /// never coarser than `cells_needed`, what the scene's drops and the
+    /// pointer's crater need ([`Scene::ripple_cells_needed`]).
+    pub fn apply_quality(&mut self, q: Quality, cells_needed: u32) {
+        let cap = match q {
+            Quality::Low => 64,
+            Quality::Medium => 128,
+            _ => return,
+        };
+        self.resolution = self.resolution.min(cap.max(cells_needed));
+    }
+
     /// The `[ripples]` section's rules (one line naming the bad key and
     /// what is allowed).
     pub fn validate(&self) -> Result<(), SceneError> {

@@ -159,6 +159,23 @@ impl Default for WaterDesc {
 }
 
 impl WaterDesc {
+    /// This section as quality tier `q` renders it ([`Quality::apply`]):
+    /// the traced water's cells and steps.
+    pub fn apply_quality(&mut self, q: Quality) {
+        match q {
+            Quality::Low => {
+                self.trace_resolution = self.trace_resolution.min(128);
+                self.trace_steps = self.trace_steps.min(256);
+            }
+            Quality::Medium => {
+                self.trace_resolution = self.trace_resolution.min(256);
+                self.trace_steps = self.trace_steps.min(1024);
+            }
+            Quality::Ultra => self.trace_resolution = self.trace_resolution.max(512),
+            Quality::High | Quality::Auto => {}
+        }
+    }
+
     /// The `[water]` section's rules (one line naming the bad key and what
     /// is allowed); checks that span sections are in `Scene::validate`.
     pub fn validate(&self) -> Result<(), SceneError> {

@@ -3,7 +3,7 @@
 //! `crate::whitewater`.
 
 use super::rules::range;
-use super::{CLOCK_HZ, Scene, SceneError, WaterModel};
+use super::{CLOCK_HZ, Quality, Scene, SceneError, WaterModel};
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -57,6 +57,24 @@ impl Default for WhitewaterDesc {
 }
 
 impl WhitewaterDesc {
+    /// This section as quality tier `q` renders it ([`Quality::apply`]).
+    pub fn apply_quality(&mut self, q: Quality) {
+        match q {
+            Quality::Low => {
+                self.resolution = self.resolution.min(128);
+                self.budget = self.budget.min(16_384);
+                self.memory = self.memory.min(6.0);
+                self.rate = self.rate.min(10);
+            }
+            Quality::Medium => self.budget = self.budget.min(65_536),
+            Quality::Ultra => {
+                self.budget = self.budget.max(1 << 20);
+                self.resolution = self.resolution.max(512);
+            }
+            Quality::High | Quality::Auto => {}
+        }
+    }
+
     pub fn validate(&self) -> Result<(), SceneError> {
         let w = self;
         if !(32..=1024).contains(&w.resolution) || !w.resolution.is_power_of_two() {
