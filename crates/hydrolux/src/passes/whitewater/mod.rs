@@ -14,6 +14,7 @@
 pub mod draw;
 
 use crate::gpu_util::*;
+use crate::history::PingPong;
 use crate::mips::{Downsampler, MipChain};
 use crate::shaders;
 use crate::surface_kind::{SurfaceKind, specialised_to};
@@ -58,6 +59,13 @@ uniform! { WhitewaterParams;
         pub heads_base: u32,
         pub bucket_mask: u32,
     }
+}
+
+/// One of the foam's two copies and the step's bind group that reads it.
+#[derive(Debug)]
+struct FoamSlot {
+    buffer: wgpu::Buffer,
+    group: wgpu::BindGroup,
 }
 
 /// Where the foam's window lies: the world point of its low corner (m),
@@ -165,8 +173,7 @@ pub struct Whitewater {
     run: u32,
     spray_rate: f32,
     bubble_rate: f32,
-    /// Steps taken, and clock steps followed.
-    pub steps: u64,
+    /// Clock steps followed (the steps taken are the foam's).
     clock_steps: u64,
     /// Splashes for the next steps (the caller's, bodies', drops').
     pending: Vec<Splash>,
@@ -174,7 +181,9 @@ pub struct Whitewater {
     /// batches: clear once).
     forgotten: bool,
     params: wgpu::Buffer,
-    foam: [wgpu::Buffer; 2],
+    /// The foam per cell, and the step's bind group reading it (and
+    /// writing the other): slot n % 2 after n steps.
+    foam: PingPong<FoamSlot>,
     splashes: wgpu::Buffer,
     pub(crate) particles: wgpu::Buffer,
     atomics: wgpu::Buffer,
@@ -183,7 +192,6 @@ pub struct Whitewater {
     /// Cover per cell (mipmapped), bound with the surface.
     pub cover: wgpu::Texture,
     cover_chain: MipChain,
-    groups: [wgpu::BindGroup; 2],
     args_group: wgpu::BindGroup,
     /// `update`'s group 2: the interactive water's landing-spray kicks
     /// (a stand-in buffer without interactive water).
@@ -355,7 +363,12 @@ impl Whitewater {
                 ],
             })
         };
-        let groups = [group(0), group(1)];
+        let [even_group, odd_group] = [group(0), group(1)];
+        let [even_foam, odd_foam] = foam;
+        let foam = PingPong::new(
+            FoamSlot { buffer: even_foam, group: even_group },
+            FoamSlot { buffer: odd_foam, group: odd_group },
+        );
         let args_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("particle arguments"),
             layout: &args_layout,
@@ -411,7 +424,6 @@ impl Whitewater {
             run,
             spray_rate: if w.particles { w.spray_rate } else { 0.0 },
             bubble_rate: if w.particles { w.bubble_rate } else { 0.0 },
-            steps: 0,
             clock_steps: 0,
             pending: Vec::new(),
             forgotten: false,
@@ -424,7 +436,6 @@ impl Whitewater {
             args,
             cover,
             cover_chain,
-            groups,
             args_group,
             kicks_layout,
             kicks_group,
@@ -454,8 +465,8 @@ impl Whitewater {
 
     fn reset_buffers(&self, queue: &wgpu::Queue) {
         let n2 = (self.grid.cells * self.grid.cells) as usize;
-        for f in &self.foam {
-            queue.write_buffer(f, 0, bytemuck::cast_slice(&vec![0.0f32; n2]));
+        for f in self.foam.both() {
+            queue.write_buffer(&f.buffer, 0, bytemuck::cast_slice(&vec![0.0f32; n2]));
         }
         let mut atomics = vec![0u32; (COUNTERS + n2 as u32 + self.capacity + self.table) as usize];
         atomics[COUNT_FREE] = self.capacity;
@@ -474,7 +485,7 @@ impl Whitewater {
     /// Start again with no foam and no particles at clock step `from`.
     pub fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
         self.reset_buffers(queue);
-        self.steps = from / self.stride;
+        self.foam.start_at(from / self.stride);
         self.clock_steps = from;
         self.pending.clear();
         self.mips_due = true;
@@ -521,7 +532,7 @@ impl Whitewater {
             at = boundary.max(at);
         }
         self.clock_steps = end;
-        self.steps = self.steps.max(start);
+        self.foam.start_at(self.foam.steps().max(start));
         out
     }
 
@@ -567,7 +578,7 @@ impl Whitewater {
             let side = self.grid.cell * n as f32;
             [lo[0], lo[1], lo[0] + side, lo[1] + side]
         };
-        let parity = (self.steps % 2) as usize;
+        let parity = self.foam.parity();
         let u = WhitewaterUniforms {
             grid_low: self.grid.low,
             grid_cells: n as i32,
@@ -579,7 +590,7 @@ impl Whitewater {
             drift: self.drift,
             fold_gain: FOLD_GAIN,
             ripple_gain: RIPPLE_GAIN,
-            step: self.steps as u32,
+            step: self.foam.steps() as u32,
             splash_count: splashes.len() as u32,
             capacity: self.capacity,
             parity: parity as u32,
@@ -600,7 +611,7 @@ impl Whitewater {
             bucket_mask: self.table - 1,
         };
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
-        let group = &self.groups[parity];
+        let group = &self.foam.current().group;
         let p = &self.pipelines;
         let particles = self.run & RUN_PARTICLES != 0;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -645,7 +656,7 @@ impl Whitewater {
         pass.set_pipeline(&p.finish);
         pass.dispatch_workgroups(1, 1, 1);
         drop(pass);
-        self.steps += 1;
+        self.foam.swap();
         self.forgotten = false;
         self.mips_due = true;
     }
@@ -687,7 +698,7 @@ impl Whitewater {
 
     /// Which alive list holds the particles now.
     pub fn list(&self) -> u32 {
-        (self.steps % 2) as u32
+        self.foam.parity() as u32
     }
 
     /// The foam now (F per cell), row = z from the window's low corner.
@@ -695,8 +706,8 @@ impl Whitewater {
         let raw: Vec<f32> = bytemuck::cast_slice(&read_buffer(
             device,
             queue,
-            &self.foam[(self.steps % 2) as usize],
-            self.foam[0].size(),
+            &self.foam.current().buffer,
+            self.foam.current().buffer.size(),
         ))
         .to_vec();
         let n = self.grid.cells as usize;
