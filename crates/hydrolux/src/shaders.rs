@@ -31,6 +31,7 @@ const MODULES: &[(&str, &str)] = &[
     ("ray_primitive", include_str!("shaders/ray_primitive.wgsl")),
     // Modules of one technique that another reuses.
     ("geometry_common", include_str!("meshes/geometry_common.wgsl")),
+    ("caustic_params", include_str!("passes/caustics/params.wgsl")),
     ("particle", include_str!("passes/whitewater/particle.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
     ("traced", include_str!("passes/raytrace/traced.wgsl")),

@@ -46,11 +46,6 @@ impl Layout {
         }
     }
 
-    /// The same layout under another WGSL name.
-    pub fn named(self, wgsl_name: &'static str) -> Self {
-        Layout { wgsl_name, ..self }
-    }
-
     /// A storage record checked by size only.
     pub fn sized(wgsl_name: &'static str, source: String, size: usize) -> Self {
         Layout { wgsl_name, source, size, fields: Vec::new() }

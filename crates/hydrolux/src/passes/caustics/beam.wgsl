@@ -6,22 +6,9 @@
 // vertex computes its whole triangle (WebGPU has no geometry shaders), so the
 // draw is non-indexed: 6 vertices per grid cell, 9 instances for the
 // periodic neighbours of the patch; one pass per layer (instance / 9).
-#import constants, frame, optics, surface
+#import constants, frame, optics, surface, caustic_params
 
-struct BeamParams {
-    // Photons per side, map cells per side (M), beam grid cells per side,
-    // layers (layer k lies at depth (k + 1)/layers × the floor depth).
-    photons: u32,
-    cells: u32,
-    beam_cells: u32,
-    layers: u32,
-    // Patch size (m), floor depth (m), fixed-point scale.
-    patch_size: vec2<f32>,
-    floor_depth: f32,
-    fixed_point_scale: f32,
-}
-
-@group(2) @binding(0) var<uniform> beam: BeamParams;
+@group(2) @binding(0) var<uniform> beam: CausticParams;
 
 struct BeamOut {
     @builtin(position) clip: vec4<f32>,

@@ -8,20 +8,7 @@
 // nearest cells in fixed point (WebGPU has no float atomics). Then a
 // periodic 3×3 binomial filter into the map texture array. CPU twin (one
 // plane): hydrolux_core::caustics (the unit and the formulas are there).
-#import constants, frame, optics, surface, photon
-
-struct CausticParams {
-    // Photons per side, map cells per side (M), beam grid cells per side,
-    // layers (layer k lies at depth (k + 1)/layers × the floor depth).
-    photons: u32,
-    cells: u32,
-    beam_cells: u32,
-    layers: u32,
-    // Patch size (m), floor depth (m), fixed-point scale.
-    patch_size: vec2<f32>,
-    floor_depth: f32,
-    fixed_point_scale: f32,
-}
+#import constants, frame, optics, surface, photon, caustic_params
 
 @group(2) @binding(0) var<uniform> params: CausticParams;
 @group(2) @binding(1) var<storage, read_write> accum: array<atomic<u32>>;

@@ -24,7 +24,7 @@ pub fn source() -> String {
 }
 
 crate::uniforms::uniform! { CausticParams;
-    /// WGSL `CausticParams` (and `BeamParams`, the same layout).
+    /// WGSL `CausticParams` (passes/caustics/params.wgsl).
     pub struct CausticUniforms {
         pub photons: u32,
         pub cells: u32,
@@ -350,7 +350,7 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
         use crate::uniforms::Layout;
         vec![
             Layout::of::<CausticUniforms>(source()),
-            Layout::of::<CausticUniforms>(beam_source()).named("BeamParams"),
+            Layout::of::<CausticUniforms>(beam_source()),
             Layout::of::<crate::uniforms::FrameCaustics>(source()),
         ]
     },
