@@ -326,8 +326,10 @@ impl Renderer {
         if let Some(truth) = self.truth.as_mut().filter(|_| scene.render.view == DebugView::Error) {
             truth.set_scene(&self.shared, &self.scene, scene)?;
         }
+        // Techniques keep their screen-size resources through an edit (what
+        // sizes them is in the targets' key); only a new traced water needs
+        // its own (`update_truth`).
         self.update_truth(scene)?;
-        self.resize_techniques();
         self.scene = scene.clone();
         self.last_plan = None;
         self.update_sky();
@@ -335,7 +337,7 @@ impl Renderer {
     }
 
     /// Let every technique (and the error view's traced water) build what
-    /// it keeps at the screen targets' size, if there are targets yet.
+    /// it keeps at the screen targets' size: once per new set of targets.
     fn resize_techniques(&mut self) {
         let Some(targets) = &self.targets else { return };
         for t in self.techniques.each_mut() {
@@ -353,8 +355,11 @@ impl Renderer {
         if !wanted {
             self.truth = None;
         } else if self.truth.is_none() {
-            let truth =
+            let mut truth =
                 crate::passes::truth::TruthView::new(&self.shared, scene, &self.techniques.water)?;
+            if let Some(targets) = &self.targets {
+                crate::technique::Technique::resize(&mut truth.water, &self.shared, targets);
+            }
             self.truth = Some(Box::new(truth));
         }
         Ok(())

@@ -207,9 +207,9 @@ pub(crate) trait Technique {
     fn prepare(&mut self, _queue: &wgpu::Queue, _frame: &FrameContext) {}
 
     /// The screen-size targets were made anew (the output's size or a
-    /// setting that sizes them changed, or the scene was edited): build
-    /// what the technique keeps at that size (its own targets, the bind
-    /// groups over the shared ones).
+    /// setting that sizes them changed): build what the technique keeps at
+    /// that size (its own targets, the bind groups over the shared ones).
+    /// A technique that remakes itself on a scene edit keeps these.
     fn resize(&mut self, _shared: &Shared, _targets: &Targets) {}
 
     /// Record this technique's own passes for `stage`.

@@ -17,6 +17,8 @@ fn editing_the_scene_live_gives_the_same_image_as_a_fresh_renderer() {
         &["water.model=flat"],
         &["water.model=sines", "godrays.method=march"],
         &["render.shadow_resolution=512", "caustics.photons=128", "water.medium=coastal"],
+        // The error view's traced water is made after the screen targets.
+        &["render.view=error"],
     ];
     let mut live = renderer(&ctx, &base);
     let target = HeadlessTarget::new(&ctx.device, size);
