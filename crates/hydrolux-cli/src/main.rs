@@ -124,6 +124,10 @@ fn info() -> Result<()> {
     match caps.check_supported() {
         Ok(()) => {
             println!(
+                "simulations (step order, those a scene has run): {}",
+                hydrolux::simulation_names().join(", ")
+            );
+            println!(
                 "techniques (frame order, all run): {}",
                 hydrolux::technique_names().join(", ")
             )

@@ -5,7 +5,7 @@
 //! model plus the interactive water), integrated column by column over each
 //! body's footprint. A body's columns are also what it gives to or takes
 //! from the water each step (`waves::ripples`): the GPU twin is
-//! `body_column` in `passes/ripples/ripples.wgsl`.
+//! `body_column` in `simulation/ripples/ripples.wgsl`.
 
 pub use crate::coupling::{Pose, Shape, body_column};
 use crate::scene::{ObjectDesc, Scene};

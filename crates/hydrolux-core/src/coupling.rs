@@ -5,7 +5,7 @@
 //! gives it. The bodies (`bodies`), the interactive water (`waves::ripples`)
 //! and the white water (`whitewater`) each import this leaf, never each
 //! other. GPU twins: `body_column`, `held_depth`, `body_depth` and
-//! `drop_height` in `passes/ripples/ripples.wgsl`.
+//! `drop_height` in `simulation/ripples/ripples.wgsl`.
 
 use glam::{DQuat, DVec3};
 

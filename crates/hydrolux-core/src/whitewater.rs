@@ -1,7 +1,7 @@
 //! White water: foam that lives on the surface, bubbles under it and spray
 //! over it (seed 003 §4.4 foam, §4.5 bubbles after Thürey et al. 2007,
 //! §4.6 splashes, §2.3 particle systems). The CPU twin of
-//! `passes/whitewater` in the renderer: the same formulas in the same f32
+//! `simulation/whitewater` in the renderer: the same formulas in the same f32
 //! arithmetic and order, so the GPU's fields and particles can be compared
 //! with these.
 //!

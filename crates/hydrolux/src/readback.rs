@@ -2,11 +2,11 @@
 //! outside the frame: for tests, dumps and callers (buoyancy, tools).
 
 use crate::gpu_util::*;
-pub use crate::passes::whitewater::ParticleCounts;
 use crate::renderer::{Renderer, f16_to_f32};
-use hydrolux_core::scene::WaterModel;
+pub use crate::simulation::ripples::readback::RippleField;
+pub use crate::simulation::whitewater::ParticleCounts;
+pub use crate::simulation::whitewater::readback::FoamDump;
 use hydrolux_core::waves::SurfaceSample;
-use hydrolux_core::whitewater::{Particle, WHITECAP_FOAM};
 
 impl Renderer {
     /// An RGBA half-float texture's texels as f32, rows top to bottom.
@@ -106,13 +106,6 @@ impl Renderer {
         Some((t.size.0, t.size.1, self.read_rgba16f(&t.hdr)))
     }
 
-    /// The FFT fields of every cascade after the last simulation step (see
-    /// [`OceanPass::read_fields`]); `None` unless `water.model = "fft"`.
-    pub fn read_ocean_fields(&self) -> Option<Vec<[f32; 8]>> {
-        (self.scene.water.model == WaterModel::Fft)
-            .then(|| self.techniques.surface.ocean.read_fields(self.device(), self.queue()))
-    }
-
     /// The surface as the renderer samples it (finest level) at undisplaced
     /// points (x, z), after the last simulation step.
     pub fn probe_surface(&self, points: &[[f32; 2]]) -> Vec<SurfaceSample> {
@@ -160,21 +153,6 @@ impl Renderer {
         )
     }
 
-    /// The interactive water after the last frame or simulation step:
-    /// heights (m) over its domain, row = z, col = x, and where the domain
-    /// lies; `None` without `water.dynamic`.
-    pub fn read_ripples(&self) -> Option<RippleField> {
-        let r = self.techniques.surface.dynamics.as_ref()?.ripples.as_ref()?;
-        let g = r.settings.grid;
-        Some(RippleField {
-            cells: g.cells as u32,
-            cell_size: g.cell_size as f32,
-            origin: [0, 1].map(|a| r.window.low_edge(&g, a) as f32),
-            heights: r.read_heights(self.device(), self.queue()),
-            time: self.simulation_time(),
-        })
-    }
-
     /// Trace rays (origin, direction, reach in m) against the ground's
     /// heightfield on the GPU, as `water.method = "raytrace"` does: each
     /// ray's distance to its first hit, `None` where it hits nothing. `None`
@@ -207,86 +185,5 @@ impl Renderer {
     /// `raytrace::caustics` is the CPU twin).
     pub fn read_traced_caustics(&self) -> Option<(Vec<f32>, [f32; 4])> {
         self.techniques.water.traced.read_caustics(self.device(), self.queue())
-    }
-
-    /// The foam field after the last frame or simulation step (foam F
-    /// per cell, row = z, col = x) and where its window lies; `None` without
-    /// `[whitewater]` foam.
-    pub fn read_foam(&self) -> Option<FoamDump> {
-        let w = self.techniques.surface.whitewater.as_ref()?;
-        let area = w.foam_area();
-        Some(FoamDump {
-            cells: w.grid.cells,
-            cell_size: w.grid.cell,
-            origin: area.origin,
-            amount: w.read_foam(self.device(), self.queue()),
-            time: self.simulation_time(),
-        })
-    }
-
-    /// The bubbles and spray alive after the last frame or simulation step
-    /// (in no particular order); `None` when the scene runs no particles.
-    pub fn read_particles(&self) -> Option<Vec<Particle>> {
-        let w = self.techniques.surface.whitewater.as_ref().filter(|w| w.has_particles())?;
-        Some(w.read_particles(self.device(), self.queue()))
-    }
-
-    /// The particle pool's counts now; `None` when the scene runs no
-    /// particles.
-    pub fn particle_counts(&self) -> Option<ParticleCounts> {
-        let w = self.techniques.surface.whitewater.as_ref().filter(|w| w.has_particles())?;
-        Some(w.counts(self.device(), self.queue()))
-    }
-
-    pub fn ocean_resolution(&self) -> u32 {
-        self.techniques.surface.ocean.n
-    }
-}
-
-/// The foam field over its square window.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FoamDump {
-    /// Cells per side.
-    pub cells: u32,
-    /// Side of a cell (m).
-    pub cell_size: f32,
-    /// World [x, z] (m) of the window's corner: cell (i, j) is centred at
-    /// origin + (i + ½, j + ½)·cell_size.
-    pub origin: [f32; 2],
-    /// Foam F per cell (1 = a freshly broken crest; white above ln 2).
-    pub amount: Vec<f32>,
-    /// Simulated time (s) of the state.
-    pub time: f64,
-}
-
-impl FoamDump {
-    /// The fraction of the window covered by whitecaps (F above ln 2), as
-    /// hydrolux-core's `FoamField::coverage` counts it.
-    pub fn coverage(&self) -> f64 {
-        let white = self.amount.iter().filter(|&&f| f > WHITECAP_FOAM).count();
-        white as f64 / self.amount.len().max(1) as f64
-    }
-}
-
-/// The interactive water's heights over its square domain.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RippleField {
-    /// Cells per side.
-    pub cells: u32,
-    /// Side of a cell (m).
-    pub cell_size: f32,
-    /// World [x, z] (m) of the domain's corner: cell (i, j) is centred at
-    /// origin + (i + ½, j + ½)·cell_size.
-    pub origin: [f32; 2],
-    /// Height above the mean level (m), row = z, col = x.
-    pub heights: Vec<f32>,
-    /// Simulated time (s) of the state.
-    pub time: f64,
-}
-
-impl RippleField {
-    /// Volume above the mean level (m³).
-    pub fn volume(&self) -> f64 {
-        self.heights.iter().map(|&h| h as f64).sum::<f64>() * (self.cell_size as f64).powi(2)
     }
 }

@@ -8,10 +8,13 @@
 
 use crate::error::RenderError;
 use crate::passes::{
-    caustics, geometry, godrays, probe, raytrace, sky, surface, tonemap, truth, water, water_object,
+    caustics, geometry, godrays, probe, raytrace, sky, tonemap, truth, water, water_object,
 };
-use crate::technique::{Shared, Technique, TechniqueInfo};
+use crate::plan::World;
+use crate::simulation::whitewater::draw as particles;
+use crate::technique::{Bound, Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
+use hydrolux_core::sky::SkyParams;
 
 macro_rules! registry {
     ($($field:ident: $ty:ty => $info:path),* $(,)?) => {
@@ -78,7 +81,7 @@ macro_rules! registry {
 
 registry! {
     sky: sky::SkyPass => sky::INFO,
-    surface: surface::Surface => surface::INFO,
+    particles: particles::Particles => particles::INFO,
     caustics: caustics::Caustics => caustics::INFO,
     geometry: geometry::Geometry => geometry::INFO,
     water_objects: water_object::WaterObjects => water_object::INFO,
@@ -107,7 +110,125 @@ const FRAME_INFO: TechniqueInfo = TechniqueInfo {
     },
 };
 
+/// Samplers the frame globals bind.
+pub(crate) struct GlobalSamplers {
+    sky: wgpu::Sampler,
+    shadow: wgpu::Sampler,
+    caustics: wgpu::Sampler,
+}
+
+impl GlobalSamplers {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let linear = wgpu::FilterMode::Linear;
+        GlobalSamplers {
+            sky: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("sky"),
+                mag_filter: linear,
+                min_filter: linear,
+                mipmap_filter: wgpu::MipmapFilterMode::Linear,
+                ..Default::default()
+            }),
+            shadow: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow"),
+                mag_filter: linear,
+                min_filter: linear,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            }),
+            caustics: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("caustic map"),
+                address_mode_u: wgpu::AddressMode::Repeat,
+                address_mode_v: wgpu::AddressMode::Repeat,
+                mag_filter: linear,
+                min_filter: linear,
+                ..Default::default()
+            }),
+        }
+    }
+}
+
 impl Techniques {
+    /// The bind groups over what techniques write and others read: the
+    /// frame globals (group 0: the frame's uniforms and what the sky,
+    /// geometry's shadow map, caustics and water objects wrote), the
+    /// shadow map's values, and the published surface.
+    pub fn bound(
+        &self,
+        shared: &Shared,
+        samplers: &GlobalSamplers,
+        published: &crate::simulation::Published,
+    ) -> Bound {
+        let tv = wgpu::BindingResource::TextureView;
+        let sampler = wgpu::BindingResource::Sampler;
+        let globals = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals"),
+            layout: &shared.layouts.globals,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: shared.frame_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry { binding: 1, resource: self.sky.params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: tv(&self.sky.cube_view) },
+                wgpu::BindGroupEntry { binding: 3, resource: sampler(&samplers.sky) },
+                wgpu::BindGroupEntry { binding: 4, resource: tv(&self.geometry.shadow.view) },
+                wgpu::BindGroupEntry { binding: 5, resource: sampler(&samplers.shadow) },
+                wgpu::BindGroupEntry { binding: 6, resource: tv(&self.caustics.map.view) },
+                wgpu::BindGroupEntry { binding: 7, resource: sampler(&samplers.caustics) },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: tv(&self.water_objects.light.map_view),
+                },
+            ],
+        });
+        let shadow_values = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow values"),
+            layout: &shared.layouts.shadow_values,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: tv(&self.geometry.shadow.view),
+            }],
+        });
+        Bound { globals, surface: published.surface().group.clone(), shadow_values }
+    }
+
+    /// What the frame plan needs to know of the techniques and the
+    /// published surface.
+    pub fn world(
+        &self,
+        shared: &Shared,
+        surface: &crate::simulation::published::SurfaceState,
+        sky: SkyParams,
+    ) -> World {
+        World {
+            shadow_bounds: shared.geometry.shadow_bounds,
+            refractive_bounds: shared.geometry.refractive_bounds,
+            has_geometry: shared.geometry.triangle_count > 0,
+            vertical_reach: surface.vertical_reach,
+            cull_margin: surface.bounds_margin,
+            surface_moving: surface.moving,
+            unresolved_variance: surface.unresolved_variance,
+            shadow_resolution: self.geometry.shadow.resolution,
+            object_light_resolution: self.water_objects.light.resolution,
+            sky,
+            sky_irradiance: self.sky.irradiance,
+            caustics_current: self.caustics.current,
+            object_light_current: self.water_objects.current,
+        }
+    }
+
+    /// The sun or sky changed: bake the sky again.
+    pub fn set_sky(&mut self, queue: &wgpu::Queue, sky: SkyParams) {
+        self.sky.irradiance = hydrolux_core::sky::sky_irradiance_up(&sky);
+        self.sky.prepare(queue, sky);
+    }
+
+    /// The surface changed outside the clock (a caller's heightfield):
+    /// what is computed from it is due again.
+    pub fn surface_edited(&mut self) {
+        self.caustics.current = false;
+    }
+
     /// Links between techniques: what one writes and another reads. The
     /// god rays draw the refractive objects' paths (their buffer belongs to
     /// the water objects, which write it) into the fog.
@@ -119,6 +240,18 @@ impl Techniques {
     }
 }
 
+/// Every technique's and simulation's shaders and uniforms (what the
+/// offline checks validate).
+#[cfg(test)]
+pub(crate) fn validated() -> impl Iterator<Item = &'static TechniqueInfo> {
+    TECHNIQUES.iter().chain(crate::simulation::SIMULATIONS)
+}
+
+/// The names of the renderer's simulations, in the order they step.
+pub fn simulation_names() -> Vec<&'static str> {
+    crate::simulation::SIMULATIONS.iter().map(|s| s.name).collect()
+}
+
 /// The names of the renderer's techniques, in frame order.
 pub fn technique_names() -> Vec<&'static str> {
     TECHNIQUES[..ORDER.len()].iter().map(|t| t.name).collect()
@@ -126,7 +259,6 @@ pub fn technique_names() -> Vec<&'static str> {
 
 #[cfg(test)]
 mod tests {
-    use super::TECHNIQUES;
     use crate::uniforms::{Field, Layout};
 
     fn parse(name: &str, source: &str) -> naga::Module {
@@ -136,7 +268,7 @@ mod tests {
 
     #[test]
     fn every_shader_composes_parses_and_validates() {
-        let shaders: Vec<_> = TECHNIQUES.iter().flat_map(|t| (t.shaders)()).collect();
+        let shaders: Vec<_> = super::validated().flat_map(|t| (t.shaders)()).collect();
         assert!(shaders.len() >= 20, "{} shaders", shaders.len());
         for (name, source) in shaders {
             let module = parse(&name, &source);
@@ -168,7 +300,7 @@ mod tests {
 
     #[test]
     fn every_uniform_field_has_the_wgsl_offset_and_size_by_name() {
-        let layouts: Vec<Layout> = TECHNIQUES.iter().flat_map(|t| (t.uniforms)()).collect();
+        let layouts: Vec<Layout> = super::validated().flat_map(|t| (t.uniforms)()).collect();
         assert!(layouts.len() >= 20, "{} uniform structs", layouts.len());
         for l in layouts {
             let module = parse(l.wgsl_name, &l.source);
@@ -220,9 +352,10 @@ mod tests {
 
     #[test]
     fn technique_names_are_unique() {
-        let mut names: Vec<_> = TECHNIQUES.iter().map(|t| t.name).collect();
+        let mut names: Vec<_> = super::validated().map(|t| t.name).collect();
+        let count = names.len();
         names.sort_unstable();
         names.dedup();
-        assert_eq!(names.len(), TECHNIQUES.len());
+        assert_eq!(names.len(), count);
     }
 }

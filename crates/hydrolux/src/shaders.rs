@@ -32,7 +32,7 @@ const MODULES: &[(&str, &str)] = &[
     // Modules of one technique that another reuses.
     ("geometry_common", include_str!("meshes/geometry_common.wgsl")),
     ("caustic_params", include_str!("passes/caustics/params.wgsl")),
-    ("particle", include_str!("passes/whitewater/particle.wgsl")),
+    ("particle", include_str!("simulation/whitewater/particle.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
     ("traced", include_str!("passes/raytrace/traced.wgsl")),
     ("traced_hits", include_str!("passes/raytrace/traced_hits.wgsl")),

@@ -278,3 +278,44 @@ impl Targets {
         }
     }
 }
+
+/// One of the main view's two render passes (the medium classification
+/// clears; the scene loads), over the HDR image and the depth-stencil.
+pub(crate) fn main_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    targets: &Targets,
+    label: &'static str,
+    clear: bool,
+    timer: Option<&mut crate::timing::GpuTimer>,
+) -> wgpu::RenderPass<'static> {
+    let load = |v| if clear { wgpu::LoadOp::Clear(v) } else { wgpu::LoadOp::Load };
+    encoder
+        .begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &targets.hdr_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: if clear {
+                        wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &targets.depth_stencil_view,
+                depth_ops: Some(wgpu::Operations { load: load(0.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: Some(wgpu::Operations {
+                    load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
+                    store: wgpu::StoreOp::Store,
+                }),
+            }),
+            timestamp_writes: timer.and_then(|t| t.render_writes(label)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+        .forget_lifetime()
+}

@@ -158,7 +158,7 @@ pub(crate) struct Bound {
     /// Group 0 of render passes: frame, sky (sky), shadow map (geometry),
     /// caustic layers (caustics), object caustic map (water objects).
     pub globals: wgpu::BindGroup,
-    /// The surface's group (surface).
+    /// The surface's group (the simulations publish it).
     pub surface: wgpu::BindGroup,
     /// The shadow map's values (geometry), for the shadow debug view.
     pub shadow_values: wgpu::BindGroup,
@@ -170,6 +170,8 @@ pub(crate) struct FrameContext<'a> {
     pub scene: &'a Scene,
     pub shared: &'a Shared,
     pub bound: &'a Bound,
+    /// What the simulations publish (the surface, foam, particles, bodies).
+    pub published: &'a crate::simulation::Published,
     /// The screen targets (`None` when only simulating).
     pub targets: Option<&'a Targets>,
     /// The caller's target (`None` when only simulating).
@@ -225,25 +227,4 @@ pub(crate) trait Technique {
     /// Draw into the main view's shared render pass of `stage`
     /// ([`Stage::Medium`] or [`Stage::Main`]).
     fn draw(&self, _stage: Stage, _pass: &mut wgpu::RenderPass<'_>, _frame: &FrameContext) {}
-
-    /// Whether it keeps state that advances on the simulation clock.
-    fn simulates(&self) -> bool {
-        false
-    }
-
-    /// Back to its initial state, as it is at clock step `from` (the clock
-    /// went back, was reset, or a late time starts from its origin: see
-    /// `hydrolux_core::clock`).
-    fn reset_state(&mut self, _queue: &wgpu::Queue, _from: u64) {}
-
-    /// Record `steps` fixed steps of `clock_dt` seconds of its simulation,
-    /// before the frame's stages (see `hydrolux_core::clock`).
-    fn step(
-        &mut self,
-        _encoder: &mut wgpu::CommandEncoder,
-        _frame: &FrameContext,
-        _steps: u32,
-        _clock_dt: f64,
-    ) {
-    }
 }

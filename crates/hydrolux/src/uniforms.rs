@@ -304,7 +304,7 @@ uniform! { SurfaceParams;
 }
 
 uniform! { EvolveParams;
-    /// WGSL `EvolveParams` (passes/ocean/spectrum.wgsl).
+    /// WGSL `EvolveParams` (simulation/ocean/spectrum.wgsl).
     pub(crate) struct EvolveUniforms {
         pub phase: u32,
         pub n: u32,
@@ -314,7 +314,7 @@ uniform! { EvolveParams;
 }
 
 uniform! { AssembleParams;
-    /// WGSL `AssembleParams` (passes/ocean/assemble.wgsl).
+    /// WGSL `AssembleParams` (simulation/ocean/assemble.wgsl).
     pub(crate) struct AssembleUniforms {
         pub n: u32,
         pub cascades: u32,

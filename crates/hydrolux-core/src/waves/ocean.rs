@@ -3,7 +3,7 @@
 //!
 //! The initial amplitudes h0(k) are made here, on the CPU, once per sea
 //! state, and uploaded; the GPU then evolves and transforms them every frame
-//! (`passes/ocean` in the `hydrolux` crate). [`OceanFields::evaluate`] does
+//! (`simulation/ocean` in the `hydrolux` crate). [`OceanFields::evaluate`] does
 //! the same evolution and inverse FFT with rustfft, so the two can be compared.
 //!
 //! Precision at large times: every ω is rounded to a multiple of 2π/T with

@@ -1,7 +1,7 @@
 //! Interactive water: a dynamic heightfield that drops, rain and objects
 //! disturb (seed 003 §2.4, heightfields; Tessendorf, *eWave: Using an
 //! Exponential Solver on the iWave Problem*, 2014). The CPU twin of
-//! `hydrolux::passes::ripples`.
+//! `hydrolux::simulation::ripples`.
 //!
 //! Linear waves on water of depth d: height h and surface velocity potential
 //! φ obey ∂h/∂t = K φ and ∂φ/∂t = −B h with K = k·tanh(k·d) and
@@ -170,7 +170,7 @@ impl RippleSettings {
 
 /// One step's rotation of wave number `k` over depth `depth`: the factors
 /// of h' = e·(c·h + s_h·φ), φ' = e·(−s_φ·h + c·φ). Twin of `rotation` in
-/// `passes/ripples/spectral.wgsl`.
+/// `simulation/ripples/spectral.wgsl`.
 pub fn rotation(s: &RippleSettings, k: f64, depth: f64) -> [f64; 4] {
     if k == 0.0 {
         // The mean level never changes (volume); φ's mean is a gauge.
@@ -345,7 +345,7 @@ pub fn grid_cell(grid: &RippleGrid, window: &RippleWindow, d: [usize; 2]) -> [us
 /// kicks, that holds world point (x, z): the domain cell for walls, the
 /// world cell modulo the grid for open and periodic domains (as the
 /// texture tiles the plane). `None` outside the domain. Twin of `kick_texel`
-/// in `passes/whitewater/whitewater.wgsl`.
+/// in `simulation/whitewater/whitewater.wgsl`.
 pub fn texel_of(grid: &RippleGrid, window: &RippleWindow, x: f64, z: f64) -> Option<usize> {
     let n = grid.cells as i64;
     let mut t = [0usize; 2];

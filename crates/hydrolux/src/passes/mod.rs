@@ -1,7 +1,6 @@
 //! One folder per technique (see `registry.rs` for their frame order and
 //! `technique.rs` for what each implements): sky (bake, background) →
-//! surface (the FFT ocean in `ocean`, sines, heightfields, the interactive
-//! water in `ripples`, foam, bubbles and spray in `whitewater`) → caustics →
+//! particles (`simulation/whitewater/draw.rs`) → caustics →
 //! geometry (shadow map, reflection/refraction views, the scene in the main
 //! view) → water objects (light paths; drawn from the camera after the god
 //! rays) → water (medium classification, surface) → god rays → tonemap (or a
@@ -10,14 +9,10 @@
 pub mod caustics;
 pub mod geometry;
 pub mod godrays;
-pub mod ocean;
 pub mod probe;
 pub mod raytrace;
-pub mod ripples;
 pub mod sky;
-pub mod surface;
 pub mod tonemap;
 pub mod truth;
 pub mod water;
 pub mod water_object;
-pub mod whitewater;

@@ -25,7 +25,7 @@ struct SurfaceParams {
     // The simulated domain: x min, z min, x max, z max (m).
     ripple_window: vec4<f32>,
     // White water's foam: world point of its window's low corner, its side
-    // (m; 0: no foam), 1 if it tiles the plane (passes/whitewater).
+    // (m; 0: no foam), 1 if it tiles the plane (simulation/whitewater).
     foam_origin: vec2<f32>,
     foam_side: f32,
     foam_tiles: u32,
@@ -50,7 +50,7 @@ struct SurfaceParams {
 @group(1) @binding(5) var surface_sampler_aniso: sampler;
 // A user's heights (model 3): row = z, col = x, corner-sampled, periodic.
 @group(1) @binding(6) var heightfield_tex: texture_2d<f32>;
-// Interactive water: h, ∂h/∂x, ∂h/∂z per cell (passes/ripples).
+// Interactive water: h, ∂h/∂x, ∂h/∂z per cell (simulation/ripples).
 @group(1) @binding(7) var ripple_tex: texture_2d<f32>;
 // Foam cover (0–1) per cell, stored modulo the window (mipmapped:
 // the mips average cover, so a pixel sees the fraction of its footprint

@@ -33,6 +33,9 @@ pub struct SkyPass {
     deep_water: wgpu::RenderPipeline,
     current: Option<SkyParams>,
     dirty: bool,
+    /// The sky's irradiance on a horizontal plane (kcd/m² · sr), for the
+    /// frame plan.
+    pub irradiance: glam::Vec3,
 }
 
 impl SkyPass {
@@ -124,6 +127,7 @@ impl SkyPass {
             background,
             deep_water,
             current: None,
+            irradiance: glam::Vec3::ZERO,
             dirty: true,
         }
     }

@@ -1,18 +1,18 @@
 //! The error view, `render.view = "error"` (issue #16's truth mode, in the
-//! viewer and anywhere a renderer draws): the frame is drawn twice from the
-//! same state — with the projective approximations (the renderer's own
-//! water technique, the scene's `water.method` set to `projective`) and ray
-//! traced (a second water technique built for `raytrace`, swapped in) —
-//! each tone mapped into an image of the target's format, and `error.wgsl`
-//! writes their per-pixel ΔE*ab as heat into the caller's target. The
-//! simulation advances once: the second drawing is at the same time, so it
-//! takes no steps. CPU twin: hydrolux-core `compare` (what `hydrolux
-//! compare` computes on read-back images).
+//! viewer and anywhere a renderer draws), a frame mode: the renderer draws
+//! the frame twice from the same published state — as the scene is drawn
+//! ([`projective`]: `water.method` set to `projective`) and as [`traced`]
+//! (the water technique keeps a twin built for `raytrace` and draws it when
+//! the frame's scene asks) — each tone mapped into an image of the target's
+//! format ([`ErrorView::images`]), and `error.wgsl` writes their per-pixel
+//! ΔE*ab as heat into the caller's target. The simulation advances once:
+//! the second drawing is at the same time, so it takes no steps. CPU twin:
+//! hydrolux-core `compare` (what `hydrolux compare` computes on read-back
+//! images).
 
 use crate::gpu_util::*;
-use crate::passes::water::WaterPass;
 use crate::shaders;
-use crate::technique::{Shared, Technique};
+use crate::technique::Shared;
 use hydrolux_core::scene::{DebugView, Scene, WaterMethod};
 
 pub fn source(srgb_target: bool) -> String {
@@ -29,7 +29,8 @@ pub fn projective(scene: &Scene) -> Scene {
     s
 }
 
-fn traced(scene: &Scene) -> Scene {
+/// The scene as the error view's second drawing takes it: traced water.
+pub fn traced(scene: &Scene) -> Scene {
     let mut s = scene.clone();
     s.water.method = WaterMethod::Raytrace;
     s
@@ -42,31 +43,17 @@ struct Images {
     group: wgpu::BindGroup,
 }
 
-pub(crate) struct TruthView {
-    /// The traced water technique (swapped with the renderer's for the
-    /// second drawing).
-    pub water: WaterPass,
+pub(crate) struct ErrorView {
     format: wgpu::TextureFormat,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     images: Option<Images>,
 }
 
-impl TruthView {
-    /// For `scene` (as drawn: quality applied, water projective) beside the
-    /// renderer's `water`.
-    pub fn new(
-        shared: &Shared,
-        scene: &Scene,
-        water: &WaterPass,
-    ) -> Result<Self, crate::error::RenderError> {
+impl ErrorView {
+    /// The difference's pipeline, for the caller's target format.
+    pub fn new(shared: &Shared) -> Self {
         let device = &shared.device;
-        let traced_water = WaterPass::for_scene(
-            shared,
-            &traced(scene),
-            water.inputs_layout.clone(),
-            water.traced_layout.clone(),
-        )?;
         let fs = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("error view"),
@@ -78,18 +65,7 @@ impl TruthView {
         let format = shared.target_format;
         let module = shader(device, "error view", &source(format.is_srgb()));
         let pipeline = fullscreen_pipeline(device, "error view", &module, &[&layout], format);
-        Ok(TruthView { water: traced_water, format, layout, pipeline, images: None })
-    }
-
-    /// The traced water follows a scene edit (`old`, `new` as drawn).
-    pub fn set_scene(
-        &mut self,
-        shared: &Shared,
-        old: &Scene,
-        new: &Scene,
-    ) -> Result<(), crate::error::RenderError> {
-        self.water.set_scene(shared, &traced(old), &traced(new))?;
-        Ok(())
+        ErrorView { format, layout, pipeline, images: None }
     }
 
     /// The two images' views (projective, traced) at `size`.

@@ -160,6 +160,10 @@ pub struct WaterPass {
     /// What `water.method = "raytrace"` traces (group 3; stand-ins otherwise).
     pub traced: crate::passes::raytrace::Traced,
     pub traced_layout: wgpu::BindGroupLayout,
+    /// The error view's other drawing (`render.view = "error"`): the same
+    /// water built for `raytrace`, drawn when the frame's scene asks for
+    /// it (`passes/truth`).
+    twin: Option<Box<WaterPass>>,
 }
 
 /// Index list of the quads of a (2h)×(2h) cell grid inside `bounds`
@@ -307,6 +311,7 @@ impl WaterPass {
             model,
             traced,
             traced_layout,
+            twin: None,
             full: GridMesh::new(device, "water full grid", RING_HALF, &[None]),
             ring: GridMesh::new(device, "water ring", RING_HALF, &hole_offsets()),
             far: GridMesh::new(device, "water far field", FAR_HALF, &[Some((0, 0))]),
@@ -481,6 +486,44 @@ impl WaterPass {
             traced_layout,
         ))
     }
+
+    /// The traced twin exists exactly while `new` asks for the error view,
+    /// and follows its edits (`old` as drawn before).
+    fn update_twin(
+        &mut self,
+        shared: &crate::technique::Shared,
+        old: &Scene,
+        new: &Scene,
+    ) -> Result<(), crate::error::RenderError> {
+        use crate::passes::truth::traced;
+        if new.render.view != hydrolux_core::scene::DebugView::Error {
+            self.twin = None;
+            return Ok(());
+        }
+        match &mut self.twin {
+            Some(twin) => {
+                twin.set_scene(shared, &traced(old), &traced(new))?;
+            }
+            None => {
+                let (inputs, layout) = (self.inputs_layout.clone(), self.traced_layout.clone());
+                self.twin =
+                    Some(Box::new(WaterPass::for_scene(shared, &traced(new), inputs, layout)?));
+            }
+        }
+        // The twin reads the same screen targets.
+        if let Some(twin) = &mut self.twin {
+            twin.inputs = self.inputs.clone();
+        }
+        Ok(())
+    }
+
+    /// Which drawing the frame asks for: this one or the error view's twin.
+    fn drawing(&self, frame: &FrameContext) -> &WaterPass {
+        match &self.twin {
+            Some(twin) if frame.scene.water.method != self.traced.method => twin,
+            _ => self,
+        }
+    }
 }
 
 impl Technique for WaterPass {
@@ -491,7 +534,9 @@ impl Technique for WaterPass {
         let device = &shared.device;
         let inputs = WaterPass::inputs_layout(device);
         let traced_layout = crate::passes::raytrace::Traced::layout(device);
-        WaterPass::for_scene(shared, scene, inputs, traced_layout)
+        let mut water = WaterPass::for_scene(shared, scene, inputs, traced_layout)?;
+        water.update_twin(shared, scene, scene)?;
+        Ok(water)
     }
 
     /// The reflection and refraction textures (colour and depth) of the
@@ -530,6 +575,9 @@ impl Technique for WaterPass {
             layout: &self.inputs_layout,
             entries: &entries,
         }));
+        if let Some(twin) = &mut self.twin {
+            twin.inputs = self.inputs.clone();
+        }
     }
 
     /// A new surface model gets pipelines specialised to it; the inputs'
@@ -544,9 +592,12 @@ impl Technique for WaterPass {
         if model != self.model || !self.traced.fits(old, new) {
             let (inputs, traced_layout) = (self.inputs_layout.clone(), self.traced_layout.clone());
             let group = self.inputs.take();
+            let twin = self.twin.take();
             *self = WaterPass::for_scene(shared, new, inputs, traced_layout)?;
             self.inputs = group;
+            self.twin = twin;
         }
+        self.update_twin(shared, old, new)?;
         Ok(false)
     }
 
@@ -557,6 +608,11 @@ impl Technique for WaterPass {
         frame: &FrameContext,
         timer: Option<&mut crate::timing::GpuTimer>,
     ) {
+        if let Some(twin) =
+            self.twin.as_mut().filter(|_| frame.scene.water.method != self.traced.method)
+        {
+            return Technique::record(twin.as_mut(), stage, encoder, frame, timer);
+        }
         if stage == Stage::Simulate && frame.plan.has_water {
             self.traced.move_objects(&frame.shared.queue, &frame.shared.geometry);
             self.traced.record(frame, encoder, timer);
@@ -568,14 +624,15 @@ impl Technique for WaterPass {
         if !plan.has_water {
             return;
         }
+        let water = self.drawing(frame);
         let (globals, surface) = (&frame.bound.globals, &frame.bound.surface);
-        let Some(inputs) = &self.inputs else { return };
+        let Some(inputs) = &water.inputs else { return };
         match stage {
-            Stage::Medium => self.record_medium(pass, globals, surface, inputs, &plan.camera),
+            Stage::Medium => water.record_medium(pass, globals, surface, inputs, &plan.camera),
             Stage::Main => {
                 let aspect = plan.size.0.max(1) as f32 / plan.size.1.max(1) as f32;
                 let margin = plan.cull_margin;
-                self.record(pass, globals, surface, inputs, &plan.camera, aspect, margin);
+                water.record(pass, globals, surface, inputs, &plan.camera, aspect, margin);
             }
             _ => {}
         }

@@ -8,7 +8,7 @@
 // 002's simple water colour), a sun glint from a Gaussian slope distribution
 // whose variance comes from the filtered slope moments plus the unresolved
 // Cox–Munk remainder (Bruneton, Neyret & Holzschuch 2010), and the foam
-// that white water leaves (passes/whitewater; seed 003 §4.4).
+// that white water leaves (simulation/whitewater; seed 003 §4.4).
 // The rings are drawn twice: depth only (`fs_depth`), then shaded with depth
 // test Equal, so each pixel runs the expensive shading once however thin the
 // distant triangles get (grazing views make them sub-pixel).

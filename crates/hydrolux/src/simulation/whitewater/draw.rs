@@ -1,14 +1,20 @@
-//! White water's particles drawn over the lit scene (`particles.wgsl`):
-//! one indirect draw of six vertices per alive particle, blended
-//! (premultiplied) into the HDR image after the water.
+//! The `particles` technique: the white water's published bubbles and
+//! spray drawn over the lit scene (`particles.wgsl`): one indirect draw of
+//! six vertices per alive particle, blended (premultiplied) into the HDR
+//! image after the water. Its pipeline is built the first time a scene
+//! has particles.
 
+use crate::error::RenderError;
 use crate::gpu_util::*;
+use crate::info::TechniqueInfo;
 use crate::shaders;
+use crate::simulation::published::ParticleState;
+use crate::technique::{FrameContext, Shared, Stage, Technique};
 use crate::uniforms::uniform;
 use hydrolux_core::scene::Scene;
 
 uniform! { DrawParams;
-    /// WGSL `DrawParams` (passes/whitewater/particles.wgsl).
+    /// WGSL `DrawParams` (simulation/whitewater/particles.wgsl).
     pub(crate) struct DrawUniforms {
         pub capacity: u32,
         pub list: u32,
@@ -28,23 +34,23 @@ pub fn source() -> String {
 /// A 60 Hz camera's shutter (s): how long a streak is.
 const SHUTTER_S: f32 = 1.0 / 60.0;
 
-pub struct ParticleDraw {
+/// The technique: its pipeline once a scene has particles.
+#[derive(Default)]
+pub(crate) struct Particles {
+    draw: Option<ParticleDraw>,
+}
+
+struct ParticleDraw {
     params: wgpu::Buffer,
-    group: wgpu::BindGroup,
+    layout: wgpu::BindGroupLayout,
+    /// Bound to the particle buffers it was last given.
+    group: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     depth_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-    sizes: [f32; 2],
-    capacity: u32,
 }
 
 impl ParticleDraw {
-    pub fn new(
-        shared: &crate::technique::Shared,
-        scene: &Scene,
-        particles: &wgpu::Buffer,
-        slots: &wgpu::Buffer,
-        capacity: u32,
-    ) -> Self {
+    fn new(shared: &crate::technique::Shared) -> Self {
         let device = &shared.device;
         let (vs, fs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -60,15 +66,6 @@ impl ParticleDraw {
             entries: &[texture_entry(0, fs, wgpu::TextureViewDimension::D2, false)],
         });
         let params = uniform_buffer(device, "particles draw", &DrawUniforms::default());
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("particles"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: particles.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: slots.as_entire_binding() },
-            ],
-        });
         let module = shader(device, "particles", &source());
         let pipeline_layout = pipeline_layout(
             device,
@@ -100,38 +97,50 @@ impl ParticleDraw {
             multiview_mask: None,
             cache: None,
         });
-        let w = &scene.whitewater;
-        ParticleDraw {
-            params,
-            group,
-            depth_layout,
-            pipeline,
-            sizes: [w.spray_size, w.bubble_size],
-            capacity,
+        ParticleDraw { params, layout, group: None, depth_layout, pipeline }
+    }
+
+    /// The group over `particles`' buffers (made again when they change).
+    fn bind(&mut self, device: &wgpu::Device, particles: &ParticleState) {
+        if self.group.as_ref().is_some_and(|(b, _)| *b == particles.particles) {
+            return;
         }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("particles"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.params.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: particles.particles.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry { binding: 2, resource: particles.slots.as_entire_binding() },
+            ],
+        });
+        self.group = Some((particles.particles.clone(), group));
     }
 
     /// Draw the particles of alive `list` into the frame's HDR image.
-    pub fn record(
+    fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &crate::technique::FrameContext,
-        args: &wgpu::Buffer,
-        list: u32,
-        vertical_reach: f32,
+        frame: &FrameContext,
+        particles: &ParticleState,
         timer: Option<&mut crate::timing::GpuTimer>,
     ) {
         let shared = frame.shared;
         let targets = frame.targets();
+        let Some((_, group)) = &self.group else { return };
+        let w = &frame.scene.whitewater;
         let u = DrawUniforms {
-            capacity: self.capacity,
-            list,
+            capacity: particles.capacity,
+            list: particles.list,
             _pad0: 0,
             _pad1: 0,
-            spray_size: self.sizes[0],
-            bubble_size: self.sizes[1],
+            spray_size: w.spray_size,
+            bubble_size: w.bubble_size,
             shutter: SHUTTER_S,
-            vertical_reach,
+            vertical_reach: frame.published.surface().vertical_reach,
         };
         shared.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         let depth = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -157,8 +166,41 @@ impl ParticleDraw {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &frame.bound.globals, &[]);
-        pass.set_bind_group(1, &self.group, &[]);
+        pass.set_bind_group(1, group, &[]);
         pass.set_bind_group(2, &depth, &[]);
-        pass.draw_indirect(args, 16);
+        pass.draw_indirect(&particles.args, 16);
     }
 }
+
+impl Technique for Particles {
+    fn create(_shared: &Shared, _scene: &Scene) -> Result<Self, RenderError> {
+        Ok(Particles::default())
+    }
+
+    fn prepare(&mut self, _queue: &wgpu::Queue, frame: &FrameContext) {
+        let Some(particles) = &frame.published.particles else { return };
+        let draw = self.draw.get_or_insert_with(|| ParticleDraw::new(frame.shared));
+        draw.bind(&frame.shared.device, particles);
+    }
+
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        timer: Option<&mut crate::timing::GpuTimer>,
+    ) {
+        if stage == Stage::Volume
+            && let (Some(particles), Some(draw)) = (&frame.published.particles, &self.draw)
+        {
+            draw.record(encoder, frame, particles, timer);
+        }
+    }
+}
+
+/// The particles' draw, validated offline.
+pub(crate) const INFO: TechniqueInfo = TechniqueInfo {
+    name: "particles",
+    shaders: || vec![("particles".into(), source())],
+    uniforms: || vec![crate::uniforms::Layout::of::<DrawUniforms>(source())],
+};

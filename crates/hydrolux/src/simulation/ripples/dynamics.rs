@@ -148,12 +148,6 @@ impl Dynamics {
         }
     }
 
-    /// Whether `scene` has anything that moves by itself.
-    pub fn new_needed(scene: &Scene) -> bool {
-        scene.ripple_settings().is_some()
-            || scene.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0))
-    }
-
     /// Whether `scene` keeps this state (same water simulation, same objects).
     pub fn fits(&self, scene: &Scene) -> bool {
         let water = match &self.ripples {
@@ -371,5 +365,112 @@ impl Dynamics {
         if let Some(w) = &mut self.bodies {
             w.place(i, position);
         }
+    }
+}
+
+impl crate::simulation::Simulation for Dynamics {
+    fn create(
+        shared: &crate::technique::Shared,
+        scene: &Scene,
+        _published: &crate::simulation::Published,
+    ) -> Result<Option<Self>, crate::error::RenderError> {
+        let (device, queue) = (&shared.device, &shared.queue);
+        let ripples = scene
+            .ripple_settings()
+            .map(|settings| RipplePass::new(device, queue, &shared.caps, scene, settings));
+        Ok(Dynamics::new(queue, scene, ripples))
+    }
+
+    fn fits(&self, scene: &Scene) -> bool {
+        Dynamics::fits(self, scene)
+    }
+
+    /// The water and the bodies start from rest at a clock origin.
+    fn restarts_clock(&self) -> bool {
+        true
+    }
+
+    fn publish(&self, published: &mut crate::simulation::Published) {
+        if let Some(r) = &self.ripples {
+            let g = r.settings.grid;
+            let lo = [0, 1].map(|a| r.window.low_edge(&g, a) as f32);
+            let side = g.extent() as f32;
+            published.ripples = Some(crate::simulation::published::RippleState {
+                heights: r.view.clone(),
+                kicks: r.kicks.clone(),
+                // Walls: the texture is the domain; open: it tiles from the origin.
+                origin: match g.boundary {
+                    RippleBoundary::Walls => lo,
+                    _ => [0.0, 0.0],
+                },
+                side,
+                cell: g.cell_size as f32,
+                window: [lo[0], lo[1], lo[0] + side, lo[1] + side],
+            });
+        }
+        published.bodies = self.transforms();
+    }
+
+    fn pace(&self) -> crate::simulation::Pace {
+        crate::simulation::Pace::Follows
+    }
+
+    fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
+        Dynamics::reset(self, queue, from);
+    }
+
+    fn follow(
+        &mut self,
+        ctx: &mut crate::simulation::StepContext,
+        encoder: &mut wgpu::CommandEncoder,
+        clock_steps: u32,
+    ) {
+        let (device, queue) = (&ctx.shared.device, &ctx.shared.queue);
+        let dt = self.dt();
+        for input in self.step(device, queue, encoder, ctx.camera, clock_steps) {
+            ctx.couplings.add_step(&input.drops, &input.moves, dt);
+        }
+        ctx.couplings.water_centre = self.ripples.as_ref().map(|r| {
+            let g = r.settings.grid;
+            let half = 0.5 * g.extent();
+            [0, 1].map(|a| (r.window.low_edge(&g, a) + half) as f32)
+        });
+    }
+
+    fn record_frame(
+        &mut self,
+        shared: &crate::technique::Shared,
+        encoder: &mut wgpu::CommandEncoder,
+        _plan: &crate::plan::FramePlan,
+        _timer: Option<&mut crate::timing::GpuTimer>,
+    ) {
+        // A frame before the first step draws the water at rest as set.
+        self.publish_if_unpublished(&shared.device, &shared.queue, encoder);
+    }
+
+    fn input(&mut self, input: &crate::simulation::Input) -> bool {
+        use crate::simulation::Input;
+        match *input {
+            Input::Disturb(drop) => match &mut self.ripples {
+                Some(r) => {
+                    r.disturb(drop);
+                    true
+                }
+                None => false,
+            },
+            Input::Pull(i, target) => {
+                self.pull(i, target);
+                self.bodies.is_some()
+            }
+            Input::Place(i, position) => {
+                self.place(i, position);
+                self.bodies.is_some()
+            }
+            Input::Splash(_) => false,
+        }
+    }
+
+    fn bodies(&self) -> Vec<BodyState> {
+        self.states()
     }
 }

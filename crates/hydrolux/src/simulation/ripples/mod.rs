@@ -8,6 +8,7 @@
 //! `dynamics.rs` steps it together with the bodies floating in it.
 
 pub mod dynamics;
+pub mod readback;
 
 use crate::gpu_util::*;
 use crate::shaders;
@@ -20,7 +21,7 @@ use hydrolux_core::waves::ripples::{
 };
 
 uniform! { RippleParams;
-    /// WGSL `RippleParams` (passes/ripples/ripples.wgsl).
+    /// WGSL `RippleParams` (simulation/ripples/ripples.wgsl).
     pub(crate) struct RippleUniforms {
         pub cells: u32,
         pub fft_size: u32,
@@ -138,6 +139,8 @@ pub struct RipplePass {
     /// Δφ (m²/s) per kick unit: the scene's spray parcel over a cell.
     kick_per_unit: f32,
     pub texture: wgpu::Texture,
+    /// The texture's view that the surface binds.
+    pub view: wgpu::TextureView,
     layout: wgpu::BindGroupLayout,
     group: wgpu::BindGroup,
     fft_groups: [wgpu::BindGroup; 2],
@@ -233,7 +236,7 @@ impl RipplePass {
         let fft_module = shader(
             device,
             "ripples fft",
-            &crate::passes::ocean::fft_source(f, caps.max_workgroup_threads),
+            &crate::simulation::ocean::fft_source(f, caps.max_workgroup_threads),
         );
         let pipeline = |entry: &str| compute_pipeline(device, entry, &module, entry, &[&layout]);
         let fft = |entry: &str| {
@@ -281,6 +284,7 @@ impl RipplePass {
             kicks,
             pushed,
             kick_per_unit,
+            view: texture.create_view(&Default::default()),
             texture,
             layout,
             fft_groups,
@@ -555,7 +559,7 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
     name: "ripples",
     shaders: || {
         let mut v = vec![("ripples/ripples".to_string(), source())];
-        v.push(("ripples/fft N=32".to_string(), crate::passes::ocean::fft_source(32, 256)));
+        v.push(("ripples/fft N=32".to_string(), crate::simulation::ocean::fft_source(32, 256)));
         v
     },
     uniforms: || vec![crate::uniforms::Layout::of::<RippleUniforms>(source())],

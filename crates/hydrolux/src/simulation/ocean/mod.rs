@@ -324,6 +324,16 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
     },
 };
 
+/// The largest `ocean.resolution` (a power of two, 64 to 1024) whose FFT
+/// buffers fit this device's storage-buffer limit with `cascades` cascades.
+pub fn largest_ocean_resolution(device: &wgpu::Device, cascades: u32) -> u32 {
+    let max = crate::capabilities::Capabilities::of(device).max_storage_buffer;
+    [1024u32, 512, 256, 128, 64]
+        .into_iter()
+        .find(|&n| fields_bytes(n, cascades) <= max)
+        .unwrap_or(64)
+}
+
 #[cfg(test)]
 mod tests {
     use super::fft_threads;

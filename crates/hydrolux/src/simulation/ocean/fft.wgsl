@@ -1,7 +1,7 @@
 // Inverse FFT along rows or columns: one workgroup transforms one line of N
 // vec4 (two complex numbers each) in workgroup memory, radix-2 decimation in
 // time after a bit-reversed load. FFT_N, FFT_LOG2_N and FFT_THREADS are
-// prepended by the pipeline (src/passes/ocean/mod.rs). Unnormalised, e^(+i):
+// prepended by the pipeline (src/simulation/ocean/mod.rs). Unnormalised, e^(+i):
 // the plain sum h(x) = Σ h̃(k)·e^(ik·x), as rustfft's inverse transform.
 #import constants, complex
 

@@ -7,11 +7,15 @@
 //! stack, indirect dispatch and an indirect draw). The physics and the
 //! order of a step are the CPU twin's, `hydrolux_core::whitewater`.
 //!
-//! The surface technique owns it and steps it with the interactive water
-//! (`Surface::step`); the foam's cover texture is bound with the surface
-//! (binding 8) for the water's shading; `draw.rs` draws the particles.
+//! A simulation of its own pace (`simulation/mod.rs`): it steps at
+//! `whitewater.rate`, after the interactive water has reached its step's
+//! time and with the surface evaluated there, taking the splashes the
+//! interactive water hands it (`couplings.rs`). It publishes the foam's
+//! cover (bound with the surface, binding 8, for the water's shading) and
+//! the alive particles, which `draw.rs` (the `particles` technique) draws.
 
 pub mod draw;
+pub mod readback;
 
 use crate::gpu_util::*;
 use crate::history::PingPong;
@@ -27,7 +31,7 @@ use hydrolux_core::whitewater::{
 };
 
 uniform! { WhitewaterParams;
-    /// WGSL `WhitewaterParams` (passes/whitewater/whitewater.wgsl).
+    /// WGSL `WhitewaterParams` (simulation/whitewater/whitewater.wgsl).
     pub(crate) struct WhitewaterUniforms {
         pub grid_low: [i32; 2],
         pub grid_cells: i32,
@@ -190,7 +194,7 @@ pub struct Whitewater {
     pub(crate) slots: wgpu::Buffer,
     pub(crate) args: wgpu::Buffer,
     /// Cover per cell (mipmapped), bound with the surface.
-    pub cover: wgpu::Texture,
+    _cover: wgpu::Texture,
     cover_chain: MipChain,
     args_group: wgpu::BindGroup,
     /// `update`'s group 2: the interactive water's landing-spray kicks
@@ -199,12 +203,10 @@ pub struct Whitewater {
     kicks_group: wgpu::BindGroup,
     no_kicks: wgpu::Buffer,
     pipelines: Pipelines,
-    /// Simulated time (s) of the ocean the surface's textures hold, so that
-    /// a step close to it does not evaluate the ocean again.
-    pub ocean_time: f64,
     /// The cover's mips are behind its level 0.
     mips_due: bool,
-    pub(crate) draw: draw::ParticleDraw,
+    /// The cover's view that the surface binds.
+    cover_view: wgpu::TextureView,
     /// The scene it was made for.
     scene: Scene,
 }
@@ -219,16 +221,12 @@ pub struct StepInput {
 }
 
 impl Whitewater {
-    /// The white water of `scene` (`None` without any). `spectrum` is the
-    /// FFT ocean's, for calibrating the breaking threshold.
-    pub fn new(
-        shared: &crate::technique::Shared,
-        scene: &Scene,
-        spectrum: &OceanSpectrum,
-    ) -> Option<Self> {
+    /// The white water of `scene` (`None` without any).
+    pub fn new(shared: &crate::technique::Shared, scene: &Scene) -> Option<Self> {
         if !scene.has_whitewater() {
             return None;
         }
+        let spectrum = &OceanSpectrum::new(&scene.ocean_settings());
         let device = &shared.device;
         let w = &scene.whitewater;
         let cells = w.resolution;
@@ -408,7 +406,7 @@ impl Whitewater {
             foam_step: pipeline("foam_step"),
             emit: pipeline("emit"),
         };
-        let draw = draw::ParticleDraw::new(shared, scene, &particles, &slots, capacity);
+        let sampled_cover = cover.create_view(&Default::default());
         let whitewater = Whitewater {
             grid,
             capacity,
@@ -434,16 +432,15 @@ impl Whitewater {
             atomics,
             slots,
             args,
-            cover,
+            _cover: cover,
             cover_chain,
             args_group,
             kicks_layout,
             kicks_group,
             no_kicks,
             pipelines,
-            ocean_time: f64::NAN,
             mips_due: true,
-            draw,
+            cover_view: sampled_cover,
             scene: scene.clone(),
         };
         whitewater.reset_buffers(&shared.queue);
@@ -768,6 +765,106 @@ impl Whitewater {
     }
 }
 
+impl crate::simulation::Simulation for Whitewater {
+    fn create(
+        shared: &crate::technique::Shared,
+        scene: &Scene,
+        published: &crate::simulation::Published,
+    ) -> Result<Option<Self>, crate::error::RenderError> {
+        let mut w = Whitewater::new(shared, scene);
+        if let Some(w) = &mut w {
+            w.connect(shared, published);
+        }
+        Ok(w)
+    }
+
+    fn fits(&self, scene: &Scene) -> bool {
+        Whitewater::fits(self, scene)
+    }
+
+    fn connect(
+        &mut self,
+        shared: &crate::technique::Shared,
+        published: &crate::simulation::Published,
+    ) {
+        self.bind_kicks(&shared.device, published.ripples.as_ref().map(|r| &r.kicks));
+    }
+
+    fn publish(&self, published: &mut crate::simulation::Published) {
+        use crate::simulation::published::{FoamState, ParticleState};
+        let (wind, streak) = self.foam_wind();
+        published.foam = Some(FoamState {
+            cover: self.cover_view.clone(),
+            window: self.foam_area(),
+            wind,
+            streak,
+        });
+        published.particles = self.has_particles().then(|| ParticleState {
+            particles: self.particles.clone(),
+            slots: self.slots.clone(),
+            args: self.args.clone(),
+            list: self.list(),
+            capacity: self.capacity,
+        });
+    }
+
+    fn pace(&self) -> crate::simulation::Pace {
+        crate::simulation::Pace::OwnSteps
+    }
+
+    fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
+        Whitewater::reset(self, queue, from);
+    }
+
+    fn schedule(
+        &mut self,
+        clock_steps: u64,
+        frame_end: u64,
+        queue: &wgpu::Queue,
+    ) -> Vec<(u64, f64)> {
+        Whitewater::schedule(self, clock_steps, frame_end, queue)
+    }
+
+    /// A step reads the surface at its own time, to within half a step.
+    fn surface_tolerance(&self) -> Option<f64> {
+        Some(0.5 * self.dt as f64)
+    }
+
+    fn step(
+        &mut self,
+        ctx: &mut crate::simulation::StepContext,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let camera = [ctx.camera.position.x, ctx.camera.position.z];
+        let input = StepInput {
+            centre: ctx.couplings.water_centre.unwrap_or(camera),
+            camera,
+            splashes: std::mem::take(&mut ctx.couplings.splashes),
+        };
+        let surface = &ctx.published.surface().group_without_foam;
+        self.record_step(&ctx.shared.queue, encoder, surface, input);
+    }
+
+    /// Splashes of the steps after its last one wait for its next step
+    /// (in a later frame), as they would had the frame ended elsewhere.
+    fn keep_leftovers(&mut self, couplings: &mut crate::simulation::couplings::Couplings) {
+        for splash in couplings.splashes.drain(..) {
+            self.splash(splash);
+        }
+    }
+
+    fn finish(&mut self, shared: &crate::technique::Shared, encoder: &mut wgpu::CommandEncoder) {
+        self.record_mips(encoder, &shared.downsampler);
+    }
+
+    fn input(&mut self, input: &crate::simulation::Input) -> bool {
+        match *input {
+            crate::simulation::Input::Splash(splash) => self.splash(splash),
+            _ => false,
+        }
+    }
+}
+
 /// The breaking threshold J₀ for the ocean `spectrum` seen at the foam
 /// cells of `grid`, calibrated on the CPU twin to Monahan &
 /// O'Muircheartaigh's whitecap cover at wind `u10`
@@ -778,13 +875,12 @@ pub fn fold_threshold(spectrum: &OceanSpectrum, grid: &FoamGrid, u10: f64) -> f3
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "whitewater",
-    shaders: || vec![("whitewater".into(), source()), ("particles".into(), draw::source())],
+    shaders: || vec![("whitewater".into(), source())],
     uniforms: || {
         vec![
             crate::uniforms::Layout::of::<WhitewaterUniforms>(source()),
             crate::uniforms::Layout::sized("Particle", source(), std::mem::size_of::<Particle>()),
             crate::uniforms::Layout::sized("Splash", source(), std::mem::size_of::<Splash>()),
-            crate::uniforms::Layout::of::<draw::DrawUniforms>(draw::source()),
         ]
     },
 };

@@ -375,7 +375,7 @@ fn begin() {
     args[2] = 1u;
 }
 
-// The interactive water's landing spray (passes/ripples, `kicks`): the
+// The interactive water's landing spray (simulation/ripples, `kicks`): the
 // parcels' downward speeds summed per texel in fixed point, which the
 // water's next step turns into a jump of its potential. Only `update`
 // binds it (its layout's group 2 holds this one binding).

@@ -1,0 +1,83 @@
+//! What the simulations publish: named resources that other simulations
+//! and the techniques read, remade by the layer after each batch of steps
+//! (cheap: handles and a few numbers). A technique never reaches into a
+//! simulation; it reads this.
+
+pub use super::whitewater::FoamWindow;
+
+/// The water surface as every pass that reads it binds it.
+#[derive(Clone)]
+pub(crate) struct SurfaceState {
+    /// Group 1 of the passes that read the surface (`Layouts::surface`):
+    /// the model's textures and uniforms, the interactive water's heights
+    /// and the foam's cover.
+    pub group: wgpu::BindGroup,
+    /// The same with no foam (the white water's own step writes the foam).
+    pub group_without_foam: wgpu::BindGroup,
+    /// Conservative reach (m) of the displacement, vertically and
+    /// sideways, for culling; how far the surface rises in practice.
+    pub bounds_margin: f32,
+    pub vertical_reach: f32,
+    /// It changes from frame to frame by itself.
+    pub moving: bool,
+    /// Slope variance per axis that the model does not resolve.
+    pub unresolved_variance: [f32; 2],
+    /// Its FFT's samples per side.
+    pub ocean_resolution: u32,
+}
+
+/// The interactive water's heights and where they lie.
+#[derive(Clone)]
+pub(crate) struct RippleState {
+    /// h, ∂h/∂x, ∂h/∂z per cell.
+    pub heights: wgpu::TextureView,
+    /// Where landing spray kicks the water (written by the white water).
+    pub kicks: wgpu::Buffer,
+    /// World (x, z) of the texture's origin (it tiles from there in open
+    /// water), its side and cell (m), and the window it holds now
+    /// (x0, z0, x1, z1).
+    pub origin: [f32; 2],
+    pub side: f32,
+    pub cell: f32,
+    pub window: [f32; 4],
+}
+
+/// The foam's cover over its window.
+#[derive(Clone)]
+pub(crate) struct FoamState {
+    /// Cover per cell (mipmapped).
+    pub cover: wgpu::TextureView,
+    pub window: FoamWindow,
+    /// The wind's direction and how streaky the foam is.
+    pub wind: [f32; 2],
+    pub streak: f32,
+}
+
+/// The alive bubbles and spray, for an indirect draw.
+#[derive(Clone)]
+pub(crate) struct ParticleState {
+    pub particles: wgpu::Buffer,
+    pub slots: wgpu::Buffer,
+    /// Indirect draw arguments.
+    pub args: wgpu::Buffer,
+    /// Which alive list holds them now.
+    pub list: u32,
+    pub capacity: u32,
+}
+
+#[derive(Clone, Default)]
+pub(crate) struct Published {
+    pub surface: Option<SurfaceState>,
+    pub ripples: Option<RippleState>,
+    pub foam: Option<FoamState>,
+    pub particles: Option<ParticleState>,
+    /// Each moving object's index and world transform now.
+    pub bodies: Vec<(usize, glam::Mat4)>,
+}
+
+impl Published {
+    /// The surface (every scene has one).
+    pub fn surface(&self) -> &SurfaceState {
+        self.surface.as_ref().expect("the surface simulation is always built")
+    }
+}
