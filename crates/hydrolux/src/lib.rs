@@ -16,6 +16,7 @@
 pub mod capabilities;
 pub mod context;
 pub(crate) mod error;
+pub(crate) mod error_view;
 pub(crate) mod formats;
 pub(crate) mod gpu_util;
 pub mod headless;
@@ -23,8 +24,10 @@ pub(crate) mod history;
 pub(crate) mod info;
 pub(crate) mod meshes;
 pub(crate) mod mips;
+pub(crate) mod modes;
 pub(crate) mod passes;
 pub(crate) mod plan;
+pub(crate) mod probe;
 pub mod readback;
 pub(crate) mod registry;
 pub mod renderer;

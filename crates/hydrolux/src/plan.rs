@@ -15,9 +15,7 @@ use hydrolux_core::caustics::flat_floor_irradiance;
 use hydrolux_core::godrays::{TubeRegion, deepest_needed};
 use hydrolux_core::medium::UnderwaterLight;
 use hydrolux_core::projective::{mirror_matrix, shadow_space, sun_view_projection};
-use hydrolux_core::scene::{
-    DebugView, Fresnel, GodRayMethod, RefractionLookup, Scene, Tonemap, WaterModel, WaterOptics,
-};
+use hydrolux_core::scene::{DebugView, GodRayMethod, Scene, WaterModel};
 use hydrolux_core::sky::SkyParams;
 use hydrolux_core::tonemap::exposure_scale;
 use hydrolux_core::waves::ocean::REPEAT_PERIOD_S;
@@ -320,47 +318,14 @@ impl FramePlan {
                 ..Default::default()
             },
             modes: FrameModes {
-                fresnel: match s.water.fresnel {
-                    Fresnel::Exact => 0,
-                    Fresnel::Schlick => 1,
-                    Fresnel::JensenGolias => 2,
-                    Fresnel::Power => 3,
-                },
-                tonemap: match s.render.tonemap {
-                    Tonemap::Aces => 0,
-                    Tonemap::Clamp => 1,
-                },
-                debug_view: debug_view_index(s.render.view),
-                optics: match s.water.optics {
-                    WaterOptics::Physical => 0,
-                    WaterOptics::Simple => 1,
-                },
-                refraction_lookup: match s.water.refraction {
-                    RefractionLookup::Depth => 0,
-                    RefractionLookup::Plane => 1,
-                },
+                fresnel: crate::modes::fresnel(s.water.fresnel),
+                tonemap: crate::modes::tonemap(s.render.tonemap),
+                debug_view: crate::modes::debug_view(s.render.view),
+                optics: crate::modes::optics(s.water.optics),
+                refraction_lookup: crate::modes::refraction(s.water.refraction),
                 ..Default::default()
             },
         }
-    }
-}
-
-/// The WGSL `VIEW_*` constant of a debug view (shaders/frame.wgsl).
-fn debug_view_index(view: DebugView) -> u32 {
-    match view {
-        DebugView::Final => 0,
-        DebugView::Reflection => 1,
-        DebugView::Refraction => 2,
-        DebugView::Depth => 3,
-        DebugView::Normals => 4,
-        DebugView::Shadow => 5,
-        DebugView::Medium => 6,
-        DebugView::Caustics => 7,
-        DebugView::Ripples => 8,
-        DebugView::Foam => 9,
-        DebugView::Fresnel => 10,
-        // Each of its two drawings is a final image.
-        DebugView::Error => 0,
     }
 }
 

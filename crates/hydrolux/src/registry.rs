@@ -7,9 +7,7 @@
 //! the renderer.
 
 use crate::error::RenderError;
-use crate::passes::{
-    caustics, geometry, godrays, probe, raytrace, sky, tonemap, truth, water, water_object,
-};
+use crate::passes::{caustics, geometry, godrays, raytrace, sky, tonemap, water, water_object};
 use crate::plan::World;
 use crate::simulation::whitewater::draw as particles;
 use crate::technique::{Bound, Shared, Technique, TechniqueInfo};
@@ -70,9 +68,9 @@ macro_rules! registry {
         pub(crate) const TECHNIQUES: &[TechniqueInfo] = &[
             $($info,)*
             FRAME_INFO,
-            probe::INFO,
+            crate::probe::INFO,
             raytrace::INFO,
-            truth::INFO,
+            crate::error_view::INFO,
             crate::mips::INFO,
             crate::targets::MEDIUM_COPY_INFO,
         ];

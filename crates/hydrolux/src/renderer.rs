@@ -8,24 +8,19 @@
 
 use crate::capabilities::Capabilities;
 pub use crate::error::RenderError;
+use crate::error_view::{self, ErrorView};
 pub use crate::gpu_util::f16_to_f32;
-use crate::gpu_util::*;
-use crate::meshes::{GeometryPass, Winding};
-use crate::mips::Downsampler;
-use crate::passes::probe::ProbePass;
-use crate::passes::truth::{self, ErrorView};
 use crate::plan::FramePlan;
+use crate::probe::ProbePass;
 use crate::registry::{GlobalSamplers, Techniques};
 use crate::simulation::Simulations;
 pub use crate::simulation::ocean::largest_ocean_resolution;
 use crate::surface_kind::SurfaceKind;
 use crate::targets::{TargetSettings, Targets, main_pass};
-use crate::technique::{Bound, FrameContext, Layouts, Shared, Stage, ViewSlots};
+use crate::technique::{Bound, FrameContext, Shared, Stage};
 use crate::timing::GpuTimer;
-use crate::uniforms::FrameUniforms;
 use hydrolux_core::camera::Camera;
 use hydrolux_core::clock::{MAX_TIME_S, SimulationClock};
-use hydrolux_core::projective::ClipPlane;
 use hydrolux_core::scene::{DebugView, Scene};
 use hydrolux_core::sky::SkyParams;
 
@@ -102,47 +97,8 @@ impl Renderer {
         caps.check_supported()?;
         let requested = scene.clone();
         let quality = scene.render.quality.resolve(caps.cpu);
-        let scene = &truth::projective(&quality.apply(scene));
-        let layouts = Layouts::new(device);
-        let frame_buffer = uniform_buffer(device, "frame", &FrameUniforms::default());
-        let frame_only = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame only"),
-            layout: &layouts.frame_only,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame_buffer.as_entire_binding(),
-            }],
-        });
-        let depth_format = crate::targets::main_depth_format(&caps);
-        let meshes =
-            GeometryPass::new(device, queue, &layouts.globals, &layouts.frame_only, depth_format);
-        let geometry = meshes.upload(device, queue, scene)?;
-        let slot = |label, winding| meshes.view_slot(device, label, winding);
-        let views = ViewSlots {
-            main: slot("main view", Winding::Normal),
-            reflection: slot("reflection view", Winding::Mirrored),
-            refraction: slot("refraction view", Winding::Normal),
-            reflection_under: slot("reflection under view", Winding::Mirrored),
-            refraction_over: slot("refraction over view", Winding::Normal),
-            shadow: slot("shadow view", Winding::Normal),
-            object_light: slot("object light view", Winding::Normal),
-        };
-        let shared = Shared {
-            device: device.clone(),
-            queue: queue.clone(),
-            medium_copy: (!caps.depth_and_stencil_reads || !caps.depth_stencil_copies)
-                .then(|| crate::targets::MediumCopyPass::new(device, depth_format)),
-            caps,
-            target_format,
-            depth_format,
-            layouts,
-            frame_buffer,
-            frame_only,
-            downsampler: Downsampler::new(device),
-            meshes,
-            geometry,
-            views,
-        };
+        let scene = &error_view::projective(&quality.apply(scene));
+        let shared = Shared::new(device, queue, target_format, caps, scene)?;
         let simulations = Simulations::new(&shared, scene)?;
         let techniques = Techniques::new(&shared, scene)?;
         let l = &shared.layouts;
@@ -214,7 +170,7 @@ impl Renderer {
             || "applying the scene".into(),
             || {
                 let quality = scene.render.quality.resolve(self.shared.caps.cpu);
-                self.apply_scene(&truth::projective(&quality.apply(scene)))?;
+                self.apply_scene(&error_view::projective(&quality.apply(scene)))?;
                 self.quality = quality;
                 self.requested = scene.clone();
                 Ok(())
@@ -278,28 +234,6 @@ impl Renderer {
         self.techniques.set_sky(&self.shared.queue, p);
     }
 
-    /// Collect per-pass GPU timestamps for each frame (where the adapter supports them).
-    pub fn set_timing(&mut self, on: bool) {
-        self.timing = on;
-    }
-
-    pub fn has_timestamps(&self) -> bool {
-        self.timer.is_some()
-    }
-
-    /// Per-pass GPU milliseconds of the last frame, once its submission has
-    /// been waited for ([`Renderer::collect_timings`]).
-    pub fn last_timings(&self) -> &[(&'static str, f64)] {
-        &self.last_timings
-    }
-
-    /// Wait for the last frame and read its pass timings (no-op without timing).
-    pub fn collect_timings(&mut self) {
-        if let (true, Some(t)) = (self.timing, &self.timer) {
-            self.last_timings = t.read(&self.shared.device);
-        }
-    }
-
     /// Advance the simulations to the frame's time, plan the frame as
     /// `scene` draws it (the rendered scene, or the error view's traced
     /// drawing of it), write the frame globals and the shared view slots,
@@ -333,18 +267,7 @@ impl Renderer {
             plan.frame.modes.output_width = self.output_size.0;
             plan.frame.modes.output_height = self.output_size.1;
         }
-        let (m, v) = (&plan.matrices, &shared.views);
-        v.main.write(queue, m.view_proj, ClipPlane::none().0);
-        v.reflection.write(queue, m.reflection, ClipPlane::above(0.0).0);
-        v.refraction.write(queue, m.refraction, ClipPlane::below(0.0).0);
-        v.reflection_under.write(queue, m.reflection, ClipPlane::below(0.0).0);
-        v.refraction_over.write(queue, m.refraction, ClipPlane::above(0.0).0);
-        if let Some(shadow) = m.shadow {
-            v.shadow.write(queue, shadow, ClipPlane::none().0);
-        }
-        if let Some(o) = &plan.object_light {
-            v.object_light.write(queue, o.view_proj, ClipPlane::none().0);
-        }
+        shared.views.write(queue, &plan);
         queue.write_buffer(&shared.frame_buffer, 0, bytemuck::bytes_of(&plan.frame));
         let frame = FrameContext {
             plan: &plan,
@@ -450,7 +373,7 @@ impl Renderer {
         let [projective, traced] = error_view.images(&self.shared.device, input.size);
         self.run(encoder, frame, Some(&projective), &Stage::ALL, None);
         let timing = std::mem::replace(&mut self.timing, false);
-        let traced_scene = truth::traced(&self.scene);
+        let traced_scene = error_view::traced(&self.scene);
         self.run(encoder, frame, Some(&traced), &Stage::ALL, Some(&traced_scene));
         self.timing = timing;
         error_view.record(encoder, input.target);

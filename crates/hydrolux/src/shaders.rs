@@ -10,6 +10,7 @@ const MODULES: &[(&str, &str)] = &[
     ("constants", include_str!("shaders/constants.wgsl")),
     ("frame", include_str!("shaders/frame.wgsl")),
     ("optics", include_str!("shaders/optics.wgsl")),
+    ("lighting", include_str!("shaders/lighting.wgsl")),
     ("complex", include_str!("shaders/complex.wgsl")),
     ("sky_model", include_str!("shaders/sky_model.wgsl")),
     ("sky_bindings", include_str!("shaders/sky_bindings.wgsl")),
@@ -36,6 +37,8 @@ const MODULES: &[(&str, &str)] = &[
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
     ("traced", include_str!("passes/raytrace/traced.wgsl")),
     ("traced_hits", include_str!("passes/raytrace/traced_hits.wgsl")),
+    ("water_traced", include_str!("passes/water/traced.wgsl")),
+    ("water_foam", include_str!("passes/water/foam.wgsl")),
 ];
 
 /// The names on a source's `#import` lines, in order.
@@ -64,6 +67,10 @@ fn body(source: &str) -> String {
 /// A shared module's (name, source); an unknown name is a bug in a shader
 /// file, caught by the validation test.
 fn module(name: &str) -> (&'static str, &'static str) {
+    if name == "modes" {
+        static MODES: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+        return ("modes", MODES.get_or_init(crate::modes::wgsl).as_str());
+    }
     *MODULES.iter().find(|(n, _)| *n == name).unwrap_or_else(|| {
         let known: Vec<_> = MODULES.iter().map(|(n, _)| *n).collect();
         panic!("WGSL import `{name}` is not a shared module ({})", known.join(", "))

@@ -65,6 +65,25 @@ pub(crate) struct ViewSlots {
     pub object_light: ViewSlot,
 }
 
+impl ViewSlots {
+    /// Each view's matrix and clip plane as `plan` decided them.
+    pub fn write(&self, queue: &wgpu::Queue, plan: &FramePlan) {
+        use hydrolux_core::projective::ClipPlane;
+        let m = &plan.matrices;
+        self.main.write(queue, m.view_proj, ClipPlane::none().0);
+        self.reflection.write(queue, m.reflection, ClipPlane::above(0.0).0);
+        self.refraction.write(queue, m.refraction, ClipPlane::below(0.0).0);
+        self.reflection_under.write(queue, m.reflection, ClipPlane::below(0.0).0);
+        self.refraction_over.write(queue, m.refraction, ClipPlane::above(0.0).0);
+        if let Some(shadow) = m.shadow {
+            self.shadow.write(queue, shadow, ClipPlane::none().0);
+        }
+        if let Some(o) = &plan.object_light {
+            self.object_light.write(queue, o.view_proj, ClipPlane::none().0);
+        }
+    }
+}
+
 /// Bind group layouts every technique may bind.
 pub(crate) struct Layouts {
     /// Group 0 of render passes: the frame globals, sky, shadow map, caustics.
@@ -150,6 +169,61 @@ pub(crate) struct Shared {
     pub meshes: GeometryPass,
     pub geometry: SceneGeometry,
     pub views: ViewSlots,
+}
+
+impl Shared {
+    /// What every technique shares, for drawing `scene`'s meshes into
+    /// textures of `target_format` on a device that can do `caps`.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target_format: wgpu::TextureFormat,
+        caps: crate::capabilities::Capabilities,
+        scene: &Scene,
+    ) -> Result<Self, RenderError> {
+        use crate::meshes::Winding;
+        let layouts = Layouts::new(device);
+        let frame_buffer =
+            uniform_buffer(device, "frame", &crate::uniforms::FrameUniforms::default());
+        let frame_only = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame only"),
+            layout: &layouts.frame_only,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buffer.as_entire_binding(),
+            }],
+        });
+        let depth_format = crate::targets::main_depth_format(&caps);
+        let meshes =
+            GeometryPass::new(device, queue, &layouts.globals, &layouts.frame_only, depth_format);
+        let geometry = meshes.upload(device, queue, scene)?;
+        let slot = |label, winding| meshes.view_slot(device, label, winding);
+        let views = ViewSlots {
+            main: slot("main view", Winding::Normal),
+            reflection: slot("reflection view", Winding::Mirrored),
+            refraction: slot("refraction view", Winding::Normal),
+            reflection_under: slot("reflection under view", Winding::Mirrored),
+            refraction_over: slot("refraction over view", Winding::Normal),
+            shadow: slot("shadow view", Winding::Normal),
+            object_light: slot("object light view", Winding::Normal),
+        };
+        Ok(Shared {
+            device: device.clone(),
+            queue: queue.clone(),
+            medium_copy: (!caps.depth_and_stencil_reads || !caps.depth_stencil_copies)
+                .then(|| crate::targets::MediumCopyPass::new(device, depth_format)),
+            caps,
+            target_format,
+            depth_format,
+            layouts,
+            frame_buffer,
+            frame_only,
+            downsampler: Downsampler::new(device),
+            meshes,
+            geometry,
+            views,
+        })
+    }
 }
 
 /// Bind groups over resources that different techniques write, rebuilt by

@@ -5,9 +5,7 @@
 // e^(−σk·d) on its way down. Drawn for several views — main, reflection
 // (mirrored, clipped to y ≥ 0), refraction (clipped to y ≤ 0) — and into the
 // sun's shadow map (`vs_shadow`).
-#import constants, frame, medium, fog, shadow_space, shadow_lookup, caustics_lookup, object_caustics, geometry_common
-
-const GROUND_ALBEDO: f32 = 0.15;
+#import constants, frame, lighting, medium, fog, shadow_space, shadow_lookup, caustics_lookup, object_caustics, geometry_common
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -29,30 +27,8 @@ fn vs_main(v: VsIn) -> VsOut {
 
 // Procedural pattern on the plane facing the dominant normal axis.
 fn pattern_mix(world: vec3<f32>, n: vec3<f32>) -> f32 {
-    let a = abs(n);
-    var p = world.xz;
-    if (a.x > a.y && a.x > a.z) {
-        p = world.zy;
-    } else if (a.z > a.y) {
-        p = world.xy;
-    }
-    let q = p / object.tile_size;
-    // Where a pixel covers a good part of a tile, fade to the pattern's mean
-    // coverage instead of aliasing into moiré.
-    let w = max(fwidth(q), vec2<f32>(1e-4));
-    let far = smoothstep(0.15, 0.5, max(w.x, w.y));
-    if (object.pattern == 1u) {
-        // Grout lines 6% of a tile wide (3% each side), anti-aliased by the
-        // pixel footprint; they cover 1 − 0.94² ≈ 11.6% of the area.
-        let f = abs(fract(q) - 0.5);
-        let line = smoothstep(vec2<f32>(0.47) - w, vec2<f32>(0.47) + w, f);
-        return mix(max(line.x, line.y), 0.1164, far);
-    }
-    if (object.pattern == 2u) {
-        let c = floor(q);
-        return mix(f32((i32(c.x) + i32(c.y)) & 1), 0.5, far);
-    }
-    return 0.0;
+    let q = pattern_plane(world, n) / object.tile_size;
+    return pattern_coverage(q, fwidth(q), object.pattern);
 }
 
 // Seen from inside the water: what fs_main gives, attenuated and
@@ -104,15 +80,8 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     if (in.world.y < 0.0 && has_water()) {
         irradiance = underwater_irradiance(-in.world.y, n, visibility * caustic_factor(in.world));
     } else {
-        // Sun, sky from above, and light bounced off the ground and water
-        // below (a grey world of albedo GROUND_ALBEDO), so the undersides
-        // that reflections show are not black.
-        let l = frame.light.sun_dir;
-        let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
         // The sun, plus what refractive objects bend onto this point.
-        irradiance = frame.light.sun_illuminance * max(dot(n, l), 0.0) * (visibility + object_caustic(in.world))
-            + frame.light.sky_ambient * (0.5 + 0.5 * n.y)
-            + GROUND_ALBEDO * e_down * (0.5 - 0.5 * n.y);
+        irradiance = air_irradiance(n, visibility + object_caustic(in.world));
     }
     return vec4<f32>(albedo / PI * irradiance, 1.0);
 }

@@ -9,7 +9,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::uniforms::{ObjectUniforms, ViewUniforms};
 use hydrolux_core::geometry::load::{AssetError, load_texture};
-use hydrolux_core::scene::{Pattern, Scene};
+use hydrolux_core::scene::Scene;
 use wgpu::util::DeviceExt;
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -307,11 +307,7 @@ impl GeometryPass {
                 uv_scale: m.uv_scale,
                 pattern_color: m.pattern_color,
                 tile_size: m.tile_size,
-                pattern: match m.pattern {
-                    Pattern::None => 0,
-                    Pattern::Tiles => 1,
-                    Pattern::Checker => 2,
-                },
+                pattern: crate::modes::pattern(m.pattern),
                 ior: m.ior,
                 _pad0: 0,
                 _pad1: 0,

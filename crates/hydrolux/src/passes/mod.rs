@@ -4,15 +4,14 @@
 //! geometry (shadow map, reflection/refraction views, the scene in the main
 //! view) → water objects (light paths; drawn from the camera after the god
 //! rays) → water (medium classification, surface) → god rays → tonemap (or a
-//! debug view). `probe` answers queries outside the frame.
+//! debug view). Outside the registry: `probe` (queries
+//! outside the frame) and `error_view` (a frame mode).
 
 pub mod caustics;
 pub mod geometry;
 pub mod godrays;
-pub mod probe;
 pub mod raytrace;
 pub mod sky;
 pub mod tonemap;
-pub mod truth;
 pub mod water;
 pub mod water_object;

@@ -1,7 +1,10 @@
 // Per-frame constants shared by every render pass (group 0), one named
 // struct per concern. Layout twins: the `Frame*` structs in src/uniforms.rs
 // and the technique folders; a test checks every field's offset by name
-// against naga's layout of these structs.
+// against naga's layout of these structs. The modes' numbers (`VIEW_*`,
+// `FRESNEL_*`…) are generated from the scene's enums (src/modes.rs).
+
+#import modes
 
 // The camera.
 struct FrameView {
@@ -187,17 +190,6 @@ fn has_water() -> bool {
     return frame.water.has_water == 1u;
 }
 
-const VIEW_FINAL: u32 = 0u;
-const VIEW_REFLECTION: u32 = 1u;
-const VIEW_REFRACTION: u32 = 2u;
-const VIEW_DEPTH: u32 = 3u;
-const VIEW_NORMALS: u32 = 4u;
-const VIEW_SHADOW: u32 = 5u;
-const VIEW_MEDIUM: u32 = 6u;
-const VIEW_CAUSTICS: u32 = 7u;
-const VIEW_RIPPLES: u32 = 8u;
-const VIEW_FOAM: u32 = 9u;
-const VIEW_FRESNEL: u32 = 10u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 

@@ -1,5 +1,7 @@
 // Fresnel reflectance. WGSL twin of hydrolux_core::optics (seed 000 §2.1.2, §3.2).
 
+#import modes
+
 // Exact unpolarized Fresnel reflectance, light arriving with cos_i from n1 into n2.
 fn fresnel_exact(cos_i_in: f32, n1: f32, n2: f32) -> f32 {
     let cos_i = clamp(cos_i_in, 0.0, 1.0);
@@ -62,9 +64,9 @@ fn fresnel_power(cos_i: f32, n1: f32, n2: f32, q: f32) -> f32 {
 // mode: 0 exact, 1 Schlick, 2 Jensen–Goliáš, 3 power (exponent q).
 fn fresnel(mode: u32, q: f32, cos_i: f32, n1: f32, n2: f32) -> f32 {
     switch (mode) {
-        case 1u: { return fresnel_schlick(cos_i, n1, n2); }
-        case 2u: { return fresnel_jensen_golias(cos_i, n1, n2); }
-        case 3u: { return fresnel_power(cos_i, n1, n2, q); }
+        case FRESNEL_SCHLICK: { return fresnel_schlick(cos_i, n1, n2); }
+        case FRESNEL_JENSEN_GOLIAS: { return fresnel_jensen_golias(cos_i, n1, n2); }
+        case FRESNEL_POWER: { return fresnel_power(cos_i, n1, n2, q); }
         default: { return fresnel_exact(cos_i, n1, n2); }
     }
 }

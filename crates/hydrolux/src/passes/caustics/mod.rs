@@ -5,6 +5,8 @@
 //! floor (`beam.wgsl`), into the map texture that receivers read
 //! (`shaders/caustics_lookup.wgsl`).
 
+pub mod readback;
+
 use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};

@@ -18,6 +18,8 @@
 //! (`eye_in_scatter` in `shaders/medium.wgsl`), so the two add up to the
 //! whole ray.
 
+pub mod readback;
+
 use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};

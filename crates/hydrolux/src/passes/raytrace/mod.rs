@@ -41,7 +41,7 @@ uniform! { TracedParams;
         pub ground_albedo: [f32; 3],
         pub ground_tile_size: f32,
         pub ground_pattern_color: [f32; 3],
-        pub ground_pattern: f32,
+        pub ground_pattern: u32,
         pub has_ground: u32,
         pub reach: f32,
         pub object_count: u32,
@@ -67,9 +67,9 @@ pub(crate) struct TracedObject {
     pub albedo: [f32; 3],
     /// The pattern's tile size (m).
     pub tile_size: f32,
-    /// The pattern's second colour, and the pattern (0 none, 1 tiles, 2 checker).
+    /// The pattern's second colour, and the pattern (`modes::pattern`).
     pub pattern_color: [f32; 3],
-    pub pattern: f32,
+    pub pattern: u32,
     /// 0 sphere, 1 box, 2 cylinder (unit primitives), 3 plane.
     pub shape: u32,
     pub _pad: [u32; 3],
@@ -82,12 +82,8 @@ const SHAPE_CYLINDER: u32 = 2;
 /// A plane (traced_hits.wgsl `TRACED_PLANE`), not one of ray_primitive's.
 const SHAPE_PLANE: u32 = 3;
 
-fn pattern_code(p: Pattern) -> f32 {
-    match p {
-        Pattern::None => 0.0,
-        Pattern::Tiles => 1.0,
-        Pattern::Checker => 2.0,
-    }
+fn pattern_code(p: Pattern) -> u32 {
+    crate::modes::pattern(p)
 }
 
 /// The scene's objects rays can be traced against: opaque boxes, spheres,

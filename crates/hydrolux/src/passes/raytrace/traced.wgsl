@@ -9,9 +9,9 @@ struct TracedParams {
     // The ground's albedo and its pattern's tile size (m).
     ground_albedo: vec3<f32>,
     ground_tile_size: f32,
-    // The pattern's second colour, and the pattern (0 none, 1 tiles, 2 checker).
+    // The pattern's second colour, and the pattern (PATTERN_*).
     ground_pattern_color: vec3<f32>,
-    ground_pattern: f32,
+    ground_pattern: u32,
     // 1 if there is ground, the furthest a ray is traced (m), the traced objects.
     has_ground: u32,
     reach: f32,
@@ -40,9 +40,9 @@ struct TracedObject {
     // Albedo, and the pattern's tile size (m).
     albedo: vec3<f32>,
     tile_size: f32,
-    // The pattern's second colour, and the pattern (0 none, 1 tiles, 2 checker).
+    // The pattern's second colour, and the pattern (PATTERN_*).
     pattern_color: vec3<f32>,
-    pattern: f32,
+    pattern: u32,
     // The shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER
     // (ray_primitive.wgsl) or TRACED_PLANE (traced_hits.wgsl).
     shape: u32,

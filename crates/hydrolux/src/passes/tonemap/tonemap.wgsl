@@ -22,7 +22,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 }
 
 fn tone(c: vec3<f32>) -> vec3<f32> {
-    if (frame.modes.tonemap == 0u) {
+    if (frame.modes.tonemap == TONEMAP_ACES) {
         return aces_filmic(c);
     }
     return clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));

@@ -2,6 +2,8 @@
 //! world-fixed grid, displaced by the surface model and shaded with Fresnel,
 //! sky reflection, sun glint, the water body and foam (see `water.wgsl`).
 
+pub mod readback;
+
 use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
@@ -495,7 +497,7 @@ impl WaterPass {
         old: &Scene,
         new: &Scene,
     ) -> Result<(), crate::error::RenderError> {
-        use crate::passes::truth::traced;
+        use crate::error_view::traced;
         if new.render.view != hydrolux_core::scene::DebugView::Error {
             self.twin = None;
             return Ok(());

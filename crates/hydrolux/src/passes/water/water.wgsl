@@ -16,7 +16,7 @@
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
 // SKY_CUBE_SIZE are prepended by the pass.
-#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits
+#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits, water_traced, water_foam
 
 // Inputs of the water pass (group 2), rebuilt with the render targets. Seen
 // from the air: the scene above the water mirrored (reflection) and the
@@ -162,7 +162,7 @@ fn refraction_world(depth_tex: texture_2d<f32>, uv: vec2<f32>) -> vec4<f32> {
 fn refraction_lookup(depth_tex: texture_2d<f32>, p: vec3<f32>, t_dir: vec3<f32>, below: bool) -> vec3<f32> {
     let own_uv = clip_to_uv(frame.projective.refraction_view_proj * vec4<f32>(p, 1.0));
     var uv: vec2<f32>;
-    if (below && frame.modes.refraction_lookup == 1u) {
+    if (below && frame.modes.refraction_lookup == REFRACTION_PLANE) {
         uv = clip_to_uv(frame.projective.refraction_view_proj * vec4<f32>(refraction_point_plane(p, t_dir, frame.water.refraction_depth, 1000.0), 1.0));
     } else {
         // Seed 002 eq. 1: W = U + dv·R, dv = the distance to what lies behind p, clamped.
@@ -194,7 +194,7 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
     let ior = frame.water.ior;
     if (frame.projective.has_geometry == 0u) {
         // Nothing under the water (open ocean): bottomless.
-        if (frame.modes.optics == 1u) {
+        if (frame.modes.optics == OPTICS_SIMPLE) {
             return frame.water.body_color * e_down / PI;
         }
         return path_in_scatter(t_dir, 1e5) / (ior * ior);
@@ -202,7 +202,7 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
     let found = refraction_lookup(refraction_depth, p, t_dir, true);
     let seen = textureSampleLevel(refraction_tex, clamp_sampler, found.xy, 0.0).rgb;
     let s = found.z;
-    if (frame.modes.optics == 1u) {
+    if (frame.modes.optics == OPTICS_SIMPLE) {
         // Seed 002 eq. 5–6: blend towards the water colour by e^(−d·k).
         let c_water = frame.water.body_color * e_down / PI;
         let a = exp(-s * frame.water.simple_attenuation);
@@ -211,183 +211,6 @@ fn transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>) -> vec3<f32> {
     // In-medium radiance leaves through the surface divided by n² (the solid angle widens).
     return (seen * transmittance(s) + path_in_scatter_with_shafts(p, t_dir, s)) / (ior * ior);
 }
-
-// ---------------------------------------------------------------- traced
-
-// How much of the pattern's second colour shows at q (normal n) over a
-// footprint of `footprint` metres: the procedural pattern as the geometry
-// pass draws it (on the plane facing the dominant normal axis; grout lines
-// 6% of a tile, checkers), faded to its mean where a pixel covers a good
-// part of a tile.
-fn pattern_at(q: vec3<f32>, n: vec3<f32>, tile: f32, kind: f32, footprint: f32) -> f32 {
-    if (kind < 0.5) {
-        return 0.0;
-    }
-    let a = abs(n);
-    var p = q.xz;
-    if (a.x > a.y && a.x > a.z) {
-        p = q.zy;
-    } else if (a.z > a.y) {
-        p = q.xy;
-    }
-    let t = p / tile;
-    let w = max(footprint / tile, 1e-4);
-    let far = smoothstep(0.15, 0.5, w);
-    if (kind < 1.5) {
-        let f = abs(fract(t) - 0.5);
-        let line = smoothstep(vec2<f32>(0.47 - w), vec2<f32>(0.47 + w), f);
-        return mix(max(line.x, line.y), 0.1164, far);
-    }
-    let c = floor(t);
-    return mix(f32((i32(c.x) + i32(c.y)) & 1), 0.5, far);
-}
-
-// The sunbeam's cosine on traced ground at q (normal n) under the water,
-// shadow and caustics included: the traced photons' light where their
-// window covers q (factor × n_y × the flat beam's cosine: the photons'
-// density per horizontal area holds the slope's own cosine), elsewhere the
-// layered caustic maps and the shadow map.
-fn ground_sun_cosine(q: vec3<f32>, n: vec3<f32>) -> f32 {
-    let light = traced_ground_light(q);
-    if (light >= 0.0) {
-        return light * n.y * frame.light.sun_travel_cos;
-    }
-    return max(dot(n, -frame.light.sun_travel), 0.0) * traced_sun_visibility(q, n) * caustic_factor(q);
-}
-
-// Whether the sun reaches q (normal n) on traced ground or a traced object,
-// by a traced shadow ray: under the mean level up the flat-refracted
-// sunbeam to it, then along the sun's direction; the ground and the traced
-// objects block it (meshes cast no shadow in traced frames). The photons'
-// window (ground_sun_cosine) is exact under waves; this ray is for flat
-// water.
-fn traced_sun_visibility(q: vec3<f32>, n: vec3<f32>) -> f32 {
-    var o = q + n * 0.02;
-    if (o.y < 0.0) {
-        let up = -frame.light.sun_travel;
-        let t_surface = -o.y / max(up.y, 1e-3);
-        if (trace_ground(o, up) < t_surface || objects_block(o, up, t_surface)) {
-            return 0.0;
-        }
-        o += up * t_surface;
-    }
-    let l = frame.light.sun_dir;
-    if (trace_ground(o, l) != NO_ROOT || objects_block(o, l, traced.reach)) {
-        return 0.0;
-    }
-    return 1.0;
-}
-
-// What a Lambertian surface of albedo `albedo` at q (normal n) sends back
-// (as the geometry pass shades it): below the mean level the light field
-// under the surface with the caustics and the sun's traced shadow (for the
-// ground, the traced photons'), above it sun and sky.
-fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, ground: bool) -> vec3<f32> {
-    var irradiance: vec3<f32>;
-    if (q.y < 0.0) {
-        var sun_cosine: f32;
-        if (ground) {
-            sun_cosine = ground_sun_cosine(q, n);
-        } else {
-            sun_cosine = max(dot(n, -frame.light.sun_travel), 0.0) * traced_sun_visibility(q, n) * caustic_factor(q);
-        }
-        irradiance = underwater_irradiance_sun(-q.y, n, sun_cosine);
-    } else {
-        let visibility = traced_sun_visibility(q, n);
-        let l = frame.light.sun_dir;
-        let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
-        irradiance = frame.light.sun_illuminance * max(dot(n, l), 0.0) * visibility
-            + frame.light.sky_ambient * (0.5 + 0.5 * n.y) + 0.15 * e_down * (0.5 - 0.5 * n.y);
-    }
-    return albedo / PI * irradiance;
-}
-
-// A traced object's light at its hit.
-fn object_radiance(o: vec3<f32>, d: vec3<f32>, hit: ObjectHit, footprint: f32) -> vec3<f32> {
-    let obj = traced_objects[hit.index];
-    let q = o + d * hit.t;
-    let w = pattern_at(q, hit.normal, obj.tile_size, obj.pattern, footprint);
-    return lit_radiance(q, hit.normal, mix(obj.albedo, obj.pattern_color, w), false);
-}
-
-// The light the ground sends back at q, seen over `footprint` metres.
-fn ground_radiance(q: vec3<f32>, footprint: f32) -> vec3<f32> {
-    let n = ground_normal(q.x, q.z);
-    let w = pattern_at(q, vec3<f32>(0.0, 1.0, 0.0), traced.ground_tile_size, traced.ground_pattern, footprint);
-    return lit_radiance(q, n, mix(traced.ground_albedo, traced.ground_pattern_color, w), true);
-}
-
-// What a traced ray o + t·d meets first, ground (within t_ground) or an
-// object, lit, seen over a pixel of `pixel_angle` at `before` metres from
-// the eye; `hit.x` NO_ROOT if neither.
-fn traced_scene(o: vec3<f32>, d: vec3<f32>, t_ground: f32, before: f32, pixel_angle: f32) -> vec4<f32> {
-    let obj = trace_objects(o, d, t_ground);
-    if (obj.t < NO_ROOT && obj.t <= t_ground) {
-        return vec4<f32>(object_radiance(o, d, obj, pixel_angle * (before + obj.t)), obj.t);
-    }
-    if (t_ground < NO_ROOT) {
-        return vec4<f32>(ground_radiance(o + d * t_ground, pixel_angle * (before + t_ground)), t_ground);
-    }
-    return vec4<f32>(0.0, 0.0, 0.0, NO_ROOT);
-}
-
-// What the reflected ray r from surface point p (normal n) sees, traced:
-// the ground where it rises out of the water, the next wave, or the sky.
-// Objects are not in traced reflections.
-fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: vec3<f32>, e_down: vec3<f32>, pixel_angle: f32) -> vec3<f32> {
-    // Start on the traced water's side above: the drawn mesh and the
-    // resampled heightfield differ by a little, and beyond the window the
-    // heightfield is the mean level, which a trough lies under.
-    var o = p + n * 0.02;
-    o.y = max(o.y, hf_height(traced.water, o.x, o.z) + 0.02);
-    let tw = trace_heightfield(traced.water, o, r, traced.reach);
-    let seen = traced_scene(o, r, min(trace_ground(o, r), tw), distance(frame.view.position, p), pixel_angle);
-    if (seen.w < NO_ROOT) {
-        return through_fog(p, o + r * seen.w, seen.rgb);
-    }
-    if (tw < NO_ROOT) {
-        // Another wave: what it reflects of the sky (one more bounce, by
-        // its heightfield's normal) over the water's own colour.
-        let q = o + r * tw;
-        let e = traced.water.spacing;
-        let hx = hf_height(traced.water, q.x + e, q.z) - hf_height(traced.water, q.x - e, q.z);
-        let hz = hf_height(traced.water, q.x, q.z + e) - hf_height(traced.water, q.x, q.z - e);
-        let m = normalize(vec3<f32>(-hx, 2.0 * e, -hz));
-        var r2 = reflect(r, m);
-        r2.y = abs(r2.y);
-        let ior = frame.water.ior;
-        let f2 = fresnel(frame.modes.fresnel, frame.water.fresnel_power, abs(dot(r, m)), 1.0, ior);
-        let sky2 = textureSampleLevel(sky_cube, sky_sampler, r2, 0.0).rgb * exposure();
-        var body = path_in_scatter(vec3<f32>(0.0, -1.0, 0.0), 1e5) / (ior * ior);
-        if (frame.modes.optics == 1u) {
-            body = frame.water.body_color * e_down / PI;
-        }
-        return f2 * sky2 + (1.0 - f2) * body;
-    }
-    return sky_reflected;
-}
-
-// The light that comes up through the surface at p along t_dir, where
-// `seen` is what the ray meets (rgb) and how far (w; NO_ROOT: bottomless
-// water).
-fn traced_transmitted(p: vec3<f32>, t_dir: vec3<f32>, e_down: vec3<f32>, seen: vec4<f32>) -> vec3<f32> {
-    let ior = frame.water.ior;
-    let t = seen.w;
-    if (t >= NO_ROOT) {
-        if (frame.modes.optics == 1u) {
-            return frame.water.body_color * e_down / PI;
-        }
-        return path_in_scatter(t_dir, 1e5) / (ior * ior);
-    }
-    if (frame.modes.optics == 1u) {
-        let c_water = frame.water.body_color * e_down / PI;
-        return c_water + exp(-t * frame.water.simple_attenuation) * (seen.rgb - c_water);
-    }
-    return (seen.rgb * transmittance(t) + path_in_scatter_with_shafts(p, t_dir, t)) / (ior * ior);
-}
-
-// Samples of the god rays seen from above.
-const SHAFT_STEPS: u32 = 16u;
 
 // path_in_scatter, but with god rays seen from above (frame.volume.shafts_from_above > 0):
 // over the first frame.volume.shafts_from_above metres of the refracted path the sun's
@@ -410,107 +233,6 @@ fn path_in_scatter_with_shafts(p: vec3<f32>, t_dir: vec3<f32>, s: f32) -> vec3<f
         shafts += caustic_factor(q) * sun_visibility_point(q) * sun_in_scatter(0.0, t_dir, d0, d0 + ds);
     }
     return shafts + sun_in_scatter(0.0, t_dir, reach, s) + sky_in_scatter(0.0, t_dir, s);
-}
-
-// What a foam layer lets through from above, seen from below.
-const FOAM_BELOW: f32 = 0.1;
-
-// The foam debug view: its cover as grey over dark water, lit softly.
-fn foam_view(foam: f32, n: vec3<f32>) -> vec4<f32> {
-    let light = 0.6 + 0.4 * max(dot(n, normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0);
-    return vec4<f32>(mix(vec3<f32>(0.02, 0.05, 0.1), vec3<f32>(1.0), foam) * light, 1.0);
-}
-
-// `render.view = "ripples"`: the interactive water's height (red up, blue
-// down) on a signed log scale from 0.5 mm to 0.5 m (a linear ±5 mm scale
-// turned the pool solid orange: the ball alone lifts its level by 1.2 cm),
-// lit by the surface's normal so that waves show on any level.
-fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
-    var r = zero_sample();
-    add_ripples(&r, p, 0.0);
-    let h = r.disp.y;
-    let t = sign(h) * min(log(1.0 + abs(h) / 0.0005) / log(1001.0), 1.0);
-    let hue = mix(vec3<f32>(0.85), select(vec3<f32>(0.15, 0.35, 1.0), vec3<f32>(1.0, 0.25, 0.1), t > 0.0), abs(t));
-    let light = 0.2 + 0.8 * pow(max(dot(n, normalize(vec3<f32>(0.4, 1.0, 0.3))), 0.0), 4.0);
-    return vec4<f32>(hue * light, 1.0);
-}
-
-// Foam as seen in a pixel: its cover filtered over the footprint (the
-// fraction of the pixel that is foam, so it never shimmers), broken up into
-// lacy patches and bubbles by noise at three scales (5.6 m, 1.4 m, 0.35 m
-// across the wind, `foam_streak` times longer along it: wind streaks): a
-// cell of cover c shows foam where the noise lies below c, a dense sheet
-// keeps a few holes. Each octave fades into its mean once a pixel's
-// footprint (geometric mean of its two axes, so grazing views keep their
-// detail across the view) nears its size, and with no octave left the
-// pixel shows c itself. Only the look is noise: where and how much foam
-// there is comes from the simulated field.
-fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
-    let c = foam_cover_grad(p, dpdx_p, dpdy_p);
-    if (c <= 0.0) {
-        return 0.0;
-    }
-    let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
-    // Noise space: along the wind shrunk by the streaks' length.
-    let wind = surface.foam_wind;
-    let q = vec2<f32>(dot(p, wind) / max(surface.foam_streak, 1.0), dot(p, vec2<f32>(-wind.y, wind.x)));
-    var n = 0.5;
-    var kept = 0.0;
-    var scale = 5.6;
-    var weight = 0.3;
-    for (var k = 0; k < 3; k++) {
-        let d = 1.0 - smoothstep(0.2, 0.7, footprint / scale);
-        let offset = vec2<f32>(17.0, 3.0) * f32(k);
-        n += weight * d * (value_noise(q / scale + offset) - 0.5);
-        kept = max(kept, d);
-        scale *= 0.25;
-        weight *= 1.2;
-    }
-    if (kept <= 0.0) {
-        return c;
-    }
-    let width = 0.12 + 0.4 * (1.0 - kept);
-    let pattern = smoothstep(n - width, n + width, 0.05 + 0.85 * c);
-    // Inside a patch the sheet is thicker and thinner (0.9 m blotches,
-    // faded like the octaves), not one flat white.
-    let blotch = 1.0 - smoothstep(0.2, 0.7, footprint / 0.9);
-    let thickness = clamp(1.0 + blotch * (value_noise(q / 0.9 + vec2<f32>(31.0, 7.0)) - 0.6), 0.0, 1.0);
-    // Far off, the mean of what the pattern shows (its mean cover).
-    return mix(c, pattern * thickness, kept);
-}
-
-// Foam's brightness (0.6–1): bubbles of many sizes make its sheet lumpy,
-// some of it in the shade of the rest. Noise at 0.5 m and 0.12 m, faded to
-// its mean (0.85) as the pixel's footprint nears its size.
-fn foam_shade(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
-    let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
-    var shade = 0.85;
-    var scale = 0.5;
-    for (var k = 0; k < 2; k++) {
-        let d = 1.0 - smoothstep(0.2, 0.7, footprint / scale);
-        shade += 0.25 * d * (value_noise(p / scale + vec2<f32>(5.0, 11.0) * f32(k + 1)) - 0.5);
-        scale *= 0.25;
-    }
-    return clamp(shade, 0.6, 1.0);
-}
-
-fn value_noise(x: vec2<f32>) -> f32 {
-    let i = floor(x);
-    let f = x - i;
-    let u = f * f * (3.0 - 2.0 * f);
-    let a = noise_hash(i);
-    let b = noise_hash(i + vec2<f32>(1.0, 0.0));
-    let c = noise_hash(i + vec2<f32>(0.0, 1.0));
-    let d = noise_hash(i + vec2<f32>(1.0, 1.0));
-    return mix(mix(a, b, u.x), mix(c, d, u.x), u.y);
-}
-
-fn noise_hash(i: vec2<f32>) -> f32 {
-    let k = vec2<u32>(vec2<i32>(i));
-    var h = (k.x * 0x27d4eb2du) ^ (k.y * 0x165667b1u);
-    h = (h ^ (h >> 15u)) * 0x2c1b3c6du;
-    h = h ^ (h >> 12u);
-    return f32(h & 0xffffu) / 65535.0;
 }
 
 @fragment

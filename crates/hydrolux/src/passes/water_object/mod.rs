@@ -17,6 +17,8 @@
 //! rays: `shade.wgsl` records the objects' back faces, then shades their
 //! front faces by two refractions into a copy of the image behind them.
 
+pub mod readback;
+
 use crate::gpu_util::*;
 use crate::meshes::{
     self as meshes, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,

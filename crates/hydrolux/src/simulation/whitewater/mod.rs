@@ -15,6 +15,7 @@
 //! the alive particles, which `draw.rs` (the `particles` technique) draws.
 
 pub mod draw;
+mod layer;
 pub mod readback;
 
 use crate::gpu_util::*;
@@ -134,17 +135,6 @@ fn kicks_group(
         layout,
         entries: &[wgpu::BindGroupEntry { binding: 1, resource: kicks.as_entire_binding() }],
     })
-}
-
-/// A snapshot of the particle pool (for `bench` and the viewer).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ParticleCounts {
-    pub alive: u32,
-    pub capacity: u32,
-    /// Born since the start (or the last reset).
-    pub emitted: u32,
-    /// Not born because the pool was full.
-    pub lost: u32,
 }
 
 struct Pipelines {
@@ -698,170 +688,9 @@ impl Whitewater {
         self.foam.parity() as u32
     }
 
-    /// The foam now (F per cell), row = z from the window's low corner.
-    pub fn read_foam(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<f32> {
-        let raw: Vec<f32> = bytemuck::cast_slice(&read_buffer(
-            device,
-            queue,
-            &self.foam.current().buffer,
-            self.foam.current().buffer.size(),
-        ))
-        .to_vec();
-        let n = self.grid.cells as usize;
-        (0..n * n)
-            .map(|k| {
-                let (i, j) = (k % n, k / n);
-                raw[self.grid.index(self.grid.low[0] + i as i32, self.grid.low[1] + j as i32)]
-            })
-            .collect()
-    }
-
-    /// The particles alive now (in no particular order).
-    pub fn read_particles(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<Particle> {
-        let counts = self.counters(device, queue);
-        let list = self.list() as usize;
-        let slots: Vec<u32> =
-            bytemuck::cast_slice(&read_buffer(device, queue, &self.slots, self.slots.size()))
-                .to_vec();
-        let pool: Vec<Particle> = bytemuck::cast_slice(&read_buffer(
-            device,
-            queue,
-            &self.particles,
-            self.particles.size(),
-        ))
-        .to_vec();
-        let c = self.capacity as usize;
-        let alive = counts[list] as usize;
-        slots[list * c..list * c + alive.min(c)].iter().map(|&s| pool[s as usize]).collect()
-    }
-
-    fn counters(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("counters readback"),
-            size: 4 * COUNTERS as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut e = device.create_command_encoder(&Default::default());
-        e.copy_buffer_to_buffer(&self.atomics, 0, &staging, 0, 4 * COUNTERS as u64);
-        queue.submit([e.finish()]);
-        bytemuck::cast_slice(&map_and_read(device, &staging)).to_vec()
-    }
-
-    /// The pool's counts now.
-    pub fn counts(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> ParticleCounts {
-        let c = self.counters(device, queue);
-        ParticleCounts {
-            alive: c[self.list() as usize],
-            capacity: self.capacity,
-            emitted: c[COUNT_EMITTED],
-            lost: c[COUNT_LOST],
-        }
-    }
-
     /// Whether this white water runs the particles.
     pub fn has_particles(&self) -> bool {
         self.run & RUN_PARTICLES != 0
-    }
-}
-
-impl crate::simulation::Simulation for Whitewater {
-    fn create(
-        shared: &crate::technique::Shared,
-        scene: &Scene,
-        published: &crate::simulation::Published,
-    ) -> Result<Option<Self>, crate::error::RenderError> {
-        let mut w = Whitewater::new(shared, scene);
-        if let Some(w) = &mut w {
-            w.connect(shared, published);
-        }
-        Ok(w)
-    }
-
-    fn fits(&self, scene: &Scene) -> bool {
-        Whitewater::fits(self, scene)
-    }
-
-    fn connect(
-        &mut self,
-        shared: &crate::technique::Shared,
-        published: &crate::simulation::Published,
-    ) {
-        self.bind_kicks(&shared.device, published.ripples.as_ref().map(|r| &r.kicks));
-    }
-
-    fn publish(&self, published: &mut crate::simulation::Published) {
-        use crate::simulation::published::{FoamState, ParticleState};
-        let (wind, streak) = self.foam_wind();
-        published.foam = Some(FoamState {
-            cover: self.cover_view.clone(),
-            window: self.foam_area(),
-            wind,
-            streak,
-        });
-        published.particles = self.has_particles().then(|| ParticleState {
-            particles: self.particles.clone(),
-            slots: self.slots.clone(),
-            args: self.args.clone(),
-            list: self.list(),
-            capacity: self.capacity,
-        });
-    }
-
-    fn pace(&self) -> crate::simulation::Pace {
-        crate::simulation::Pace::OwnSteps
-    }
-
-    fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
-        Whitewater::reset(self, queue, from);
-    }
-
-    fn schedule(
-        &mut self,
-        clock_steps: u64,
-        frame_end: u64,
-        queue: &wgpu::Queue,
-    ) -> Vec<(u64, f64)> {
-        Whitewater::schedule(self, clock_steps, frame_end, queue)
-    }
-
-    /// A step reads the surface at its own time, to within half a step.
-    fn surface_tolerance(&self) -> Option<f64> {
-        Some(0.5 * self.dt as f64)
-    }
-
-    fn step(
-        &mut self,
-        ctx: &mut crate::simulation::StepContext,
-        encoder: &mut wgpu::CommandEncoder,
-    ) {
-        let camera = [ctx.camera.position.x, ctx.camera.position.z];
-        let input = StepInput {
-            centre: ctx.couplings.water_centre.unwrap_or(camera),
-            camera,
-            splashes: std::mem::take(&mut ctx.couplings.splashes),
-        };
-        let surface = &ctx.published.surface().group_without_foam;
-        self.record_step(&ctx.shared.queue, encoder, surface, input);
-    }
-
-    /// Splashes of the steps after its last one wait for its next step
-    /// (in a later frame), as they would had the frame ended elsewhere.
-    fn keep_leftovers(&mut self, couplings: &mut crate::simulation::couplings::Couplings) {
-        for splash in couplings.splashes.drain(..) {
-            self.splash(splash);
-        }
-    }
-
-    fn finish(&mut self, shared: &crate::technique::Shared, encoder: &mut wgpu::CommandEncoder) {
-        self.record_mips(encoder, &shared.downsampler);
-    }
-
-    fn input(&mut self, input: &crate::simulation::Input) -> bool {
-        match *input {
-            crate::simulation::Input::Splash(splash) => self.splash(splash),
-            _ => false,
-        }
     }
 }
 
