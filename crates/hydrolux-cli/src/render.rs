@@ -43,7 +43,7 @@ pub struct RenderArgs {
     /// Video bitrate instead of --crf, bits per second with an optional k or M (e.g. 8M).
     #[arg(long)]
     pub bitrate: Option<String>,
-    #[arg(long = "dump", value_name = "KIND=FILE", help = crate::dumps::HELP)]
+    #[arg(long = "dump", value_name = "KIND=FILE", help = crate::dumps::help())]
     pub dump: Vec<String>,
 }
 

@@ -474,3 +474,16 @@ pub fn f16_to_f32(h: u16) -> f32 {
         _ => sign * (1.0 + frac / 1024.0) * 2f32.powi(exp - 15),
     }
 }
+
+/// An RGBA half-float texture's texels as f32, rows top to bottom.
+pub fn read_rgba16f(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Vec<[f32; 4]> {
+    let bytes = read_texture(device, queue, texture, 8);
+    let halves: &[u16] = bytemuck::cast_slice(&bytes);
+    let texel =
+        |c: &[u16]| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])];
+    halves.chunks_exact(4).map(texel).collect()
+}

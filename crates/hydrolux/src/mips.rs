@@ -109,6 +109,7 @@ pub(crate) fn source() -> String {
 
 pub(crate) const INFO: crate::info::TechniqueInfo = crate::info::TechniqueInfo {
     name: "mips",
+    dumps: &[],
     shaders: || vec![("downsample".to_string(), source())],
     uniforms: Vec::new,
 };

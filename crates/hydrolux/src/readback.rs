@@ -2,20 +2,88 @@
 //! outside the frame: for tests, dumps and callers (buoyancy, tools).
 
 use crate::gpu_util::*;
+use crate::info::DumpData;
 use crate::renderer::Renderer;
-pub use crate::simulation::ripples::readback::RippleField;
-pub use crate::simulation::whitewater::readback::FoamDump;
-pub use crate::simulation::whitewater::readback::ParticleCounts;
+use crate::technique::DumpContext;
+use hydrolux_core::scene::WaterModel;
 use hydrolux_core::waves::SurfaceSample;
+use hydrolux_core::waves::ocean::OceanFields;
 
 impl Renderer {
-    /// An RGBA half-float texture's texels as f32, rows top to bottom.
-    pub(crate) fn read_rgba16f(&self, texture: &wgpu::Texture) -> Vec<[f32; 4]> {
-        let bytes = read_texture(self.device(), self.queue(), texture, 8);
-        let halves: &[u16] = bytemuck::cast_slice(&bytes);
-        let texel =
-            |c: &[u16]| [f16_to_f32(c[0]), f16_to_f32(c[1]), f16_to_f32(c[2]), f16_to_f32(c[3])];
-        halves.chunks_exact(4).map(texel).collect()
+    /// Read dump `name` back (one of [`crate::dump_kinds`]): from the last
+    /// frame or simulation step, by whoever declares it. An error says why
+    /// there is nothing to read (e.g. no god-ray buffer this frame).
+    pub fn dump(&self, name: &str) -> Result<DumpData, String> {
+        let grid = |columns: usize, channels: usize, data: Vec<f32>| DumpData::Floats {
+            columns,
+            rows: data.len() / (columns * channels).max(1),
+            channels,
+            data,
+            note: None,
+        };
+        match name {
+            "hdr" => {
+                let Some((w, _, px)) = self.read_hdr() else {
+                    return Err("no frame has been rendered to dump".into());
+                };
+                return Ok(grid(
+                    w as usize,
+                    3,
+                    px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect(),
+                ));
+            }
+            "height" | "displacement" | "normals" | "jacobian" => {
+                let (n, samples) = self.surface_grid();
+                let (c, data): (usize, Vec<f32>) = match name {
+                    "height" => (1, samples.iter().map(|s| s.displacement[1]).collect()),
+                    "displacement" => (3, samples.iter().flat_map(|s| s.displacement).collect()),
+                    "normals" => (3, samples.iter().flat_map(|s| s.normal().to_array()).collect()),
+                    _ => (1, samples.iter().map(|s| s.jacobian()).collect()),
+                };
+                return Ok(grid(n, c, data));
+            }
+            _ => {}
+        }
+        let ctx = DumpContext {
+            device: self.device(),
+            queue: self.queue(),
+            scene: &self.scene,
+            plan: self.last_plan.as_ref(),
+            time: self.simulation_time(),
+        };
+        let by_technique = self.techniques.each().into_iter().find_map(|t| t.dump(name, &ctx));
+        by_technique
+            .or_else(|| self.simulations.dump(name, &ctx))
+            .unwrap_or_else(|| Err(format!("no dump named `{name}`")))
+    }
+
+    /// Surface samples on the largest cascade's N×N grid (x_j = j·L/N, row
+    /// = z, col = x), before horizontal displacement: the FFT's float32
+    /// output for the FFT ocean, the probe otherwise.
+    fn surface_grid(&self) -> (usize, Vec<SurfaceSample>) {
+        let scene = &self.scene;
+        let n = scene.ocean.resolution as usize;
+        let l = scene.ocean.patch_size as f64;
+        let points: Vec<[f64; 2]> = (0..n)
+            .flat_map(|z| (0..n).map(move |x| [x as f64 * l / n as f64, z as f64 * l / n as f64]))
+            .collect();
+        let samples = match (scene.water.model, self.read_ocean_fields()) {
+            (WaterModel::Fft, Some(texels)) => {
+                let cascades = scene.ocean_settings().cascades();
+                let fields = OceanFields {
+                    resolution: n,
+                    patch_sizes: cascades.iter().map(|c| c.patch_size).collect(),
+                    texels,
+                };
+                points.iter().map(|p| fields.sample(p[0], p[1])).collect()
+            }
+            _ => {
+                let points: Vec<[f32; 2]> =
+                    points.iter().map(|p| [p[0] as f32, p[1] as f32]).collect();
+                self.probe_surface(&points)
+            }
+        };
+        (n, samples)
     }
 
     /// Each pixel's medium in the last frame (0 air, 1 water: where its
@@ -40,7 +108,7 @@ impl Renderer {
     /// tone map), RGBA float, rows top to bottom.
     pub fn read_hdr(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
         let t = self.targets.as_ref()?;
-        Some((t.size.0, t.size.1, self.read_rgba16f(&t.hdr)))
+        Some((t.size.0, t.size.1, read_rgba16f(self.device(), self.queue(), &t.hdr)))
     }
 
     /// The surface as the renderer samples it (finest level) at undisplaced
@@ -88,5 +156,30 @@ impl Renderer {
             [&self.bound.globals, &self.bound.surface],
             dirs,
         )
+    }
+}
+
+/// Per-pass GPU times: the last frame's timestamps, read back.
+impl Renderer {
+    /// Collect per-pass GPU timestamps for each frame (where the adapter supports them).
+    pub fn set_timing(&mut self, on: bool) {
+        self.timing = on;
+    }
+
+    pub fn has_timestamps(&self) -> bool {
+        self.timer.is_some()
+    }
+
+    /// Per-pass GPU milliseconds of the last frame, once its submission has
+    /// been waited for ([`Renderer::collect_timings`]).
+    pub fn last_timings(&self) -> &[(&'static str, f64)] {
+        &self.last_timings
+    }
+
+    /// Wait for the last frame and read its pass timings (no-op without timing).
+    pub fn collect_timings(&mut self) {
+        if let (true, Some(t)) = (self.timing, &self.timer) {
+            self.last_timings = t.read(&self.shared.device);
+        }
     }
 }

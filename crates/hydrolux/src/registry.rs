@@ -91,6 +91,11 @@ registry! {
 /// The frame globals, checked against the water shader (which imports them).
 const FRAME_INFO: TechniqueInfo = TechniqueInfo {
     name: "frame",
+    dumps: &[crate::info::DumpKind {
+        name: "hdr",
+        shape: crate::info::DumpShape::Grid,
+        missing: |_| None,
+    }],
     shaders: Vec::new,
     uniforms: || {
         let src = crate::passes::water::source;
@@ -236,6 +241,12 @@ impl Techniques {
             self.godrays.pass.bind_tubes(&shared.device, light.tubes.clone(), light.resolution);
         self.godrays.object_tubes = Some(tubes);
     }
+}
+
+/// Every dump the techniques, the frame, the probe and the simulations
+/// declare (what `hydrolux render --dump` offers), in registry order.
+pub fn dump_kinds() -> Vec<&'static crate::info::DumpKind> {
+    TECHNIQUES.iter().chain(crate::simulation::SIMULATIONS).flat_map(|t| t.dumps).collect()
 }
 
 /// Every technique's and simulation's shaders and uniforms (what the

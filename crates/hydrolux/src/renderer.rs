@@ -14,7 +14,6 @@ use crate::plan::FramePlan;
 use crate::probe::ProbePass;
 use crate::registry::{GlobalSamplers, Techniques};
 use crate::simulation::Simulations;
-pub use crate::simulation::ocean::largest_ocean_resolution;
 use crate::surface_kind::SurfaceKind;
 use crate::targets::{TargetSettings, Targets, main_pass};
 use crate::technique::{Bound, FrameContext, Shared, Stage};

@@ -80,6 +80,7 @@ pub(crate) fn medium_copy_source() -> String {
 
 pub(crate) const MEDIUM_COPY_INFO: crate::info::TechniqueInfo = crate::info::TechniqueInfo {
     name: "medium copy",
+    dumps: &[],
     shaders: || vec![("medium copy".to_string(), medium_copy_source())],
     uniforms: Vec::new,
 };

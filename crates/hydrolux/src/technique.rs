@@ -7,7 +7,7 @@
 
 use crate::error::RenderError;
 use crate::gpu_util::*;
-pub(crate) use crate::info::TechniqueInfo;
+pub(crate) use crate::info::{DumpData, TechniqueInfo};
 use crate::meshes::{GeometryPass, SceneGeometry, ViewSlot};
 use crate::mips::Downsampler;
 use crate::plan::FramePlan;
@@ -245,7 +245,7 @@ pub(crate) struct FrameContext<'a> {
     pub shared: &'a Shared,
     pub bound: &'a Bound,
     /// What the simulations publish (the surface, foam, particles, bodies).
-    pub published: &'a crate::simulation::Published,
+    pub published: &'a crate::simulation::published::Published,
     /// The screen targets (`None` when only simulating).
     pub targets: Option<&'a Targets>,
     /// The caller's target (`None` when only simulating).
@@ -256,6 +256,16 @@ impl FrameContext<'_> {
     pub fn targets(&self) -> &Targets {
         self.targets.expect("a stage after Simulate runs with targets")
     }
+}
+
+/// What a dump reads besides its owner's state: the device, the scene as
+/// drawn, the last frame's plan and the simulations' time.
+pub(crate) struct DumpContext<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub scene: &'a Scene,
+    pub plan: Option<&'a FramePlan>,
+    pub time: f64,
 }
 
 /// One technique of the frame. Every method has a default that does
@@ -301,4 +311,9 @@ pub(crate) trait Technique {
     /// Draw into the main view's shared render pass of `stage`
     /// ([`Stage::Medium`] or [`Stage::Main`]).
     fn draw(&self, _stage: Stage, _pass: &mut wgpu::RenderPass<'_>, _frame: &FrameContext) {}
+
+    /// Read back dump `name` if it is one of those its `INFO` declares.
+    fn dump(&self, _name: &str, _ctx: &DumpContext) -> Option<Result<DumpData, String>> {
+        None
+    }
 }

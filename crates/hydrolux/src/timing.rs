@@ -134,27 +134,3 @@ impl GpuTimer {
             .collect()
     }
 }
-
-impl crate::renderer::Renderer {
-    /// Collect per-pass GPU timestamps for each frame (where the adapter supports them).
-    pub fn set_timing(&mut self, on: bool) {
-        self.timing = on;
-    }
-
-    pub fn has_timestamps(&self) -> bool {
-        self.timer.is_some()
-    }
-
-    /// Per-pass GPU milliseconds of the last frame, once its submission has
-    /// been waited for ([`Renderer::collect_timings`]).
-    pub fn last_timings(&self) -> &[(&'static str, f64)] {
-        &self.last_timings
-    }
-
-    /// Wait for the last frame and read its pass timings (no-op without timing).
-    pub fn collect_timings(&mut self) {
-        if let (true, Some(t)) = (self.timing, &self.timer) {
-            self.last_timings = t.read(&self.shared.device);
-        }
-    }
-}

@@ -107,6 +107,7 @@ impl ErrorView {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "truth",
+    dumps: &[],
     shaders: || {
         vec![
             ("truth/error".to_string(), source(true)),

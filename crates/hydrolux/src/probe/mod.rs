@@ -164,8 +164,41 @@ impl ProbePass {
     }
 }
 
+fn no_surface(scene: &hydrolux_core::scene::Scene) -> Option<&'static str> {
+    (scene.water.model == hydrolux_core::scene::WaterModel::None)
+        .then_some("the scene has no water surface (water.model = \"none\")")
+}
+
+/// The surface as rendered on the largest cascade's N×N grid (x_j = j·L/N,
+/// row = z, col = x), before horizontal displacement: its height, its
+/// displacement (xyz), its normal (xyz) and its Jacobian (`readback.rs`
+/// reads them: the FFT's float32 output, or this probe).
+pub(crate) const SURFACE_DUMPS: &[crate::info::DumpKind] = &[
+    crate::info::DumpKind {
+        name: "height",
+        shape: crate::info::DumpShape::Grid,
+        missing: no_surface,
+    },
+    crate::info::DumpKind {
+        name: "displacement",
+        shape: crate::info::DumpShape::Grid,
+        missing: no_surface,
+    },
+    crate::info::DumpKind {
+        name: "normals",
+        shape: crate::info::DumpShape::Grid,
+        missing: no_surface,
+    },
+    crate::info::DumpKind {
+        name: "jacobian",
+        shape: crate::info::DumpShape::Grid,
+        missing: no_surface,
+    },
+];
+
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "probe",
+    dumps: SURFACE_DUMPS,
     shaders: || vec![("probe".to_string(), source())],
     uniforms: Vec::new,
 };

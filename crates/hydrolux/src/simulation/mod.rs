@@ -172,6 +172,15 @@ pub(crate) trait Simulation {
     fn bodies(&self) -> Vec<BodyState> {
         Vec::new()
     }
+
+    /// Read back dump `name` if it is one of those its `INFO` declares.
+    fn dump(
+        &self,
+        _name: &str,
+        _ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        None
+    }
 }
 
 macro_rules! simulations {
@@ -289,6 +298,15 @@ impl Simulations {
     /// Offer a caller's input to each in order; whether one took it.
     pub fn input(&mut self, input: Input) -> bool {
         self.each_mut().into_iter().any(|s| s.input(&input))
+    }
+
+    /// Dump `name`, if a simulation declares it.
+    pub fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        self.each().into_iter().find_map(|s| s.dump(name, ctx))
     }
 
     /// The moving bodies now (position, velocities, submerged volume).

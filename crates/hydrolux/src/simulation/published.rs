@@ -3,7 +3,14 @@
 //! (cheap: handles and a few numbers). A technique never reaches into a
 //! simulation; it reads this.
 
-pub use super::whitewater::FoamWindow;
+/// Where the foam's window lies: the world point of its low corner (m),
+/// its side (m), and whether it tiles the plane (open water).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoamWindow {
+    pub origin: [f32; 2],
+    pub side: f32,
+    pub tiles: bool,
+}
 
 /// The water surface as every pass that reads it binds it.
 #[derive(Clone)]

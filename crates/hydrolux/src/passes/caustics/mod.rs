@@ -345,6 +345,7 @@ impl CausticsPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "caustics",
+    dumps: readback::DUMPS,
     shaders: || {
         vec![("caustics".to_string(), source()), ("caustics/beam".to_string(), beam_source())]
     },
@@ -440,5 +441,13 @@ impl Technique for Caustics {
             self.pass.record(encoder, frame_only, surface, &self.map, method, timer);
             self.current = true;
         }
+    }
+
+    fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        Caustics::dump(self, name, ctx)
     }
 }

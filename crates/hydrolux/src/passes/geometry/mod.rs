@@ -11,6 +11,7 @@ use hydrolux_core::scene::Scene;
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "geometry",
+    dumps: &[],
     shaders: || {
         vec![("geometry".to_string(), source()), ("geometry/shadow".to_string(), shadow_source())]
     },

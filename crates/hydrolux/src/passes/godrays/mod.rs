@@ -538,6 +538,7 @@ impl GodRaysPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "godrays",
+    dumps: readback::DUMPS,
     shaders: || {
         vec![
             ("godrays/tubes".to_string(), tubes_source()),
@@ -655,5 +656,13 @@ impl Technique for GodRays {
             &targets.hdr_view,
             timer,
         );
+    }
+
+    fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        GodRays::dump(self, name, ctx)
     }
 }

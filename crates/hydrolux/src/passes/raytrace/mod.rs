@@ -642,6 +642,7 @@ impl Traced {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "raytrace",
+    dumps: &[],
     shaders: || {
         vec![
             ("raytrace".to_string(), source()),

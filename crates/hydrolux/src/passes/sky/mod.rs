@@ -178,6 +178,7 @@ impl SkyPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "sky",
+    dumps: &[],
     shaders: || {
         vec![
             ("sky/bake".to_string(), bake_source()),

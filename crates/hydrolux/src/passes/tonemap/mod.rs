@@ -100,6 +100,7 @@ impl TonemapPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "tonemap",
+    dumps: &[],
     shaders: || {
         vec![
             ("tonemap/srgb-target".to_string(), source(true)),

@@ -462,6 +462,7 @@ impl WaterPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "water",
+    dumps: &[],
     shaders: || vec![("water".to_string(), source())],
     uniforms: || vec![crate::uniforms::Layout::of::<crate::uniforms::SurfaceUniforms>(source())],
 };

@@ -570,6 +570,7 @@ impl WaterObjectPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "water_objects",
+    dumps: readback::DUMPS,
     shaders: || {
         vec![
             ("water_object/light".to_string(), light_source()),
@@ -682,5 +683,13 @@ impl Technique for WaterObjects {
             }
             _ => {}
         }
+    }
+
+    fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        WaterObjects::dump(self, name, ctx)
     }
 }

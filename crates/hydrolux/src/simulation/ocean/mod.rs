@@ -301,6 +301,7 @@ impl OceanPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "ocean",
+    dumps: &[],
     shaders: || {
         let mut v = vec![
             ("ocean/spectrum".to_string(), spectrum_source()),

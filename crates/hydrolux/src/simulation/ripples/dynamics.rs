@@ -473,4 +473,12 @@ impl crate::simulation::Simulation for Dynamics {
     fn bodies(&self) -> Vec<BodyState> {
         self.states()
     }
+
+    fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        Dynamics::dump(self, name, ctx)
+    }
 }

@@ -557,6 +557,7 @@ impl RipplePass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "ripples",
+    dumps: readback::DUMPS,
     shaders: || {
         let mut v = vec![("ripples/ripples".to_string(), source())];
         v.push(("ripples/fft N=32".to_string(), crate::simulation::ocean::fft_source(32, 256)));

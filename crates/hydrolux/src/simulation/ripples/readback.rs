@@ -1,21 +1,99 @@
-//! The interactive water's readbacks, declared here by their owner.
+//! The interactive water's readbacks and dumps, declared here by their owner.
 
+use super::dynamics::Dynamics;
+use crate::info::{DumpData, DumpKind, DumpShape};
 use crate::renderer::Renderer;
+use crate::technique::DumpContext;
+use hydrolux_core::scene::Scene;
+
+fn no_water(scene: &Scene) -> Option<&'static str> {
+    scene.ripple_settings().is_none().then_some(
+        "the scene has no interactive water (set water.dynamic = true, with water.model other than \"none\")",
+    )
+}
+
+fn no_bodies(scene: &Scene) -> Option<&'static str> {
+    let moving = scene.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
+    (!moving)
+        .then_some("the scene has no moving object (an object with dynamic = true or a velocity)")
+}
+
+/// `ripples`: the heights over the domain; `bodies`: the moving bodies (JSON).
+pub(crate) const DUMPS: &[DumpKind] = &[
+    DumpKind { name: "ripples", shape: DumpShape::Grid, missing: no_water },
+    DumpKind { name: "bodies", shape: DumpShape::Json, missing: no_bodies },
+];
+
+impl Dynamics {
+    fn field(&self, device: &wgpu::Device, queue: &wgpu::Queue, time: f64) -> Option<RippleField> {
+        let r = self.ripples.as_ref()?;
+        let g = r.settings.grid;
+        Some(RippleField {
+            cells: g.cells as u32,
+            cell_size: g.cell_size as f32,
+            origin: [0, 1].map(|a| r.window.low_edge(&g, a) as f32),
+            heights: r.read_heights(device, queue),
+            time,
+        })
+    }
+
+    /// The moving bodies as JSON: time, then per body its object, position,
+    /// orientation (quaternion x, y, z, w), velocities and submerged volume.
+    fn bodies_json(&self, scene: &Scene, time: f64) -> String {
+        let bodies: Vec<serde_json::Value> = self
+            .states()
+            .iter()
+            .map(|b| {
+                serde_json::json!({
+                    "object": b.object,
+                    "name": scene.objects[b.object].name,
+                    "position": b.pose.position.to_array(),
+                    "orientation": b.pose.rotation.to_array(),
+                    "velocity": b.velocity.to_array(),
+                    "angular_velocity": b.angular_velocity.to_array(),
+                    "submerged_volume": b.submerged,
+                })
+            })
+            .collect();
+        let doc = serde_json::json!({ "time": time, "bodies": bodies });
+        serde_json::to_string_pretty(&doc).expect("JSON of numbers and strings") + "\n"
+    }
+
+    pub(crate) fn dump(&self, name: &str, ctx: &DumpContext) -> Option<Result<DumpData, String>> {
+        match name {
+            "ripples" => Some(match self.field(ctx.device, ctx.queue, ctx.time) {
+                None => Err("the scene has no interactive water (water.dynamic = false)".into()),
+                Some(f) => {
+                    let note = format!(
+                        "{n}×{n} cells of {c} m, cell (0, 0) centred at x = {x}, z = {z} m",
+                        n = f.cells,
+                        c = f.cell_size,
+                        x = f.origin[0] + 0.5 * f.cell_size,
+                        z = f.origin[1] + 0.5 * f.cell_size
+                    );
+                    let n = f.cells as usize;
+                    Ok(DumpData::Floats {
+                        columns: n,
+                        rows: n,
+                        channels: 1,
+                        data: f.heights,
+                        note: Some(note),
+                    })
+                }
+            }),
+            "bodies" => Some(Ok(DumpData::Json(self.bodies_json(ctx.scene, ctx.time)))),
+            _ => None,
+        }
+    }
+}
 
 impl Renderer {
     /// The interactive water after the last frame or simulation step:
     /// heights (m) over its domain, row = z, col = x, and where the domain
     /// lies; `None` without `water.dynamic`.
     pub fn read_ripples(&self) -> Option<RippleField> {
-        let r = self.simulations.ripples.as_ref()?.ripples.as_ref()?;
-        let g = r.settings.grid;
-        Some(RippleField {
-            cells: g.cells as u32,
-            cell_size: g.cell_size as f32,
-            origin: [0, 1].map(|a| r.window.low_edge(&g, a) as f32),
-            heights: r.read_heights(self.device(), self.queue()),
-            time: self.simulation_time(),
-        })
+        let time = self.simulation_time();
+        self.simulations.ripples.as_ref()?.field(self.device(), self.queue(), time)
     }
 }
 

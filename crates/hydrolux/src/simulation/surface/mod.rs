@@ -471,6 +471,7 @@ impl Simulation for Surface {
 /// The surface's GPU work: the ocean's FFT.
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "surface",
+    dumps: &[],
     shaders: || (crate::simulation::ocean::INFO.shaders)(),
     uniforms: || (crate::simulation::ocean::INFO.uniforms)(),
 };

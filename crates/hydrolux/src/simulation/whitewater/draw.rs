@@ -201,6 +201,7 @@ impl Technique for Particles {
 /// The particles' draw, validated offline.
 pub(crate) const INFO: TechniqueInfo = TechniqueInfo {
     name: "particles",
+    dumps: &[],
     shaders: || vec![("particles".into(), source())],
     uniforms: || vec![crate::uniforms::Layout::of::<DrawUniforms>(source())],
 };

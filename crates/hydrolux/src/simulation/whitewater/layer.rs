@@ -100,4 +100,12 @@ impl crate::simulation::Simulation for Whitewater {
             _ => false,
         }
     }
+
+    fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        Whitewater::dump(self, name, ctx)
+    }
 }

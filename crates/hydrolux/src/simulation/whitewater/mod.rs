@@ -14,6 +14,8 @@
 //! cover (bound with the surface, binding 8, for the water's shading) and
 //! the alive particles, which `draw.rs` (the `particles` technique) draws.
 
+pub use crate::simulation::published::FoamWindow;
+
 pub mod draw;
 mod layer;
 pub mod readback;
@@ -71,15 +73,6 @@ uniform! { WhitewaterParams;
 struct FoamSlot {
     buffer: wgpu::Buffer,
     group: wgpu::BindGroup,
-}
-
-/// Where the foam's window lies: the world point of its low corner (m),
-/// its side (m), and whether it tiles the plane (open water).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FoamWindow {
-    pub origin: [f32; 2],
-    pub side: f32,
-    pub tiles: bool,
 }
 
 pub fn source() -> String {
@@ -704,6 +697,7 @@ pub fn fold_threshold(spectrum: &OceanSpectrum, grid: &FoamGrid, u10: f64) -> f3
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "whitewater",
+    dumps: readback::DUMPS,
     shaders: || vec![("whitewater".into(), source())],
     uniforms: || {
         vec![

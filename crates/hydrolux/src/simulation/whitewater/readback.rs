@@ -1,9 +1,94 @@
-//! The white water's readbacks, declared here by their owner.
+//! The white water's readbacks and dumps, declared here by their owner.
 
 use super::{COUNT_EMITTED, COUNT_LOST, COUNTERS, Whitewater};
 use crate::gpu_util::*;
+use crate::info::{DumpData, DumpKind, DumpShape};
 use crate::renderer::Renderer;
-use hydrolux_core::whitewater::{Particle, WHITECAP_FOAM};
+use crate::technique::DumpContext;
+use hydrolux_core::scene::Scene;
+use hydrolux_core::whitewater::{BUBBLE, Particle, WHITECAP_FOAM};
+
+fn no_foam(scene: &Scene) -> Option<&'static str> {
+    (!(scene.has_whitewater() && scene.whitewater.foam)).then_some(
+        "the scene has no foam (it needs whitewater.foam = true and water that moves: water.model \"fft\" or \"sines\", water.dynamic = true or a moving object)",
+    )
+}
+
+fn no_particles(scene: &Scene) -> Option<&'static str> {
+    (!(scene.has_whitewater() && scene.whitewater.particles)).then_some(
+        "the scene has no bubbles or spray (it needs whitewater.particles = true and water that moves: water.model \"fft\" or \"sines\", water.dynamic = true or a moving object)",
+    )
+}
+
+/// `foam`: the foam field over its window; `particles`: the bubbles and
+/// spray alive, one row each (x y z vx vy vz radius kind).
+pub(crate) const DUMPS: &[DumpKind] = &[
+    DumpKind { name: "foam", shape: DumpShape::Grid, missing: no_foam },
+    DumpKind { name: "particles", shape: DumpShape::List, missing: no_particles },
+];
+
+impl Whitewater {
+    fn foam_dump(&self, device: &wgpu::Device, queue: &wgpu::Queue, time: f64) -> FoamDump {
+        FoamDump {
+            cells: self.grid.cells,
+            cell_size: self.grid.cell,
+            origin: self.foam_area().origin,
+            amount: self.read_foam(device, queue),
+            time,
+        }
+    }
+
+    pub(crate) fn dump(&self, name: &str, ctx: &DumpContext) -> Option<Result<DumpData, String>> {
+        match name {
+            "foam" => {
+                let f = self.foam_dump(ctx.device, ctx.queue, ctx.time);
+                let note = format!(
+                    "{n}×{n} cells of {c} m, cell (0, 0) centred at x = {x}, z = {z} m; whitecap cover {w:.2}%",
+                    n = f.cells,
+                    c = f.cell_size,
+                    x = f.origin[0] + 0.5 * f.cell_size,
+                    z = f.origin[1] + 0.5 * f.cell_size,
+                    w = 100.0 * f.coverage()
+                );
+                let n = f.cells as usize;
+                Some(Ok(DumpData::Floats {
+                    columns: n,
+                    rows: n,
+                    channels: 1,
+                    data: f.amount,
+                    note: Some(note),
+                }))
+            }
+            "particles" => Some(if !self.has_particles() {
+                Err("the scene has no bubbles or spray".into())
+            } else {
+                let ps = self.read_particles(ctx.device, ctx.queue);
+                let bubbles = ps.iter().filter(|p| p.kind == BUBBLE).count();
+                let note = format!(
+                    "{} alive ({bubbles} bubbles, {} spray); columns x y z vx vy vz radius kind (1 bubble, 2 spray)",
+                    ps.len(),
+                    ps.len() - bubbles
+                );
+                let data = ps
+                    .iter()
+                    .flat_map(|p| {
+                        let [x, y, z] = p.position;
+                        let [vx, vy, vz] = p.velocity;
+                        [x, y, z, vx, vy, vz, p.radius, p.kind as f32]
+                    })
+                    .collect();
+                Ok(DumpData::Floats {
+                    columns: 8,
+                    rows: ps.len(),
+                    channels: 1,
+                    data,
+                    note: Some(note),
+                })
+            }),
+            _ => None,
+        }
+    }
+}
 
 impl Renderer {
     /// The foam field after the last frame or simulation step (foam F
@@ -11,14 +96,7 @@ impl Renderer {
     /// `[whitewater]` foam.
     pub fn read_foam(&self) -> Option<FoamDump> {
         let w = self.simulations.whitewater.as_ref()?;
-        let area = w.foam_area();
-        Some(FoamDump {
-            cells: w.grid.cells,
-            cell_size: w.grid.cell,
-            origin: area.origin,
-            amount: w.read_foam(self.device(), self.queue()),
-            time: self.simulation_time(),
-        })
+        Some(w.foam_dump(self.device(), self.queue(), self.simulation_time()))
     }
 
     /// The bubbles and spray alive after the last frame or simulation step
