@@ -7,7 +7,7 @@
 //! the renderer.
 
 use crate::error::RenderError;
-use crate::passes::{caustics, geometry, godrays, raytrace, sky, tonemap, water, water_object};
+use crate::passes::{caustics, geometry, godrays, sky, tonemap, water, water_object};
 use crate::plan::World;
 use crate::simulation::whitewater::draw as particles;
 use crate::technique::{Bound, Shared, Technique, TechniqueInfo};
@@ -63,13 +63,14 @@ macro_rules! registry {
         /// The frame's techniques by name, in frame order.
         pub(crate) const ORDER: &[&str] = &[$(stringify!($field)),*];
 
-        /// The frame's techniques, then what is validated offline besides
-        /// them (the frame globals, probes, mip chains).
+        /// The frame's techniques, then the framework's services that build
+        /// shaders (the frame globals, the probe, the error view's frame
+        /// mode, mip chains, the medium copy). A technique's parts (the
+        /// water's ray tracing) are in its own `INFO`.
         pub(crate) const TECHNIQUES: &[TechniqueInfo] = &[
             $($info,)*
             FRAME_INFO,
             crate::probe::INFO,
-            raytrace::INFO,
             crate::error_view::INFO,
             crate::mips::INFO,
             crate::targets::MEDIUM_COPY_INFO,

@@ -463,8 +463,17 @@ impl WaterPass {
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "water",
     dumps: &[],
-    shaders: || vec![("water".to_string(), source())],
-    uniforms: || vec![crate::uniforms::Layout::of::<crate::uniforms::SurfaceUniforms>(source())],
+    // With its ray tracing (`passes/raytrace`), a part of it.
+    shaders: || {
+        let mut v = vec![("water".to_string(), source())];
+        v.extend((crate::passes::raytrace::INFO.shaders)());
+        v
+    },
+    uniforms: || {
+        let mut v = vec![crate::uniforms::Layout::of::<crate::uniforms::SurfaceUniforms>(source())];
+        v.extend((crate::passes::raytrace::INFO.uniforms)());
+        v
+    },
 };
 
 impl WaterPass {
@@ -643,63 +652,4 @@ impl Technique for WaterPass {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frustum_keeps_what_is_ahead_and_drops_what_is_behind() {
-        let cam = Camera {
-            position: glam::Vec3::new(0.0, 5.0, 0.0),
-            look_at: glam::Vec3::new(0.0, 0.0, -50.0),
-            up: glam::Vec3::Y,
-            fov_y_deg: 60.0,
-        };
-        let planes = frustum_planes(cam.view_projection(16.0 / 9.0));
-        let ahead = box_visible(
-            &planes,
-            glam::Vec3::new(-5.0, -1.0, -40.0),
-            glam::Vec3::new(5.0, 1.0, -30.0),
-        );
-        let behind = box_visible(
-            &planes,
-            glam::Vec3::new(-5.0, -1.0, 30.0),
-            glam::Vec3::new(5.0, 1.0, 40.0),
-        );
-        let far_left = box_visible(
-            &planes,
-            glam::Vec3::new(-500.0, -1.0, -20.0),
-            glam::Vec3::new(-400.0, 1.0, -10.0),
-        );
-        // A huge box around the camera is always visible.
-        let around = box_visible(&planes, glam::Vec3::splat(-1000.0), glam::Vec3::splat(1000.0));
-        assert!(ahead && !behind && !far_left && around);
-        // Very far ahead is still inside: there is no far plane.
-        assert!(box_visible(
-            &planes,
-            glam::Vec3::new(-10.0, -1.0, -90_000.0),
-            glam::Vec3::new(10.0, 1.0, -80_000.0)
-        ));
-    }
-
-    #[test]
-    fn every_ring_hole_is_exactly_the_finer_ring() {
-        // For many camera positions, the finer ring's extent equals the hole.
-        for i in 0..2000 {
-            let xz = [i as f32 * 0.173 - 150.0, i as f32 * -0.311 + 40.0];
-            for level in 1..DISPLACED_RINGS {
-                let s = BASE_SPACING * 2f32.powi(level as i32);
-                let (outer, inner) = (ring_centre(xz, level), ring_centre(xz, level - 1));
-                let v = hole_variant(xz, level);
-                let (dx, dz) = (v as i32 / 3 - 1, v as i32 % 3 - 1);
-                let hole_centre = [outer[0] + dx as f32 * s, outer[1] + dz as f32 * s];
-                assert!(
-                    (hole_centre[0] - inner[0]).abs() < 1e-3
-                        && (hole_centre[1] - inner[1]).abs() < 1e-3,
-                    "{xz:?} level {level}"
-                );
-                // The finer ring stays near the camera.
-                assert!((inner[0] - xz[0]).abs() <= s / 2.0 + 1e-3);
-            }
-        }
-    }
-}
+mod tests;

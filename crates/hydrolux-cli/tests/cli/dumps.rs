@@ -1,0 +1,177 @@
+//! `--dump`: each buffer's shape and content.
+
+use super::*;
+
+#[test]
+fn caustics_dump_is_an_m_by_m_float_grid() {
+    let dir = scratch("caustics");
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--scene",
+            "pool",
+            "--set",
+            "caustics.map_resolution=32",
+            // Still water (the pool opens at 2 s, its ripples under way).
+            "--time",
+            "0",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--dump",
+            "caustics=c.npy",
+            "--out",
+            "p.png",
+        ],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let npy = std::fs::read(dir.join("c.npy")).unwrap();
+    let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (32, 32)"));
+    let values: Vec<f32> = npy[10 + hlen..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let mean = values.iter().sum::<f32>() / values.len() as f32;
+    // The pool's sun is 58° up: flat water would give T·sin 58° ≈ 0.83 everywhere.
+    assert!((mean - 0.83).abs() < 0.02, "mean floor irradiance {mean}");
+}
+
+#[test]
+fn god_ray_and_object_caustic_dumps_have_their_shapes() {
+    let dir = scratch("volume");
+    let shape = |file: &str| {
+        let npy = std::fs::read(dir.join(file)).unwrap();
+        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
+        let values: Vec<f32> = npy[10 + hlen..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        (header, values)
+    };
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--scene",
+            "underwater",
+            "--width",
+            "32",
+            "--height",
+            "20",
+            "--set",
+            "godrays.photons=64",
+            // The buffer is a fraction of the frame, which lower tiers draw smaller.
+            "--set",
+            "render.quality=\"high\"",
+            "--dump",
+            "godrays=g.npy",
+            "--out",
+            "u.png",
+        ],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let (header, values) = shape("g.npy");
+    assert!(header.contains("'shape': (10, 16, 3)"), "{header}");
+    assert!(
+        values.iter().all(|v| v.is_finite() && *v >= 0.0) && values.iter().any(|v| *v > 0.0),
+        "the buffer holds light"
+    );
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--scene",
+            "water_dragon",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--set",
+            "godrays.object_resolution=128",
+            "--dump",
+            "object_caustics=o.npy",
+            "--out",
+            "d.png",
+        ],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let (header, values) = shape("o.npy");
+    assert!(header.contains("'shape': (128, 128, 3)"), "{header}");
+    let peak = values.iter().cloned().fold(0.0f32, f32::max);
+    assert!(peak > 1.0, "the water bunny focuses sunlight somewhere: peak {peak}");
+}
+
+#[test]
+fn ripples_and_bodies_dumps_hold_the_water_and_the_ball() {
+    let dir = scratch("ripples");
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--scene",
+            "pool",
+            "--set",
+            "ripples.resolution=32",
+            "--set",
+            "caustics.method=\"off\"",
+            "--time",
+            "1.0",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--dump",
+            "ripples=r.npy",
+            "--dump",
+            "bodies=b.json",
+            "--dump",
+            "foam=f.npy",
+            "--dump",
+            "particles=q.npy",
+            "--out",
+            "p.png",
+        ],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    // The stones' splashes (at 0.2 and 0.8 s): bubbles still rising, foam.
+    let floats = |name: &str| -> (String, Vec<f32>) {
+        let npy = std::fs::read(dir.join(name)).unwrap();
+        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
+        let values = npy[10 + hlen..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        (header, values)
+    };
+    let (header, particles) = floats("q.npy");
+    assert!(header.contains(", 8)"), "{header}");
+    let kinds: Vec<f32> = particles.chunks_exact(8).map(|p| p[7]).collect();
+    assert!(kinds.contains(&1.0), "bubbles: {kinds:?}");
+    assert!(kinds.iter().all(|&k| k == 1.0 || k == 2.0), "kinds: {kinds:?}");
+    assert!(particles.iter().all(|v| v.is_finite()));
+    let (_, foam) = floats("f.npy");
+    let most = foam.iter().fold(0.0f32, |m, &f| m.max(f));
+    assert!(most > 0.5, "foam where the stones fell: most {most}");
+    let npy = std::fs::read(dir.join("r.npy")).unwrap();
+    let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    assert!(std::str::from_utf8(&npy[10..10 + hlen]).unwrap().contains("'shape': (32, 32)"));
+    let heights: Vec<f32> = npy[10 + hlen..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let peak = heights.iter().fold(0.0f32, |m, h| m.max(h.abs()));
+    assert!(peak > 1e-3 && peak < 0.5, "the ball's splash: peak {peak} m");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("b.json")).unwrap()).unwrap();
+    assert_eq!(json["time"], 1.0);
+    let ball = &json["bodies"][0];
+    assert_eq!(ball["name"], "sphere");
+    assert_eq!(ball["position"].as_array().unwrap().len(), 3);
+    assert_eq!(ball["orientation"].as_array().unwrap().len(), 4);
+    assert!(ball["submerged_volume"].as_f64().unwrap() > 0.0);
+}
