@@ -388,22 +388,18 @@ impl Simulations {
         let mut couplings = std::mem::take(&mut self.couplings);
         let mut sims = self.each_mut();
         // Every own-paced step due in the batch, by clock step then order.
-        let mut due: Vec<(u64, f64, usize)> = Vec::new();
-        for (k, s) in sims.iter_mut().enumerate() {
-            if s.pace() == Pace::OwnSteps {
-                let mut at = 0;
-                for (before, time) in s.schedule(steps as u64, frame_end, queue) {
-                    at += before;
-                    due.push((at, time, k));
-                }
-            }
-        }
-        due.sort_by_key(|&(at, _, k)| (at, k));
+        let schedules: Vec<(usize, Vec<(u64, f64)>)> = sims
+            .iter_mut()
+            .enumerate()
+            .filter(|(_, s)| s.pace() == Pace::OwnSteps)
+            .map(|(k, s)| (k, s.schedule(steps as u64, frame_end, queue)))
+            .collect();
+        let due = merge_due(schedules);
         let followers = sims.iter().any(|s| s.pace() == Pace::Follows);
         let mut followed = 0u64;
         let mut ctx =
             StepContext { shared, camera, published: &published, couplings: &mut couplings };
-        for (n, &(at, time, k)) in due.iter().enumerate() {
+        for (n, &Due { at, time, sim: k }) in due.iter().enumerate() {
             let tolerance = sims[k].surface_tolerance();
             let stale = tolerance.is_some_and(|t| sims.iter().any(|s| s.stale_at(time, t)));
             let own = n + 1 < due.len() || stale || followers;
@@ -454,5 +450,62 @@ impl Simulations {
         for s in self.each_mut() {
             s.record_frame(shared, encoder, plan, timer.as_deref_mut());
         }
+    }
+}
+
+/// An own-paced step due in a batch: after `at` of the batch's clock steps,
+/// simulation `sim` (in registry order) steps to `time` (s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Due {
+    at: u64,
+    time: f64,
+    sim: usize,
+}
+
+/// The own-paced simulations' schedules (each a list of (clock steps before
+/// it, its time)) merged into one list in clock order, simultaneous steps in
+/// registry order: the order the scheduler walks a batch in.
+fn merge_due(schedules: Vec<(usize, Vec<(u64, f64)>)>) -> Vec<Due> {
+    let mut due = Vec::new();
+    for (sim, schedule) in schedules {
+        let mut at = 0;
+        for (before, time) in schedule {
+            at += before;
+            due.push(Due { at, time, sim });
+        }
+    }
+    due.sort_by_key(|d| (d.at, d.sim));
+    due
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn own_paced_steps_merge_in_clock_order_then_registry_order() {
+        // Simulation 1 steps every 6 clock steps, simulation 0 every 4,
+        // over a batch of 12 that starts one clock step into both strides.
+        let every = |stride: u64, first: u64| {
+            let mut v = vec![(first, first as f64)];
+            let mut at = first;
+            while at + stride <= 12 {
+                at += stride;
+                v.push((stride, at as f64));
+            }
+            v
+        };
+        let due = merge_due(vec![(1, every(6, 5)), (0, every(4, 3))]);
+        let order: Vec<(u64, usize)> = due.iter().map(|d| (d.at, d.sim)).collect();
+        assert_eq!(order, [(3, 0), (5, 1), (7, 0), (11, 0), (11, 1)]);
+        // Each keeps its own time.
+        let times: Vec<f64> = due.iter().map(|d| d.time).collect();
+        assert_eq!(times, [3.0, 5.0, 7.0, 11.0, 11.0]);
+    }
+
+    #[test]
+    fn no_own_paced_simulation_means_the_followers_take_the_whole_batch() {
+        assert!(merge_due(Vec::new()).is_empty());
+        assert!(merge_due(vec![(2, Vec::new())]).is_empty());
     }
 }
