@@ -72,18 +72,27 @@ impl Shape {
         }
     }
 
-    /// The code of the shape in the shaders (`BODY_*` in ripples.wgsl) and
-    /// its three size parameters.
+    /// The code of the shape in the shaders (`PRIMITIVE_*`, generated into
+    /// the renderer's WGSL from these constants) and its three size
+    /// parameters.
     pub fn gpu(&self) -> (u32, [f32; 3]) {
         match *self {
-            Shape::Sphere { radius } => (0, [radius as f32, 0.0, 0.0]),
-            Shape::Box { half } => (1, half.as_vec3().to_array()),
+            Shape::Sphere { radius } => (PRIMITIVE_SPHERE, [radius as f32, 0.0, 0.0]),
+            Shape::Box { half } => (PRIMITIVE_BOX, half.as_vec3().to_array()),
             Shape::Cylinder { radius, half_height } => {
-                (2, [radius as f32, half_height as f32, 0.0])
+                (PRIMITIVE_CYLINDER, [radius as f32, half_height as f32, 0.0])
             }
         }
     }
 }
+
+/// Shape codes on the GPU (the renderer's ray tests and hulls): a sphere
+/// (radius), a box (half-sizes), a cylinder along y (radius, half-height),
+/// and for traced objects a unit plane at y = 0.
+pub const PRIMITIVE_SPHERE: u32 = 0;
+pub const PRIMITIVE_BOX: u32 = 1;
+pub const PRIMITIVE_CYLINDER: u32 = 2;
+pub const PRIMITIVE_PLANE: u32 = 3;
 
 /// Where a body is.
 #[derive(Clone, Copy, Debug, PartialEq)]

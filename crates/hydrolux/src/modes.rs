@@ -1,12 +1,14 @@
 //! Integer modes the shaders switch on, defined once: the uniforms carry
 //! `index(value)` of a scene enum, and the WGSL compares against constants
 //! generated from the same enum and the same function (the `modes` shader
-//! module: `VIEW_NORMALS`, `FRESNEL_SCHLICK`, `PATTERN_TILES`…). No number
-//! is matched by hand on either side.
+//! module: `VIEW_NORMALS`, `FRESNEL_SCHLICK`, `PATTERN_TILES`…), and so are
+//! the codes the core and the renderer share (primitives, particle kinds, the
+//! stencil's media). No number is matched by hand on either side.
 
 use hydrolux_core::scene::{
-    Choice, DebugView, Fresnel, Pattern, RefractionLookup, Tonemap, WaterOptics,
+    Choice, DebugView, Fresnel, Pattern, RefractionLookup, Tonemap, WaterModel, WaterOptics,
 };
+use hydrolux_core::waves::ripples::RippleBoundary;
 
 /// `frame.modes.debug_view`: what the output shows.
 pub(crate) fn debug_view(view: DebugView) -> u32 {
@@ -72,6 +74,27 @@ pub(crate) fn pattern(p: Pattern) -> u32 {
     }
 }
 
+/// The surface's model (`surface.model`, the `SURFACE_MODEL` pipeline
+/// constant); no water samples as flat water.
+pub(crate) fn surface_model(model: WaterModel) -> u32 {
+    match model {
+        WaterModel::Fft => 0,
+        WaterModel::Sines => 1,
+        WaterModel::Flat | WaterModel::None => 2,
+        WaterModel::Heightfield => 3,
+    }
+}
+
+/// The interactive water as the `RIPPLES` pipeline constant: none, walls
+/// (the texture covers the domain), open (the texture tiles the plane).
+pub(crate) fn ripples(edges: Option<RippleBoundary>) -> u32 {
+    match edges {
+        None => 0,
+        Some(RippleBoundary::Walls) => 1,
+        Some(RippleBoundary::Open | RippleBoundary::Periodic) => 2,
+    }
+}
+
 /// `const PREFIX_NAME: u32 = index;` for every variant of `T`.
 fn constants<T: Choice>(out: &mut String, prefix: &str, index: fn(T) -> u32) {
     for &v in T::ALL {
@@ -89,6 +112,28 @@ pub(crate) fn wgsl() -> String {
     constants(&mut out, "OPTICS", optics);
     constants(&mut out, "REFRACTION", refraction);
     constants(&mut out, "PATTERN", pattern);
+    constants(&mut out, "MODEL", surface_model);
+    let named = [
+        ("PRIMITIVE_SPHERE", hydrolux_core::coupling::PRIMITIVE_SPHERE),
+        ("PRIMITIVE_BOX", hydrolux_core::coupling::PRIMITIVE_BOX),
+        ("PRIMITIVE_CYLINDER", hydrolux_core::coupling::PRIMITIVE_CYLINDER),
+        ("PRIMITIVE_PLANE", hydrolux_core::coupling::PRIMITIVE_PLANE),
+        ("PARTICLE_DEAD", hydrolux_core::whitewater::DEAD),
+        ("PARTICLE_BUBBLE", hydrolux_core::whitewater::BUBBLE),
+        ("PARTICLE_SPRAY", hydrolux_core::whitewater::SPRAY),
+        ("STENCIL_AIR", crate::formats::STENCIL_AIR),
+        ("STENCIL_WATER", crate::formats::STENCIL_WATER),
+    ];
+    for (name, value) in named {
+        out.push_str(&format!("const {name}: u32 = {value}u;\n"));
+    }
+    for (name, edges) in [
+        ("NONE", None),
+        ("WALLS", Some(RippleBoundary::Walls)),
+        ("OPEN", Some(RippleBoundary::Open)),
+    ] {
+        out.push_str(&format!("const RIPPLES_{name}: u32 = {}u;\n", ripples(edges)));
+    }
     out
 }
 
@@ -100,9 +145,11 @@ mod tests {
     fn every_variant_has_one_constant_and_distinct_numbers_per_enum() {
         let src = wgsl();
         let module = naga::front::wgsl::parse_str(&src).expect("the modes module parses");
-        assert_eq!(module.constants.len(), 12 + 4 + 2 + 2 + 2 + 3);
+        assert_eq!(module.constants.len(), 12 + 4 + 2 + 2 + 2 + 3 + 5 + 9 + 3);
         assert!(src.contains("const VIEW_NORMALS: u32 = 4u;"));
         assert!(src.contains("const FRESNEL_JENSEN_GOLIAS: u32 = 2u;"));
+        assert!(src.contains("const MODEL_HEIGHTFIELD: u32 = 3u;"));
+        assert!(src.contains("const RIPPLES_OPEN: u32 = 2u;"));
         // Only the error view shares a number (its drawings are final images).
         let mut views: Vec<u32> = DebugView::ALL.iter().map(|&v| debug_view(v)).collect();
         views.sort_unstable();
@@ -114,7 +161,19 @@ mod tests {
     fn no_shader_defines_a_mode_number_by_hand() {
         let validated: Vec<_> = crate::registry::validated().flat_map(|t| (t.shaders)()).collect();
         for (name, source) in validated {
-            for prefix in ["VIEW", "FRESNEL", "TONEMAP", "OPTICS", "REFRACTION", "PATTERN"] {
+            for prefix in [
+                "VIEW",
+                "FRESNEL",
+                "TONEMAP",
+                "OPTICS",
+                "REFRACTION",
+                "PATTERN",
+                "MODEL",
+                "RIPPLES",
+                "PRIMITIVE",
+                "PARTICLE",
+                "STENCIL",
+            ] {
                 let hand = format!("const {prefix}_");
                 let generated = wgsl().matches(&hand).count();
                 assert!(

@@ -5,7 +5,6 @@
 //! (which the frame globals carry).
 
 use hydrolux_core::scene::{Scene, WaterModel};
-use hydrolux_core::waves::ripples::RippleBoundary;
 
 /// Vertex spacing of the water mesh's finest ring, metres.
 pub const BASE_SPACING: f32 = 0.25;
@@ -13,15 +12,9 @@ pub const BASE_SPACING: f32 = 0.25;
 /// waves of a few metres are below a pixel at 1080p.
 pub const DISPLACED_RINGS: u32 = 9;
 
-/// The shaders' index of a surface model (`surface.wgsl`: `counts.y` and
-/// the `SURFACE_MODEL` pipeline constant).
+/// The shaders' index of a surface model (`modes.rs`, the WGSL `MODEL_*`).
 pub fn model_index(model: WaterModel) -> u32 {
-    match model {
-        WaterModel::Fft => 0,
-        WaterModel::Sines => 1,
-        WaterModel::Flat | WaterModel::None => 2,
-        WaterModel::Heightfield => 3,
-    }
+    crate::modes::surface_model(model)
 }
 
 /// What pipelines that draw the surface are specialised to: its model and
@@ -29,16 +22,13 @@ pub fn model_index(model: WaterModel) -> u32 {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SurfaceKind {
     pub model: WaterModel,
-    /// `RIPPLES` in `surface.wgsl`: 0 none, 1 walls, 2 open.
+    /// `RIPPLES` in `surface.wgsl` (`modes::ripples`).
     pub ripples: u32,
 }
 
 impl SurfaceKind {
     pub fn of(scene: &Scene) -> Self {
-        let ripples = scene.ripple_settings().map_or(0, |s| match s.grid.boundary {
-            RippleBoundary::Walls => 1,
-            RippleBoundary::Open | RippleBoundary::Periodic => 2,
-        });
+        let ripples = crate::modes::ripples(scene.ripple_settings().map(|s| s.grid.boundary));
         SurfaceKind { model: scene.water.model, ripples }
     }
 }

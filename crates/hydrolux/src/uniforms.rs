@@ -280,6 +280,17 @@ uniform! { Object;
     }
 }
 
+uniform! { SineWave;
+    /// WGSL `SineWave` (shaders/surface.wgsl): one wave of the sines model.
+    pub(crate) struct SineWave {
+        /// Wave vector (rad/m).
+        pub k: [f32; 2],
+        pub amplitude: f32,
+        /// Phase now (rad).
+        pub phase: f32,
+    }
+}
+
 uniform! { SurfaceParams;
     /// WGSL `SurfaceParams` (shaders/surface.wgsl).
     pub(crate) struct SurfaceUniforms {
@@ -288,7 +299,7 @@ uniform! { SurfaceParams;
         pub model: u32,
         pub sine_count: u32,
         pub fft_resolution: u32,
-        pub waves: [[f32; 4]; 64],
+        pub waves: [SineWave; 64],
         pub wave_q: [[f32; 4]; 16],
         pub ripple_origin: [f32; 2],
         pub ripple_side: f32,

@@ -2,9 +2,7 @@
 // texture, for backends that cannot sample it next to the depth (wgpu's
 // GL, see targets.rs, MediumCopy). No texture is read: the pipeline's
 // stencil test passes only the water pixels, and they write STENCIL_WATER.
-#import fullscreen
-
-const STENCIL_WATER: u32 = 1u;
+#import fullscreen, modes
 
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {

@@ -4,9 +4,7 @@
 // along y (radius size.x, half-height size.y). Twin: hydrolux-core
 // bodies::body_column (the same intervals).
 
-const PRIMITIVE_SPHERE: u32 = 0u;
-const PRIMITIVE_BOX: u32 = 1u;
-const PRIMITIVE_CYLINDER: u32 = 2u;
+#import modes
 
 // Where the ray o + t·d (d need not be unit) is inside the primitive:
 // (t_in, t_out), with t_in > t_out when it misses.

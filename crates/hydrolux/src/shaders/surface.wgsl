@@ -1,20 +1,29 @@
 // The water surface, whichever model makes it (group 1): FFT cascades read
 // from textures, or a sum of directional (Gerstner) waves with analytic
 // derivatives (seed 001), flat water, or a user's heightfield. Twins:
-// hydrolux_core::waves.
-#import constants
+// hydrolux_core::waves. The models' and the interactive water's numbers
+// (`MODEL_*`, `RIPPLES_*`) are generated (src/modes.rs).
+#import constants, modes
+
+// One directional wave of the sines model.
+struct SineWave {
+    // Wave vector (rad/m).
+    k: vec2<f32>,
+    amplitude: f32,
+    // Phase now (rad).
+    phase: f32,
+}
 
 struct SurfaceParams {
     // Patch size (m) of each FFT cascade; for a heightfield, xy its [Lx, Lz].
     cascade_sizes: vec4<f32>,
-    // FFT cascades, surface model (0 fft, 1 sines, 2 flat, 3 heightfield),
+    // FFT cascades, surface model (MODEL_*),
     // sine waves, FFT resolution N.
     cascades: u32,
     model: u32,
     sine_count: u32,
     fft_resolution: u32,
-    // kx, kz, amplitude, phase (rad) of each sine wave.
-    waves: array<vec4<f32>, 64>,
+    waves: array<SineWave, 64>,
     // Horizontal (Gerstner) amplitude Q·A of each wave, four per vec4.
     wave_q: array<vec4<f32>, 16>,
     // Interactive water (RIPPLES > 0): world point of the ripple texture's
@@ -77,13 +86,13 @@ fn zero_sample() -> SurfaceSample {
 fn sines_sample(p: vec2<f32>, footprint: f32) -> SurfaceSample {
     var s = zero_sample();
     for (var i = 0u; i < surface.sine_count; i++) {
-        let w0 = surface.waves[i];
-        let k = max(length(w0.xy), 1e-6);
+        let wave = surface.waves[i];
+        let k = max(length(wave.k), 1e-6);
         let keep = 1.0 - smoothstep(0.2, 0.5, footprint * k / TAU);
-        let w = vec4<f32>(w0.xy, w0.z * keep, w0.w);
+        let w = vec4<f32>(wave.k, wave.amplitude * keep, wave.phase);
         let q = surface.wave_q[i / 4u][i % 4u] * keep;
-        let lost = (1.0 - keep * keep) * 0.5 * w0.z * w0.z;
-        s.slope_variance += lost * w0.xy * w0.xy;
+        let lost = (1.0 - keep * keep) * 0.5 * wave.amplitude * wave.amplitude;
+        s.slope_variance += lost * wave.k * wave.k;
         let u = w.xy / k;
         let arg = dot(w.xy, p) + w.w;
         let sn = sin(arg);
@@ -178,7 +187,7 @@ fn heightfield_sample(p: vec2<f32>) -> SurfaceSample {
 }
 
 // The surface model as a pipeline constant, for pipelines built for one
-// model (0 fft, 1 sines, 2 flat, 3 heightfield); SURFACE_MODEL_DYNAMIC
+// model (MODEL_*); SURFACE_MODEL_DYNAMIC
 // reads it from the uniform. The renderer's pipelines are specialised: the
 // dead models' code folds away, and Mesa's lavapipe 22 would otherwise
 // recompile them (a switch on a uniform) each time their bind groups are
@@ -193,16 +202,16 @@ fn surface_model() -> u32 {
     return SURFACE_MODEL;
 }
 
-// The interactive water as a pipeline constant: 0 none, 1 walls (the
-// texture covers the domain, clamped at its edges), 2 open (the texture
-// tiles the plane; the window says which tile is simulated). Specialised
+// The interactive water as a pipeline constant: RIPPLES_NONE, RIPPLES_WALLS
+// (the texture covers the domain, clamped at its edges), RIPPLES_OPEN (the
+// texture tiles the plane; the window says which tile is simulated). Specialised
 // like SURFACE_MODEL, so surfaces without it pay nothing.
 override RIPPLES: u32 = 0u;
 
 // The interactive water alone at p: h, ∂h/∂x, ∂h/∂z of the free surface,
 // and w the fraction of cells a floating hull covers (0 outside its domain).
 fn ripples_sample(p: vec2<f32>) -> vec4<f32> {
-    if (RIPPLES == 0u) {
+    if (RIPPLES == RIPPLES_NONE) {
         return vec4<f32>(0.0);
     }
     let w = surface.ripple_window;
@@ -211,7 +220,7 @@ fn ripples_sample(p: vec2<f32>) -> vec4<f32> {
     }
     let side = surface.ripple_side;
     var uv = (p - surface.ripple_origin) / side;
-    if (RIPPLES == 1u) {
+    if (RIPPLES == RIPPLES_WALLS) {
         let half_texel = surface.ripple_cell / (2.0 * side);
         uv = clamp(uv, vec2<f32>(half_texel), vec2<f32>(1.0 - half_texel));
     }
@@ -226,7 +235,7 @@ fn ripples_at(p: vec2<f32>) -> vec3<f32> {
 // The ripples' height and slopes at p, faded out where the footprint
 // (m) spans several cells (their slopes then go into the roughness).
 fn add_ripples(s: ptr<function, SurfaceSample>, p: vec2<f32>, footprint: f32) {
-    if (RIPPLES == 0u) {
+    if (RIPPLES == RIPPLES_NONE) {
         return;
     }
     let r = ripples_at(p);
@@ -239,9 +248,9 @@ fn add_ripples(s: ptr<function, SurfaceSample>, p: vec2<f32>, footprint: f32) {
 fn surface_sample_footprint(p: vec2<f32>, footprint: f32) -> SurfaceSample {
     var s = zero_sample();
     switch surface_model() {
-        case 0u: { s = fft_sample_footprint(p, footprint); }
-        case 1u: { s = sines_sample(p, footprint); }
-        case 3u: { s = heightfield_sample(p); }
+        case MODEL_FFT: { s = fft_sample_footprint(p, footprint); }
+        case MODEL_SINES: { s = sines_sample(p, footprint); }
+        case MODEL_HEIGHTFIELD: { s = heightfield_sample(p); }
         default: {}
     }
     add_ripples(&s, p, footprint);
@@ -252,9 +261,9 @@ fn surface_sample_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> Surfac
     var s = zero_sample();
     let footprint = max(length(dpdx), length(dpdy));
     switch surface_model() {
-        case 0u: { s = fft_sample_grad(p, dpdx, dpdy); }
-        case 1u: { s = sines_sample(p, footprint); }
-        case 3u: { s = heightfield_sample(p); }
+        case MODEL_FFT: { s = fft_sample_grad(p, dpdx, dpdy); }
+        case MODEL_SINES: { s = sines_sample(p, footprint); }
+        case MODEL_HEIGHTFIELD: { s = heightfield_sample(p); }
         default: {}
     }
     add_ripples(&s, p, footprint);

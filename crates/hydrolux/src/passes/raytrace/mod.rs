@@ -75,12 +75,11 @@ pub(crate) struct TracedObject {
     pub _pad: [u32; 3],
 }
 
-/// Shape codes of `TracedObject.shape` (`shaders/ray_primitive.wgsl`).
-const SHAPE_SPHERE: u32 = 0;
-const SHAPE_BOX: u32 = 1;
-const SHAPE_CYLINDER: u32 = 2;
-/// A plane (traced_hits.wgsl `TRACED_PLANE`), not one of ray_primitive's.
-const SHAPE_PLANE: u32 = 3;
+/// Shape codes of `TracedObject.shape` (the WGSL `PRIMITIVE_*`, generated).
+use hydrolux_core::coupling::{
+    PRIMITIVE_BOX as SHAPE_BOX, PRIMITIVE_CYLINDER as SHAPE_CYLINDER,
+    PRIMITIVE_PLANE as SHAPE_PLANE, PRIMITIVE_SPHERE as SHAPE_SPHERE,
+};
 
 fn pattern_code(p: Pattern) -> u32 {
     crate::modes::pattern(p)

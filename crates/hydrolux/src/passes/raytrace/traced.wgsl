@@ -44,7 +44,7 @@ struct TracedObject {
     pattern_color: vec3<f32>,
     pattern: u32,
     // The shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER
-    // (ray_primitive.wgsl) or TRACED_PLANE (traced_hits.wgsl).
+    // (ray_primitive.wgsl) or PRIMITIVE_PLANE (traced_hits.wgsl).
     shape: u32,
     _pad0: u32,
     _pad1: u32,

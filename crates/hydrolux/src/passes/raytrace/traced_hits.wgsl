@@ -27,14 +27,13 @@ struct ObjectHit {
     normal: vec3<f32>,
 }
 
-// Shape code of a traced plane: the unit square |x|, |z| ≤ ½ at y = 0,
-// facing +y (drawn one-sided, as the geometry pass culls its back).
-const TRACED_PLANE: u32 = 3u;
+// A traced plane (PRIMITIVE_PLANE) is the unit square |x|, |z| ≤ ½ at
+// y = 0, facing +y (drawn one-sided, as the geometry pass culls its back).
 
 // Where the ray o + t·d (object space) is inside a traced shape: (t_in,
 // t_out) as ray_primitive gives them; a plane is the one point it crosses.
 fn traced_interval(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
-    if (shape != TRACED_PLANE) {
+    if (shape != PRIMITIVE_PLANE) {
         return ray_primitive(shape, vec3<f32>(0.5), o, d);
     }
     if (abs(d.y) < 1e-8) {
@@ -54,7 +53,7 @@ fn traced_interval(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
 fn hit_primitive(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let size = vec3<f32>(0.5);
     let t = traced_interval(shape, o, d);
-    if (shape == TRACED_PLANE) {
+    if (shape == PRIMITIVE_PLANE) {
         if (t.x > t.y || t.x <= 1e-4 || o.y <= 0.0) {
             return vec4<f32>(NO_ROOT, 0.0, 0.0, 0.0);
         }

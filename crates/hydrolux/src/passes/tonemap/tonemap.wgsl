@@ -110,7 +110,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
         case VIEW_MEDIUM: {
             // The final image tinted by the pixel's medium: air warm, water blue.
-            let water = textureLoad(medium_tex, frame_texel(pos.xy), 0).r == 1u;
+            let water = textureLoad(medium_tex, frame_texel(pos.xy), 0).r == STENCIL_WATER;
             let tint = select(vec3<f32>(1.0, 0.85, 0.4), vec3<f32>(0.1, 0.4, 1.0), water);
             mapped = mix(tone(hdr_at(pos.xy)), tint, 0.5);
         }

@@ -50,7 +50,8 @@ pub fn source() -> String {
     };
     // Breaking's and the hulls' constants from the CPU twin's, not copied by hand.
     let consts = format!(
-        "const BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\nconst HULL_GAP: f32 = {HULL_GAP:?};\nconst PUSHED_UNITS_PER_M: f32 = {PUSHED_UNITS_PER_M:?};\n"
+        "const BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\nconst HULL_GAP: f32 = {HULL_GAP:?};\nconst PUSHED_UNITS_PER_M: f32 = {PUSHED_UNITS_PER_M:?};\nconst EDGES_WALLS: u32 = {}u;\n",
+        edges_index(RippleBoundary::Walls)
     );
     shaders::compose(&consts, include_str!("ripples.wgsl"))
 }

@@ -72,8 +72,6 @@ struct BodyMove {
 // to the level and clears it.
 @group(0) @binding(9) var<storage, read_write> pushed: atomic<i32>;
 
-const BODY_SPHERE: u32 = PRIMITIVE_SPHERE;
-const BODY_BOX: u32 = PRIMITIVE_BOX;
 
 fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
     let t = 2.0 * cross(q.xyz, v);
@@ -85,9 +83,9 @@ fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
 fn body_column(shape: vec4<f32>, position: vec3<f32>, rotation: vec4<f32>, xz: vec2<f32>) -> vec2<f32> {
     let code = u32(shape.w);
     var reach = shape.x;
-    if (code == BODY_BOX) {
+    if (code == PRIMITIVE_BOX) {
         reach = length(shape.xyz);
-    } else if (code != BODY_SPHERE) {
+    } else if (code != PRIMITIVE_SPHERE) {
         reach = length(shape.xy);
     }
     let top = position.y + reach + 1.0;
@@ -147,8 +145,6 @@ fn hull_covers(w: vec2<f32>) -> bool {
     }
     return false;
 }
-
-const EDGES_WALLS: u32 = 0u;
 
 // The domain cell a grid cell holds: walls mirror (cell 2N−1−i holds i);
 // open and periodic grids hold the world cell ≡ g (mod N) in the window.

@@ -362,7 +362,11 @@ impl Surface {
         for (i, (w, phase)) in
             waves.iter().zip(self.sines.phases(time)).enumerate().take(MAX_SINE_WAVES)
         {
-            u.waves[i] = [w.kx as f32, w.kz as f32, w.amplitude as f32, phase];
+            u.waves[i] = crate::uniforms::SineWave {
+                k: [w.kx as f32, w.kz as f32],
+                amplitude: w.amplitude as f32,
+                phase,
+            };
             let k = (w.kx * w.kx + w.kz * w.kz).sqrt().max(1e-6);
             u.wave_q[i / 4][i % 4] = (w.steepness / k) as f32;
         }
@@ -473,5 +477,10 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
     name: "surface",
     dumps: &[],
     shaders: || (crate::simulation::ocean::INFO.shaders)(),
-    uniforms: || (crate::simulation::ocean::INFO.uniforms)(),
+    uniforms: || {
+        let mut v = (crate::simulation::ocean::INFO.uniforms)();
+        let src = crate::shaders::compose("", "#import surface\n");
+        v.push(crate::uniforms::Layout::of::<crate::uniforms::SineWave>(src));
+        v
+    },
 };

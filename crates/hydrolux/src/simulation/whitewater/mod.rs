@@ -95,6 +95,11 @@ pub fn source() -> String {
     ]
     .iter()
     .map(|(name, v)| format!("const {name}: f32 = {v:e};\n"))
+    .chain(
+        [("COUNT_FREE", COUNT_FREE), ("COUNT_EMITTED", COUNT_EMITTED), ("COUNT_LOST", COUNT_LOST)]
+            .iter()
+            .map(|(name, v)| format!("const {name}: u32 = {v}u;\n")),
+    )
     .collect();
     shaders::compose(&consts, include_str!("whitewater.wgsl"))
 }

@@ -1,6 +1,8 @@
 // One particle of the white-water pool, laid out as hydrolux-core's
 // `whitewater::Particle` (checked by size against naga), shared by the
 // simulation (whitewater.wgsl) and the draw (particles.wgsl).
+// Kinds: PARTICLE_DEAD, PARTICLE_BUBBLE, PARTICLE_SPRAY (generated from the core's).
+#import modes
 struct Particle {
     position: vec3<f32>,
     radius: f32,
@@ -16,6 +18,3 @@ struct Particle {
     pad: u32,
 }
 
-const DEAD: u32 = 0u;
-const BUBBLE: u32 = 1u;
-const SPRAY: u32 = 2u;

@@ -49,7 +49,7 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
     );
     let c = corners[v];
-    let is_bubble = p.kind == BUBBLE;
+    let is_bubble = p.kind == PARTICLE_BUBBLE;
     let size = select(params.spray_size, max(params.bubble_size, 2.0 * p.radius), is_bubble);
     let eye = frame.view.position;
     let dist = max(distance(p.position, eye), 1e-3);
@@ -99,7 +99,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let particle_distance = distance(in.centre, eye);
     let view = (in.centre - eye) / max(particle_distance, 1e-4);
     let sun = frame.light.sun_illuminance;
-    if (in.kind == BUBBLE) {
+    if (in.kind == PARTICLE_BUBBLE) {
         // Under the water the eye looks through: behind a surface point it
         // still shows, dimmed by the water between.
         var through = vec3<f32>(1.0);

@@ -99,9 +99,6 @@ const MERGE_CELL: f32 = 0.01;
 const FREE: u32 = 2u;
 const CHAIN: u32 = 3u;
 const TARGET: u32 = 4u;
-const COUNT_FREE: u32 = 2u;
-const COUNT_EMITTED: u32 = 3u;
-const COUNT_LOST: u32 = 4u;
 
 fn hash_u32(v: u32) -> u32 {
     let state = v * 747796405u + 2891336453u;
@@ -240,7 +237,7 @@ fn append_alive(slot: u32) {
 }
 
 fn release(slot: u32) {
-    particles[slot].kind = DEAD;
+    particles[slot].kind = PARTICLE_DEAD;
     let at = atomicAdd(&atomics[COUNT_FREE], 1u);
     slots[FREE * params.capacity + at] = slot;
 }
@@ -307,9 +304,9 @@ fn emit_crest(k: u32, p: vec2<f32>, s: SurfaceSample, fold: f32) {
         let r2 = random(step, id, 2u);
         let r3 = random(step, id, 3u);
         let jitter = (vec2<f32>(r1, r2) - 0.5) * params.cell;
-        var q = Particle(vec3<f32>(w.x + jitter.x, s.disp.y, w.y + jitter.y), 0.0, vec3<f32>(0.0), BUBBLE, id, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
+        var q = Particle(vec3<f32>(w.x + jitter.x, s.disp.y, w.y + jitter.y), 0.0, vec3<f32>(0.0), PARTICLE_BUBBLE, id, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
         if (m < spray) {
-            q.kind = SPRAY;
+            q.kind = PARTICLE_SPRAY;
             q.radius = params.drop_radius;
             q.position.y += 0.05;
             // Torn off at the crest's speed, mostly with the wind.
@@ -384,7 +381,7 @@ fn begin() {
 // The kicks' texel holding world point p, or −1 outside the interactive
 // water. Twin: hydrolux-core waves::ripples::texel_of.
 fn kick_texel(p: vec2<f32>) -> i32 {
-    if (RIPPLES == 0u) {
+    if (RIPPLES == RIPPLES_NONE) {
         return -1;
     }
     let cell = surface.ripple_cell;
@@ -449,7 +446,7 @@ fn hash_insert(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let slot = alive_slot(id.x);
     slots[TARGET * params.capacity + slot] = NONE;
-    if (particles[slot].kind != BUBBLE) {
+    if (particles[slot].kind != PARTICLE_BUBBLE) {
         return;
     }
     slots[CHAIN * params.capacity + slot] =
@@ -464,7 +461,7 @@ fn merge_pick(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let slot = alive_slot(id.x);
     let a = particles[slot];
-    if (a.kind != BUBBLE) {
+    if (a.kind != PARTICLE_BUBBLE) {
         return;
     }
     let home = merge_cell(a.position);
@@ -501,7 +498,7 @@ fn merge_apply(@builtin(global_invocation_id) id: vec3<u32>) {
     let t = slots[TARGET * params.capacity + slot];
     if (t != NONE && slots[TARGET * params.capacity + t] == NONE) {
         atomicAdd(&atomics[params.gained_base + t], particles[slot].volume);
-        particles[slot].kind = DEAD;
+        particles[slot].kind = PARTICLE_DEAD;
     }
 }
 
@@ -527,14 +524,14 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let slot = alive_slot(id.x);
     var p = particles[slot];
-    if (p.kind == DEAD) {
+    if (p.kind == PARTICLE_DEAD) {
         release(slot);
         return;
     }
     let dt = params.dt;
     let newborn = p.age == 0.0;
     p.age += dt;
-    if (p.kind == BUBBLE) {
+    if (p.kind == PARTICLE_BUBBLE) {
         let more = atomicExchange(&atomics[params.gained_base + slot], 0u);
         if (more > 0u) {
             p.volume = p.volume + min(more, 0xffffffffu - p.volume);
@@ -568,7 +565,7 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let h = water_height(p.position.x, p.position.z);
-    if (p.kind == BUBBLE) {
+    if (p.kind == PARTICLE_BUBBLE) {
         p.position.y = max(p.position.y, -params.floor_depth + p.radius);
         if (p.position.y >= h) {
             deposit(p.position.x, p.position.z, f32(p.volume) * VOLUME_UNIT_M3 * BURST_FOAM_PER_M3);
@@ -613,11 +610,11 @@ fn emit(@builtin(global_invocation_id) id: vec3<u32>) {
     let d = s.radius * sqrt(r2);
     let ca = cos(a);
     let sa = sin(a);
-    var p = Particle(vec3<f32>(s.position.x + d * ca, s.position.y, s.position.z + d * sa), 0.0, vec3<f32>(0.0), BUBBLE, pid, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
+    var p = Particle(vec3<f32>(s.position.x + d * ca, s.position.y, s.position.z + d * sa), 0.0, vec3<f32>(0.0), PARTICLE_BUBBLE, pid, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
     if (k < s.spray) {
         let up = s.speed * (0.6 + 0.4 * r3);
         let out = s.speed * 0.5 * r2;
-        p.kind = SPRAY;
+        p.kind = PARTICLE_SPRAY;
         p.radius = params.drop_radius;
         p.position.y += 0.01;
         p.velocity = vec3<f32>(s.velocity.x * 0.5 + out * ca, up, s.velocity.z * 0.5 + out * sa);
