@@ -8,9 +8,42 @@
 //! `body_column` in `simulation/ripples/ripples.wgsl`.
 
 pub use crate::coupling::{Pose, Shape, body_column};
-use crate::scene::{ObjectDesc, Scene};
 use glam::{DQuat, DVec3};
 use rapier3d::prelude as rp;
+
+/// What the body world is built from: the floor and each of the scene's
+/// objects as physics sees it (`Scene::bodies` describes a scene's).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodiesDesc {
+    /// Depth (m) of the flat floor under the mean level (0: none).
+    pub floor_depth: f32,
+    /// Every object, in the scene's order (a body's `object` is its index).
+    pub objects: Vec<BodyDesc>,
+}
+
+/// One object as physics sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyDesc {
+    /// Where it starts: scale, rotation and translation.
+    pub transform: glam::Mat4,
+    /// Its exact shape (`None`: a mesh or a shape the scaling squashes,
+    /// an obstacle of its box `scale` wide).
+    pub shape: Option<Shape>,
+    pub scale: [f32; 3],
+    /// m/s; a kinematic object keeps it.
+    pub velocity: [f32; 3],
+    /// It moves under forces (otherwise only by its velocity, if any).
+    pub dynamic: bool,
+    /// kg/m³
+    pub density: f32,
+}
+
+impl BodyDesc {
+    /// Whether it moves at all (dynamic, or kinematic with a velocity).
+    pub fn moving(&self) -> bool {
+        self.dynamic || self.velocity.iter().any(|&v| v != 0.0)
+    }
+}
 
 /// Density of water (kg/m³).
 pub const WATER_DENSITY: f64 = 1000.0;
@@ -165,28 +198,26 @@ fn collider(shape: &Shape) -> rp::ColliderBuilder {
 }
 
 impl BodyWorld {
-    /// The world of `scene`'s moving objects (`None` if nothing moves),
-    /// stepping `dt` s at a time.
-    pub fn new(scene: &Scene, dt: f64) -> Option<Self> {
-        let moving = |o: &ObjectDesc| o.dynamic || o.velocity.iter().any(|&v| v != 0.0);
-        if !scene.objects.iter().any(moving) {
+    /// The world `desc` describes (`None` if nothing moves), stepping `dt`
+    /// s at a time.
+    pub fn new(desc: &BodiesDesc, dt: f64) -> Option<Self> {
+        if !desc.objects.iter().any(BodyDesc::moving) {
             return None;
         }
         let mut set = rp::RigidBodySet::new();
         let mut colliders = rp::ColliderSet::new();
-        if scene.floor.depth > 0.0 {
+        if desc.floor_depth > 0.0 {
             let floor =
                 rp::ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(rp::Vector::Y))
-                    .translation(rp::Vector::new(0.0, -scene.floor.depth, 0.0));
+                    .translation(rp::Vector::new(0.0, -desc.floor_depth, 0.0));
             colliders.insert(floor.build());
         }
         let mut bodies = Vec::new();
-        for (i, o) in scene.objects.iter().enumerate() {
-            let transform = Scene::object_transform(o);
-            let (_, rotation, position) = transform.to_scale_rotation_translation();
+        for (i, o) in desc.objects.iter().enumerate() {
+            let (_, rotation, position) = o.transform.to_scale_rotation_translation();
             let pose = rp::Pose::from_parts(position.to_array().into(), rotation_of(rotation));
-            let shape = Shape::of(o);
-            if !moving(o) {
+            let shape = o.shape;
+            if !o.moving() {
                 // A static obstacle: its exact shape, or the box around a mesh.
                 let c = match shape {
                     Some(s) => collider(&s),
@@ -413,6 +444,7 @@ fn rotation_of(q: glam::Quat) -> rp::Rotation {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Scene;
     use std::f64::consts::PI;
 
     fn flat(_: f64, _: f64) -> f64 {
@@ -488,7 +520,7 @@ mod tests {
     fn spheres_float_at_the_draft_archimedes_gives_and_settle() {
         for density in [250.0f32, 500.0, 800.0] {
             let scene = floating_sphere(density);
-            let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+            let mut world = BodyWorld::new(&scene.bodies(), 1.0 / 60.0).unwrap();
             let mut heights = Vec::new();
             for _ in 0..60 * 20 {
                 world.step(&|_, x, z| flat(x, z));
@@ -521,7 +553,7 @@ mod tests {
             &[],
         )
         .unwrap();
-        let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+        let mut world = BodyWorld::new(&scene.bodies(), 1.0 / 60.0).unwrap();
         for _ in 0..60 * 20 {
             world.step(&|_, x, z| flat(x, z));
         }
@@ -535,7 +567,7 @@ mod tests {
     #[test]
     fn a_sphere_denser_than_water_sinks_to_the_floor() {
         let scene = floating_sphere(1500.0);
-        let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+        let mut world = BodyWorld::new(&scene.bodies(), 1.0 / 60.0).unwrap();
         for _ in 0..60 * 10 {
             world.step(&|_, x, z| flat(x, z));
         }
@@ -565,7 +597,7 @@ mod tests {
         for (name, object) in [("sphere", SPHERE), ("box", BOX), ("cylinder", CYLINDER)] {
             let scene = one_body(object);
             let dt = 1.0 / 60.0;
-            let mut world = BodyWorld::new(&scene, dt).unwrap();
+            let mut world = BodyWorld::new(&scene.bodies(), dt).unwrap();
             for _ in 0..60 * 10 {
                 world.step(&|_, x, z| flat(x, z));
             }
@@ -607,7 +639,7 @@ mod tests {
         for (name, object) in [("sphere", SPHERE), ("box", BOX), ("cylinder", CYLINDER)] {
             let object = format!("{object}rotation_deg = [10.0, 0.0, 5.0]\n");
             let scene = one_body(&object);
-            let mut world = BodyWorld::new(&scene, 1.0 / 60.0).unwrap();
+            let mut world = BodyWorld::new(&scene.bodies(), 1.0 / 60.0).unwrap();
             let mut worst: f64 = 0.0;
             for _ in 0..60 * 20 {
                 world.step(&|_, x, z| flat(x, z));

@@ -187,6 +187,27 @@ impl Scene {
 }
 
 /// A primitive object as a rigid body's shape (`bodies`, `coupling`).
+impl super::Scene {
+    /// The scene's floor and objects as the body world takes them.
+    pub fn bodies(&self) -> crate::bodies::BodiesDesc {
+        crate::bodies::BodiesDesc {
+            floor_depth: self.floor.depth,
+            objects: self
+                .objects
+                .iter()
+                .map(|o| crate::bodies::BodyDesc {
+                    transform: Self::object_transform(o),
+                    shape: Shape::of(o),
+                    scale: o.scale,
+                    velocity: o.velocity,
+                    dynamic: o.dynamic,
+                    density: o.density,
+                })
+                .collect(),
+        }
+    }
+}
+
 impl Shape {
     /// The shape of a primitive object (`None` for meshes, planes and
     /// scalings a shape cannot follow, e.g. a squashed sphere).

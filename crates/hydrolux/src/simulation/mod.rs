@@ -214,6 +214,8 @@ macro_rules! simulations {
             /// The scene was edited: make anew what does not fit it and
             /// reconnect what follows. Returns whether the clock must
             /// start again (a simulation that cannot join mid-run is new).
+            // (`remade` is not read after the last simulation.)
+            #[allow(unused_assignments)]
             pub fn set_scene(&mut self, shared: &Shared, scene: &Scene) -> Result<bool, RenderError> {
                 let mut published = Published::default();
                 let mut remade = false;
@@ -231,10 +233,7 @@ macro_rules! simulations {
                         None => <$ty as Simulation>::create(shared, scene, &published)?,
                     };
                     if !kept {
-                        #[allow(unused_assignments)]
-                        {
-                            remade = true;
-                        }
+                        remade = true;
                         restart |= self.$field.as_ref().is_some_and(|s| s.restarts_clock());
                     }
                     if let Some(s) = &self.$field {

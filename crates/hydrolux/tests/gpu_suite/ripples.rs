@@ -99,7 +99,7 @@ fn bodies_moving_through_the_water_match_the_cpu_twin() {
     let gpu = r.read_ripples().unwrap();
     let settings = s.ripple_settings().unwrap();
     let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
-    let mut world = BodyWorld::new(&s, settings.dt).unwrap();
+    let mut world = BodyWorld::new(&s.bodies(), settings.dt).unwrap();
     // The water starts at rest around the hull: in its hollow.
     let start = world.moves_since(&world.poses());
     sim.h = hydrolux::core::waves::ripples::resting_heights(&settings.grid, &sim.window, &start);

@@ -387,7 +387,7 @@ fn a_floating_ball_holds_its_hollow_and_the_water_about_it_lies_calm() {
     let settings = s.ripple_settings().unwrap();
     let grid = settings.grid;
     let mut sim = RippleSim::new(settings, RippleWindow::centred(&grid, [0.0, 0.0]));
-    let world = BodyWorld::new(&s, settings.dt).unwrap();
+    let world = BodyWorld::new(&s.bodies(), settings.dt).unwrap();
     let rest = world.moves_since(&world.poses());
     sim.h = resting_heights(&grid, &sim.window, &rest);
     let v0 = sim.volume();
@@ -433,7 +433,7 @@ fn a_ball_dropped_in_makes_waves_not_spouts() {
     let s = pool_with_ball(1.0);
     let settings = s.ripple_settings().unwrap();
     let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.0, 0.0]));
-    let mut world = BodyWorld::new(&s, settings.dt).unwrap();
+    let mut world = BodyWorld::new(&s.bodies(), settings.dt).unwrap();
     let v0 = sim.volume();
     let steps = |seconds: f64| (seconds / settings.dt) as usize;
     let highest = |sim: &RippleSim| sim.heights().iter().fold(0.0f64, |m, h| m.max(*h));
