@@ -9,6 +9,7 @@ pub mod clock;
 pub mod compare;
 pub mod coupling;
 pub mod files;
+pub mod fluid;
 pub mod fuzz;
 pub mod geometry;
 pub mod godrays;

@@ -1,0 +1,171 @@
+//! The marker-and-cell grid (seed 003 §2.2, after Harlow & Welch 1965):
+//! velocities on the faces of cubic cells, pressure at their centres, each
+//! cell solid, liquid or air. The domain's six sides are closed walls.
+
+/// What fills a cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cell {
+    Air,
+    Liquid,
+    Solid,
+}
+
+/// A box of `n` cells of side `h` (m) from `origin`, with the velocity
+/// components on their faces: `u` on the x-faces ((nx+1)·ny·nz), `v` on
+/// the y-faces, `w` on the z-faces, and a pressure per cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MacGrid {
+    pub n: [usize; 3],
+    pub h: f64,
+    pub origin: [f64; 3],
+    /// Face velocities (m/s) per axis.
+    pub vel: [Vec<f64>; 3],
+    /// Pressure (Pa) per cell (0 in air).
+    pub pressure: Vec<f64>,
+    pub cells: Vec<Cell>,
+}
+
+impl MacGrid {
+    /// Still air everywhere.
+    pub fn new(n: [usize; 3], h: f64, origin: [f64; 3]) -> Self {
+        let faces = |a: usize| {
+            let mut m = n;
+            m[a] += 1;
+            m[0] * m[1] * m[2]
+        };
+        let count = n[0] * n[1] * n[2];
+        MacGrid {
+            n,
+            h,
+            origin,
+            vel: [vec![0.0; faces(0)], vec![0.0; faces(1)], vec![0.0; faces(2)]],
+            pressure: vec![0.0; count],
+            cells: vec![Cell::Air; count],
+        }
+    }
+
+    /// Index of cell (i, j, k).
+    pub fn cell(&self, i: usize, j: usize, k: usize) -> usize {
+        (k * self.n[1] + j) * self.n[0] + i
+    }
+
+    /// Index of the face of axis `a` at (i, j, k): the face on the low side
+    /// of cell (i, j, k) along `a` (index n[a] is the far wall).
+    pub fn face(&self, a: usize, i: usize, j: usize, k: usize) -> usize {
+        let mut m = self.n;
+        m[a] += 1;
+        (k * m[1] + j) * m[0] + i
+    }
+
+    /// The faces per side of axis `a`'s velocity grid.
+    pub fn face_dims(&self, a: usize) -> [usize; 3] {
+        let mut m = self.n;
+        m[a] += 1;
+        m
+    }
+
+    /// The cell at integer coordinates that may lie outside: outside is solid.
+    pub fn cell_at(&self, c: [i64; 3]) -> Cell {
+        if (0..3).any(|a| c[a] < 0 || c[a] >= self.n[a] as i64) {
+            return Cell::Solid;
+        }
+        self.cells[self.cell(c[0] as usize, c[1] as usize, c[2] as usize)]
+    }
+
+    /// Whether face (a; i, j, k) touches a solid (a wall or a solid cell):
+    /// its velocity is the solid's (0).
+    pub fn face_solid(&self, a: usize, i: usize, j: usize, k: usize) -> bool {
+        let mut lo = [i as i64, j as i64, k as i64];
+        let hi = lo;
+        lo[a] -= 1;
+        self.cell_at(lo) == Cell::Solid || self.cell_at(hi) == Cell::Solid
+    }
+
+    /// Zero every face velocity that touches a solid (closed walls).
+    pub fn enforce_walls(&mut self) {
+        for a in 0..3 {
+            let m = self.face_dims(a);
+            for k in 0..m[2] {
+                for j in 0..m[1] {
+                    for i in 0..m[0] {
+                        if self.face_solid(a, i, j, k) {
+                            let f = self.face(a, i, j, k);
+                            self.vel[a][f] = 0.0;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// ∇·u of cell (i, j, k) (1/s): the net outflow of its six faces.
+    pub fn divergence(&self, i: usize, j: usize, k: usize) -> f64 {
+        let mut d = 0.0;
+        for a in 0..3 {
+            let mut hi = [i, j, k];
+            hi[a] += 1;
+            d +=
+                self.vel[a][self.face(a, hi[0], hi[1], hi[2])] - self.vel[a][self.face(a, i, j, k)];
+        }
+        d / self.h
+    }
+
+    /// The largest |∇·u| over the liquid cells (1/s).
+    pub fn max_liquid_divergence(&self) -> f64 {
+        let mut worst = 0.0f64;
+        for k in 0..self.n[2] {
+            for j in 0..self.n[1] {
+                for i in 0..self.n[0] {
+                    if self.cells[self.cell(i, j, k)] == Cell::Liquid {
+                        worst = worst.max(self.divergence(i, j, k).abs());
+                    }
+                }
+            }
+        }
+        worst
+    }
+
+    /// Velocity component `a` at world point `p`, trilinear over its faces
+    /// (clamped to the grid).
+    pub fn sample(&self, a: usize, p: [f64; 3]) -> f64 {
+        let (idx, w) = self.stencil(a, p);
+        let mut s = 0.0;
+        for (f, wt) in idx.iter().zip(w) {
+            s += self.vel[a][*f] * wt;
+        }
+        s
+    }
+
+    /// The eight faces of axis `a` around world point `p` and their
+    /// trilinear weights (summing to 1), clamped to the grid.
+    pub fn stencil(&self, a: usize, p: [f64; 3]) -> ([usize; 8], [f64; 8]) {
+        let m = self.face_dims(a);
+        let mut base = [0usize; 3];
+        let mut frac = [0.0f64; 3];
+        for b in 0..3 {
+            // Faces of axis a sit at integer coordinates along a, at cell
+            // centres (half-integers) along the others.
+            let offset = if b == a { 0.0 } else { 0.5 };
+            let x = (p[b] - self.origin[b]) / self.h - offset;
+            let hi = (m[b] - 1) as f64;
+            let x = x.clamp(0.0, hi);
+            let i0 = (x.floor() as usize).min(m[b].saturating_sub(2));
+            base[b] = i0;
+            frac[b] = if m[b] > 1 { x - i0 as f64 } else { 0.0 };
+        }
+        let mut idx = [0usize; 8];
+        let mut w = [0.0f64; 8];
+        for c in 0..8 {
+            let d = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
+            let at = [0, 1, 2].map(|b| (base[b] + d[b]).min(m[b] - 1));
+            idx[c] = self.face(a, at[0], at[1], at[2]);
+            w[c] = (0..3).map(|b| if d[b] == 1 { frac[b] } else { 1.0 - frac[b] }).product();
+        }
+        (idx, w)
+    }
+
+    /// The velocity at world point `p`.
+    pub fn velocity(&self, p: [f64; 3]) -> [f64; 3] {
+        [self.sample(0, p), self.sample(1, p), self.sample(2, p)]
+    }
+}

@@ -1,0 +1,16 @@
+//! The volumetric liquid's CPU twin (issue #29, seed 003 §2.2, seed 000
+//! §2.3.2): a marker-and-cell grid (`grid`), marker particles with FLIP/PIC
+//! transfers (`flip`) and a pressure projection by preconditioned conjugate
+//! gradients (`pressure`). The reference the GPU simulation will be checked
+//! against, and itself checked against hydrostatics and volume.
+
+pub mod flip;
+pub mod grid;
+pub mod pressure;
+
+pub use flip::{Liquid, LiquidSettings};
+pub use grid::{Cell, MacGrid};
+pub use pressure::{Projection, project};
+
+#[cfg(test)]
+mod tests;
