@@ -9,6 +9,7 @@
 use crate::error::RenderError;
 use crate::passes::{caustics, geometry, godrays, sky, tonemap, water, water_object};
 use crate::plan::World;
+use crate::simulation::liquid::draw as liquid_points;
 use crate::simulation::whitewater::draw as particles;
 use crate::technique::{Bound, Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
@@ -83,6 +84,7 @@ registry! {
     particles: particles::Particles => particles::INFO,
     caustics: caustics::Caustics => caustics::INFO,
     geometry: geometry::Geometry => geometry::INFO,
+    liquid_points: liquid_points::LiquidPoints => liquid_points::INFO,
     water_objects: water_object::WaterObjects => water_object::INFO,
     water: water::WaterPass => water::INFO,
     godrays: godrays::GodRays => godrays::INFO,

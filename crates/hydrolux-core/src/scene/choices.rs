@@ -50,11 +50,13 @@ choice!(TerrainKind: None, Noise, Heightmap);
 choice!(Pattern: None, Tiles, Checker);
 choice!(Primitive: Box, Sphere, Cylinder, Plane);
 choice!(Tonemap: Aces, Clamp);
-choice!(DebugView: Final, Reflection, Refraction, Depth, Normals, Shadow, Medium, Caustics, Ripples, Foam, Fresnel, Error);
+choice!(DebugView: Final, Reflection, Refraction, Depth, Normals, Shadow, Medium, Caustics, Ripples, Foam, Fresnel, Fluid, Error);
 choice!(CausticMethod: Photons, Beam, Procedural, Off);
 choice!(GodRayMethod: Lines, March, Off);
 choice!(RippleEdges: Walls, Open);
 choice!(Quality: Auto, Low, Medium, High, Ultra);
+choice!(FluidSurface: Points, None);
+choice!(FluidSourceKind: Block);
 
 /// Each enumerated key (array indices left out: `objects.primitive`) and
 /// its allowed values.
@@ -77,6 +79,7 @@ pub fn enumerated_keys() -> Vec<(&'static str, Vec<String>)> {
         ("godrays.method", GodRayMethod::names()),
         ("ripples.edges", RippleEdges::names()),
         ("render.quality", Quality::names()),
+        ("fluid.surface", FluidSurface::names()),
     ]
 }
 

@@ -111,11 +111,12 @@ fn array_schema(name: &str) -> Option<Table> {
         "objects" => Some(table(Table::try_from(super::ObjectDesc::default()))),
         "drops" => Some(table(Table::try_from(super::DropDesc::default()))),
         "emitters" => Some(table(Table::try_from(super::EmitterDesc::default()))),
+        "fluid.sources" => Some(table(Table::try_from(super::FluidSource::default()))),
         _ => None,
     }
 }
 
-/// `[[objects]]`, `[[drops]]`, `[[emitters]]`: an array of tables, each
+/// `[[objects]]`, `[[drops]]`, `[[emitters]]`, `[[fluid.sources]]`: an array of tables, each
 /// checked against a default entry (`schema`).
 fn check_array_of_tables(
     v: &mut Value,
@@ -504,6 +505,7 @@ impl Scene {
         self.godrays.validate()?;
         self.validate_ripples()?;
         self.whitewater.validate()?;
+        self.fluid.validate()?;
         if self.water.model == WaterModel::Sines && !(1..=64).contains(&self.sines.count) {
             return Err(SceneError::OutOfRange {
                 key: "sines.count".into(),
@@ -522,6 +524,9 @@ impl Scene {
             ),
             DebugView::Foam if !(self.has_whitewater() && self.whitewater.foam) => Some(
                 "it shows the foam, and the scene has none (it needs whitewater.foam = true and water that moves)",
+            ),
+            DebugView::Fluid if !self.fluid.enabled() => Some(
+                "it shows the volumetric liquid, and the scene has none (it needs [[fluid.sources]])",
             ),
             _ => None,
         };

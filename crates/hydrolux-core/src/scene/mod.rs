@@ -8,6 +8,7 @@ mod camera;
 mod caustics;
 mod choices;
 mod floor;
+mod fluid;
 mod geometry;
 mod godrays;
 mod load;
@@ -26,6 +27,7 @@ pub use air::*;
 pub use camera::*;
 pub use caustics::*;
 pub use floor::*;
+pub use fluid::{FluidDesc, FluidSource, FluidSourceKind, FluidSurface, MAX_FLUID_CELLS};
 pub use godrays::*;
 pub use material::*;
 pub use objects::*;
@@ -83,6 +85,8 @@ pub struct Scene {
     pub ripples: RipplesDesc,
     /// Foam, bubbles and spray (`[whitewater]`).
     pub whitewater: WhitewaterDesc,
+    /// The volumetric liquid (`[fluid]`, `[[fluid.sources]]`).
+    pub fluid: FluidDesc,
     /// `[[objects]]` entries: meshes and primitives with a transform and material.
     pub objects: Vec<ObjectDesc>,
     /// `[[drops]]`: scripted disturbances of the interactive water.
@@ -113,6 +117,7 @@ impl Default for Scene {
             air: AirDesc::default(),
             ripples: RipplesDesc::default(),
             whitewater: WhitewaterDesc::default(),
+            fluid: FluidDesc::default(),
             objects: Vec::new(),
             drops: Vec::new(),
             emitters: Vec::new(),

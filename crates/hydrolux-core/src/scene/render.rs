@@ -118,6 +118,10 @@ pub enum DebugView {
     /// green = 1 (the rest grey): `hydrolux compare` reads it to split its
     /// error into reflection- and refraction-dominated pixels.
     Fresnel,
+    /// The volumetric liquid's particles coloured by speed (blue at rest,
+    /// through green and yellow, to red at 3 m/s and over); the rest as
+    /// rendered.
+    Fluid,
     /// What the projective approximations cost (issue #16's truth mode):
     /// the frame drawn both ways, projective and ray traced, and per pixel
     /// their CIELAB difference ΔE*ab as heat (black 0, red 10, yellow 20,

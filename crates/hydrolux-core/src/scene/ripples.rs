@@ -104,7 +104,11 @@ impl Scene {
             if self.has_whitewater() { (self.whitewater.memory as f64).max(1.0) } else { 0.0 };
         let moving = self.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
         let bodies = if moving { BODY_MEMORY_S } else { 0.0 };
-        water.max(foam).max(bodies).ceil()
+        // A liquid never forgets its start (it may slosh for minutes): the
+        // longest memory the clock takes, so any time under 20 minutes is
+        // simulated from the start.
+        let liquid = if self.fluid.enabled() { super::fluid::FLUID_MEMORY_S } else { 0.0 };
+        water.max(foam).max(bodies).max(liquid).ceil()
     }
 }
 

@@ -9,7 +9,9 @@
 //!   its own rate, reading the surface at its own step's time;
 //! - `surface`: the water surface's model (seed 000 §2.4: the FFT ocean in
 //!   `ocean`, sines, a heightfield), a function of time evaluated for the
-//!   frame and whenever a step reads it at another time.
+//!   frame and whenever a step reads it at another time;
+//! - `liquid`: the volumetric liquid (seed 003 §2.2, marker particles on a
+//!   MAC grid), `fluid.substeps` steps on every clock step.
 //!
 //! The scheduler ([`Simulations::advance`]) walks them on the one
 //! [`SimulationClock`]'s steps in registry order: followers take any run of
@@ -18,6 +20,7 @@
 //! [`couplings::Couplings`]; what techniques read is [`Published`].
 
 pub mod couplings;
+pub mod liquid;
 pub mod ocean;
 pub mod published;
 pub mod ripples;
@@ -274,6 +277,7 @@ simulations! {
     ripples: ripples::dynamics::Dynamics => ripples::INFO,
     whitewater: whitewater::Whitewater => whitewater::INFO,
     surface: surface::Surface => surface::INFO,
+    liquid: liquid::Liquid => liquid::INFO,
 }
 
 impl Simulations {

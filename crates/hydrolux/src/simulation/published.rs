@@ -72,12 +72,22 @@ pub(crate) struct ParticleState {
     pub capacity: u32,
 }
 
+/// The volumetric liquid's particles (`LiquidParticle`s), for a draw.
+#[derive(Clone)]
+pub(crate) struct LiquidState {
+    pub particles: wgpu::Buffer,
+    pub count: u32,
+    /// A particle's radius (m) as a sphere of its share of a cell.
+    pub radius: f32,
+}
+
 #[derive(Clone, Default)]
 pub(crate) struct Published {
     pub surface: Option<SurfaceState>,
     pub ripples: Option<RippleState>,
     pub foam: Option<FoamState>,
     pub particles: Option<ParticleState>,
+    pub liquid: Option<LiquidState>,
     /// Each moving object's index and world transform now.
     pub bodies: Vec<(usize, glam::Mat4)>,
 }

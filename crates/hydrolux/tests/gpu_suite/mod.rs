@@ -7,6 +7,7 @@ mod caustics;
 mod frame;
 mod godrays;
 mod harness;
+mod liquid;
 mod raytrace;
 mod ripples;
 mod sky;

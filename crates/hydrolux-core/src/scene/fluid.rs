@@ -1,0 +1,271 @@
+//! The volumetric liquid's settings (`[fluid]`, `[[fluid.sources]]`; seed
+//! 003 §2.2, seed 000 §2.3.2): the domain box and its grid, the particles,
+//! the step, and where the liquid starts. The physics is `crate::fluid`.
+
+use super::rules::{range, vec3_range};
+use super::{SceneError, WORLD_EXTENT_M};
+use crate::fluid::{Liquid, LiquidSettings, MacGrid};
+use serde::{Deserialize, Serialize};
+
+/// Cells a domain may have at most (256³): the grid's buffers stay within
+/// what every device binds.
+pub const MAX_FLUID_CELLS: u64 = 1 << 24;
+
+/// The clock's memory (s) with a liquid: its longest. Times under twice
+/// this are simulated from the start; later ones from a restart of the
+/// sources at the clock's origin (`clock.rs`).
+pub const FLUID_MEMORY_S: f64 = 600.0;
+
+/// How the liquid is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FluidSurface {
+    /// Each particle a shaded sphere.
+    Points,
+    /// Not drawn (simulated, dumped and benchmarked only).
+    None,
+}
+
+/// What a source is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FluidSourceKind {
+    /// Liquid at rest filling the box `min`..`max` at the start.
+    Block,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FluidSource {
+    pub kind: FluidSourceKind,
+    /// The block's corners (m), inside the domain.
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+}
+
+impl Default for FluidSource {
+    fn default() -> Self {
+        FluidSource { kind: FluidSourceKind::Block, min: [0.0; 3], max: [0.0; 3] }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FluidDesc {
+    /// The domain's corners (m): closed walls on its six sides.
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+    /// Cells along the domain's longest side (4 to 512); the cells are
+    /// cubes, so the other sides get as many as fit (at least 2).
+    pub resolution: u32,
+    /// Marker particles seeded per cell: 1, 8, 27 or 64 (1–4 per axis).
+    pub particles_per_cell: u32,
+    /// m/s², each component within ±100.
+    pub gravity: [f32; 3],
+    /// The FLIP share of a particle's new velocity (0 = PIC, smooth and
+    /// dissipative, to 1 = pure FLIP, lively and noisy); 0 to 1.
+    pub flip: f32,
+    /// Liquid steps per 120 Hz clock step (1 to 16): more for faster flow
+    /// on finer grids (keep a step's travel under a cell).
+    pub substeps: u32,
+    /// The pressure solve's largest |∇·u| left (1/s, 1e-6 to 10) and its
+    /// iteration cap (1 to 10000).
+    pub tolerance: f32,
+    pub iterations: u32,
+    /// Most particles at once (1 to 16777216; the device's buffer limits
+    /// may allow fewer).
+    pub budget: u32,
+    /// How it is drawn: "points" or "none".
+    pub surface: FluidSurface,
+    /// Where the liquid starts; no sources, no liquid.
+    pub sources: Vec<FluidSource>,
+}
+
+impl Default for FluidDesc {
+    fn default() -> Self {
+        FluidDesc {
+            min: [-0.5, 0.0, -0.25],
+            max: [0.5, 0.5, 0.25],
+            resolution: 48,
+            particles_per_cell: 8,
+            gravity: [0.0, -9.81, 0.0],
+            flip: 0.95,
+            substeps: 2,
+            tolerance: 1e-3,
+            iterations: 200,
+            budget: 1 << 20,
+            surface: FluidSurface::Points,
+            sources: Vec::new(),
+        }
+    }
+}
+
+impl FluidDesc {
+    /// Whether the scene has a liquid.
+    pub fn enabled(&self) -> bool {
+        !self.sources.is_empty()
+    }
+
+    /// The cell's side (m) and the cells per axis.
+    pub fn grid_shape(&self) -> (f32, [u32; 3]) {
+        let extent = [0, 1, 2].map(|a| self.max[a] - self.min[a]);
+        let longest = extent.iter().fold(0.0f32, |m, &e| m.max(e));
+        let h = longest / self.resolution.max(1) as f32;
+        let n = extent.map(|e| ((e / h).round() as u32).max(2));
+        (h, n)
+    }
+
+    /// Particles per axis of a cell.
+    pub fn particles_per_axis(&self) -> usize {
+        (self.particles_per_cell as f64).cbrt().round() as usize
+    }
+
+    /// The liquid's step (s): the clock's over the substeps.
+    pub fn step_seconds(&self) -> f64 {
+        1.0 / (super::CLOCK_HZ as f64 * self.substeps.max(1) as f64)
+    }
+
+    /// The CPU twin's settings.
+    pub fn settings(&self) -> LiquidSettings {
+        LiquidSettings {
+            gravity: self.gravity.map(f64::from),
+            density: 1000.0,
+            flip: self.flip as f64,
+            tolerance: self.tolerance as f64,
+            max_iterations: self.iterations as usize,
+        }
+    }
+
+    /// The liquid at its start: the grid and every source's particles
+    /// (the CPU twin; the GPU simulation starts from its particles).
+    pub fn initial(&self) -> Liquid {
+        let (h, n) = self.grid_shape();
+        let grid = MacGrid::new(n.map(|c| c as usize), h as f64, self.min.map(f64::from));
+        let mut liquid = Liquid::new(grid, self.settings());
+        for s in &self.sources {
+            match s.kind {
+                FluidSourceKind::Block => liquid.fill_box(
+                    s.min.map(f64::from),
+                    s.max.map(f64::from),
+                    self.particles_per_axis(),
+                ),
+            }
+        }
+        liquid
+    }
+
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let f = self;
+        let within = format!("must be finite, each coordinate within ±{WORLD_EXTENT_M} m");
+        vec3_range("fluid.min", f.min, WORLD_EXTENT_M, &within)?;
+        vec3_range("fluid.max", f.max, WORLD_EXTENT_M, &within)?;
+        if (0..3).any(|a| f.max[a] <= f.min[a]) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.max".into(),
+                value: format!("{:?}", f.max),
+                allowed: format!("must exceed fluid.min = {:?} on every axis", f.min),
+            });
+        }
+        if !(4..=512).contains(&f.resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.resolution".into(),
+                value: f.resolution.to_string(),
+                allowed: "must be 4 to 512 cells along the domain's longest side".into(),
+            });
+        }
+        let (_, n) = f.grid_shape();
+        let cells: u64 = n.iter().map(|&c| c as u64).product();
+        if cells > MAX_FLUID_CELLS {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.resolution".into(),
+                value: f.resolution.to_string(),
+                allowed: format!(
+                    "gives {}×{}×{} = {cells} cells over the domain; at most {MAX_FLUID_CELLS} (256³)",
+                    n[0], n[1], n[2]
+                ),
+            });
+        }
+        if ![1, 8, 27, 64].contains(&f.particles_per_cell) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.particles_per_cell".into(),
+                value: f.particles_per_cell.to_string(),
+                allowed: "must be 1, 8, 27 or 64 (1 to 4 per axis)".into(),
+            });
+        }
+        vec3_range("fluid.gravity", f.gravity, 100.0, "must be finite, each within ±100 m/s²")?;
+        range("fluid.flip", f.flip, (0.0..=1.0).contains(&f.flip), "must be 0 (PIC) to 1 (FLIP)")?;
+        if !(1..=16).contains(&f.substeps) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.substeps".into(),
+                value: f.substeps.to_string(),
+                allowed: "must be 1 to 16 steps per 120 Hz clock step".into(),
+            });
+        }
+        range(
+            "fluid.tolerance",
+            f.tolerance,
+            (1e-6..=10.0).contains(&f.tolerance),
+            "must be 1e-6 to 10 per second",
+        )?;
+        if !(1..=10_000).contains(&f.iterations) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.iterations".into(),
+                value: f.iterations.to_string(),
+                allowed: "must be 1 to 10000".into(),
+            });
+        }
+        if !(1..=1 << 24).contains(&f.budget) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.budget".into(),
+                value: f.budget.to_string(),
+                allowed: "must be 1 to 16777216 particles".into(),
+            });
+        }
+        let mut particles = 0u64;
+        let per_cell = f.particles_per_cell as u64;
+        let (h, _) = f.grid_shape();
+        for (i, s) in f.sources.iter().enumerate() {
+            for (corner, v) in [("min", s.min), ("max", s.max)] {
+                let key = format!("fluid.sources[{i}].{corner}");
+                vec3_range(&key, v, WORLD_EXTENT_M, &within)?;
+                if (0..3).any(|a| v[a] < f.min[a] || v[a] > f.max[a]) {
+                    return Err(SceneError::OutOfRange {
+                        key,
+                        value: format!("{v:?}"),
+                        allowed: format!(
+                            "must lie inside the domain, fluid.min = {:?} to fluid.max = {:?}",
+                            f.min, f.max
+                        ),
+                    });
+                }
+            }
+            // Cells whose centres the block holds.
+            let count: u64 = (0..3)
+                .map(|a| {
+                    let lo = ((s.min[a] - f.min[a]) / h - 0.5).ceil().max(0.0);
+                    let hi = ((s.max[a] - f.min[a]) / h - 0.5).floor();
+                    (hi - lo + 1.0).max(0.0) as u64
+                })
+                .product();
+            if count == 0 {
+                return Err(SceneError::OutOfRange {
+                    key: format!("fluid.sources[{i}].max"),
+                    value: format!("{:?}", s.max),
+                    allowed: format!(
+                        "the block from {:?} must hold at least one cell's centre (cells are {h} m)",
+                        s.min
+                    ),
+                });
+            }
+            particles += count * per_cell;
+        }
+        if particles > f.budget as u64 {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.budget".into(),
+                value: f.budget.to_string(),
+                allowed: format!("the sources need {particles} particles; raise it or shrink them"),
+            });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,574 @@
+// The volumetric liquid's step (seed 003 §2.2, the marker-and-cell method;
+// FLIP/PIC after Zhu & Bridson 2005; the projection as Bridson's *Fluid
+// Simulation for Computer Graphics* ch. 5). The CPU twin is
+// hydrolux_core::fluid (flip.rs, pressure.rs), kernel for kernel:
+//
+//   clear → splat (particles to faces, fixed-point atomics: the sums do not
+//   depend on the order particles arrive in) → faces (weighted means, the
+//   old copy, gravity, closed walls) → solve_begin / reduce_begin → the
+//   conjugate-gradient loop (apply, reduce_alpha, update, reduce_beta,
+//   direction: indirect dispatches that become empty once converged) →
+//   gradient → extrapolate (two rounds) → advance (FLIP/PIC blend, midpoint
+//   advection).
+//
+// Every reduction sums in a fixed order (a tree in each workgroup, then one
+// workgroup over the partials), so a step gives the same bits every time.
+
+struct LiquidParams {
+    // Cells per axis and in all; faces per axis and in all.
+    cells: vec3<u32>,
+    cell_count: u32,
+    faces: vec3<u32>,
+    face_count: u32,
+    // The domain's low corner (m) and the cell's side (m).
+    origin: vec3<f32>,
+    h: f32,
+    // m/s², the step (s).
+    gravity: vec3<f32>,
+    dt: f32,
+    particle_count: u32,
+    // Workgroups of WG cells.
+    cell_groups: u32,
+    max_iterations: u32,
+    // Largest |∇·u| the solve leaves (1/s).
+    tolerance: f32,
+    flip: f32,
+    density: f32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+struct LiquidParticle {
+    position: vec3<f32>,
+    _pad0: f32,
+    velocity: vec3<f32>,
+    _pad1: f32,
+}
+
+// What the solve leaves for the next kernels and for the host to read.
+struct SolveState {
+    sigma: f32,
+    alpha: f32,
+    beta: f32,
+    // max |r| now and before the first iteration (1/s).
+    residual: f32,
+    residual_before: f32,
+    iterations: u32,
+    running: u32,
+    steps: u32,
+}
+
+const WG: u32 = 256u;
+// Fixed point of the splat: 1/65536 of a weight, of a weight times m/s.
+const FIXED: f32 = 65536.0;
+// Particles' speed is kept under this (m/s) so the fixed-point sums fit.
+const MAX_SPEED: f32 = 100.0;
+
+@group(0) @binding(0) var<uniform> params: LiquidParams;
+@group(0) @binding(1) var<storage, read_write> particles: array<LiquidParticle>;
+// Per face the weighted velocity sum, then per face the weight, then per
+// cell its particle count.
+@group(0) @binding(2) var<storage, read_write> accum: array<atomic<i32>>;
+// Per face: the velocity, the splatted (old) velocity, a spare copy.
+@group(0) @binding(3) var<storage, read_write> faces: array<f32>;
+// Per face: known (extrapolation), twice.
+@group(0) @binding(4) var<storage, read_write> known: array<u32>;
+// Per cell: p, r, z, s, q.
+@group(0) @binding(5) var<storage, read_write> solve: array<f32>;
+// Per cell workgroup: a dot product's and a max's partials.
+@group(0) @binding(6) var<storage, read_write> partials: array<f32>;
+@group(0) @binding(7) var<storage, read_write> state: SolveState;
+// The conjugate-gradient kernels' indirect arguments (the reductions write them).
+@group(1) @binding(0) var<storage, read_write> args: array<u32>;
+
+var<workgroup> dot_part: array<f32, 256>;
+var<workgroup> max_part: array<f32, 256>;
+
+fn linear(wid: vec3<u32>, nwg: vec3<u32>, lid: u32) -> u32 {
+    return (wid.y * nwg.x + wid.x) * WG + lid;
+}
+
+fn face_dims(a: u32) -> vec3<u32> {
+    var m = params.cells;
+    m[a] += 1u;
+    return m;
+}
+
+fn face_index(a: u32, c: vec3<u32>) -> u32 {
+    let m = face_dims(a);
+    var base = 0u;
+    if (a > 0u) { base += params.faces.x; }
+    if (a > 1u) { base += params.faces.y; }
+    return base + (c.z * m.y + c.y) * m.x + c.x;
+}
+
+fn cell_index(c: vec3<u32>) -> u32 {
+    return (c.z * params.cells.y + c.y) * params.cells.x + c.x;
+}
+
+fn inside(c: vec3<i32>) -> bool {
+    return all(c >= vec3<i32>(0)) && all(c < vec3<i32>(params.cells));
+}
+
+// Cells outside the domain are solid (closed walls); inside, a cell holding
+// a particle is liquid.
+fn is_liquid(c: vec3<i32>) -> bool {
+    if (!inside(c)) {
+        return false;
+    }
+    return atomicLoad(&accum[2u * params.face_count + cell_index(vec3<u32>(c))]) > 0;
+}
+
+// Face (axis a, coordinates c) and its two cells.
+fn face_of(g: u32) -> vec4<u32> {
+    var a = 0u;
+    var f = g;
+    if (f >= params.faces.x) {
+        f -= params.faces.x;
+        a = 1u;
+        if (f >= params.faces.y) {
+            f -= params.faces.y;
+            a = 2u;
+        }
+    }
+    let m = face_dims(a);
+    return vec4<u32>(f % m.x, (f / m.x) % m.y, f / (m.x * m.y), a);
+}
+
+fn low_cell(face: vec4<u32>) -> vec3<i32> {
+    var lo = vec3<i32>(face.xyz);
+    lo[face.w] -= 1;
+    return lo;
+}
+
+fn face_solid(face: vec4<u32>) -> bool {
+    return !inside(low_cell(face)) || !inside(vec3<i32>(face.xyz));
+}
+
+// The eight faces of axis a around world point p and their trilinear
+// weights, clamped to the grid (MacGrid::stencil).
+struct Stencil {
+    base: vec3<u32>,
+    frac: vec3<f32>,
+}
+
+fn stencil(a: u32, p: vec3<f32>) -> Stencil {
+    let m = face_dims(a);
+    var s: Stencil;
+    for (var b = 0u; b < 3u; b++) {
+        let offset = select(0.5, 0.0, b == a);
+        let hi = f32(m[b] - 1u);
+        let x = clamp((p[b] - params.origin[b]) / params.h - offset, 0.0, hi);
+        let i0 = min(u32(floor(x)), m[b] - 2u);
+        s.base[b] = i0;
+        s.frac[b] = x - f32(i0);
+    }
+    return s;
+}
+
+fn corner_weight(s: Stencil, d: vec3<u32>) -> f32 {
+    var w = 1.0;
+    for (var b = 0u; b < 3u; b++) {
+        w *= select(1.0 - s.frac[b], s.frac[b], d[b] == 1u);
+    }
+    return w;
+}
+
+// Velocity component a at p from the faces' copy at `offset`.
+fn sample(a: u32, p: vec3<f32>, offset: u32) -> f32 {
+    let s = stencil(a, p);
+    let m = face_dims(a);
+    var v = 0.0;
+    for (var c = 0u; c < 8u; c++) {
+        let d = vec3<u32>(c & 1u, (c >> 1u) & 1u, (c >> 2u) & 1u);
+        let at = min(s.base + d, m - vec3<u32>(1u));
+        v += faces[offset + face_index(a, at)] * corner_weight(s, d);
+    }
+    return v;
+}
+
+fn velocity_at(p: vec3<f32>, offset: u32) -> vec3<f32> {
+    return vec3<f32>(sample(0u, p, offset), sample(1u, p, offset), sample(2u, p, offset));
+}
+
+@compute @workgroup_size(256)
+fn clear(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    if (i < 2u * params.face_count + params.cell_count) {
+        atomicStore(&accum[i], 0);
+    }
+}
+
+@compute @workgroup_size(256)
+fn splat(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    if (i >= params.particle_count) {
+        return;
+    }
+    let p = particles[i].position;
+    let v = clamp(particles[i].velocity, vec3<f32>(-MAX_SPEED), vec3<f32>(MAX_SPEED));
+    for (var a = 0u; a < 3u; a++) {
+        let s = stencil(a, p);
+        let m = face_dims(a);
+        for (var c = 0u; c < 8u; c++) {
+            let d = vec3<u32>(c & 1u, (c >> 1u) & 1u, (c >> 2u) & 1u);
+            let f = face_index(a, min(s.base + d, m - vec3<u32>(1u)));
+            let w = corner_weight(s, d);
+            atomicAdd(&accum[f], i32(round(w * v[a] * FIXED)));
+            atomicAdd(&accum[params.face_count + f], i32(round(w * FIXED)));
+        }
+    }
+    let cell = clamp(vec3<i32>(floor((p - params.origin) / params.h)), vec3<i32>(0), vec3<i32>(params.cells) - vec3<i32>(1));
+    atomicAdd(&accum[2u * params.face_count + cell_index(vec3<u32>(cell))], 1);
+}
+
+// Weighted means (0 where no particle reaches), the old copy, gravity, walls.
+@compute @workgroup_size(256)
+fn faces_from_particles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = linear(wid, nwg, lid);
+    if (g >= params.face_count) {
+        return;
+    }
+    let weight = atomicLoad(&accum[params.face_count + g]);
+    var v = 0.0;
+    if (weight > 0) {
+        v = f32(atomicLoad(&accum[g])) / f32(weight);
+    }
+    let face = face_of(g);
+    faces[params.face_count + g] = v;
+    v += params.gravity[face.w] * params.dt;
+    if (face_solid(face)) {
+        v = 0.0;
+    }
+    faces[g] = v;
+}
+
+fn divergence(c: vec3<u32>) -> f32 {
+    var d = 0.0;
+    for (var a = 0u; a < 3u; a++) {
+        var hi = c;
+        hi[a] += 1u;
+        d += faces[face_index(a, hi)] - faces[face_index(a, c)];
+    }
+    return d / params.h;
+}
+
+fn scale() -> f32 {
+    return params.dt / (params.density * params.h * params.h);
+}
+
+fn cell_coords(i: u32) -> vec3<u32> {
+    let n = params.cells;
+    return vec3<u32>(i % n.x, (i / n.x) % n.y, i / (n.x * n.y));
+}
+
+// The Poisson matrix's diagonal: scale per non-solid neighbour.
+fn diagonal(c: vec3<i32>) -> f32 {
+    var count = 0.0;
+    for (var a = 0u; a < 3u; a++) {
+        for (var side = -1; side <= 1; side += 2) {
+            var q = c;
+            q[a] += side;
+            if (inside(q)) {
+                count += 1.0;
+            }
+        }
+    }
+    return count * scale();
+}
+
+const P: u32 = 0u;
+const R: u32 = 1u;
+const Z: u32 = 2u;
+const S: u32 = 3u;
+const Q: u32 = 4u;
+
+fn at(v: u32, i: u32) -> f32 {
+    return solve[v * params.cell_count + i];
+}
+
+fn put(v: u32, i: u32, x: f32) {
+    solve[v * params.cell_count + i] = x;
+}
+
+// Sum `dot` and take the max of `big` over the workgroup (a fixed tree),
+// into the group's partials.
+fn reduce_group(group: u32, lid: u32, dot_value: f32, big: f32) {
+    dot_part[lid] = dot_value;
+    max_part[lid] = big;
+    workgroupBarrier();
+    for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
+        if (lid < stride) {
+            dot_part[lid] += dot_part[lid + stride];
+            max_part[lid] = max(max_part[lid], max_part[lid + stride]);
+        }
+        workgroupBarrier();
+    }
+    if (lid == 0u) {
+        partials[2u * group] = dot_part[0];
+        partials[2u * group + 1u] = max_part[0];
+    }
+}
+
+// r = −∇·u in liquid cells, p = 0, z = M⁻¹r, s = z; partials of r·z, max|r|.
+@compute @workgroup_size(256)
+fn solve_begin(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    var rz = 0.0;
+    var big = 0.0;
+    if (i < params.cell_count) {
+        let c = cell_coords(i);
+        var r = 0.0;
+        var z = 0.0;
+        if (is_liquid(vec3<i32>(c))) {
+            r = -divergence(c);
+            z = r / diagonal(vec3<i32>(c));
+        }
+        put(P, i, 0.0);
+        put(R, i, r);
+        put(Z, i, z);
+        put(S, i, z);
+        put(Q, i, 0.0);
+        rz = r * z;
+        big = abs(r);
+    }
+    reduce_group(wid.y * nwg.x + wid.x, lid, rz, big);
+}
+
+// One workgroup over the partials, in a fixed order.
+fn reduce_partials(lid: u32) {
+    var d = 0.0;
+    var m = 0.0;
+    for (var g = lid; g < params.cell_groups; g += WG) {
+        d += partials[2u * g];
+        m = max(m, partials[2u * g + 1u]);
+    }
+    dot_part[lid] = d;
+    max_part[lid] = m;
+    workgroupBarrier();
+    for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
+        if (lid < stride) {
+            dot_part[lid] += dot_part[lid + stride];
+            max_part[lid] = max(max_part[lid], max_part[lid + stride]);
+        }
+        workgroupBarrier();
+    }
+}
+
+fn set_running(running: bool) {
+    state.running = u32(running);
+    args[0] = select(0u, params.cell_groups, running);
+    args[1] = 1u;
+    args[2] = 1u;
+}
+
+@compute @workgroup_size(256)
+fn reduce_begin(@builtin(local_invocation_index) lid: u32) {
+    reduce_partials(lid);
+    if (lid == 0u) {
+        state.sigma = dot_part[0];
+        state.residual = max_part[0];
+        state.residual_before = max_part[0];
+        state.iterations = 0u;
+        state.steps += 1u;
+        set_running(max_part[0] > params.tolerance && params.max_iterations > 0u);
+    }
+}
+
+// q = A s; partials of s·q.
+@compute @workgroup_size(256)
+fn cg_apply(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    var sq = 0.0;
+    if (i < params.cell_count) {
+        let c = vec3<i32>(cell_coords(i));
+        var q = 0.0;
+        if (is_liquid(c)) {
+            q = diagonal(c) * at(S, i);
+            for (var a = 0u; a < 3u; a++) {
+                for (var side = -1; side <= 1; side += 2) {
+                    var n = c;
+                    n[a] += side;
+                    if (is_liquid(n)) {
+                        q -= scale() * at(S, cell_index(vec3<u32>(n)));
+                    }
+                }
+            }
+        }
+        put(Q, i, q);
+        sq = at(S, i) * q;
+    }
+    reduce_group(wid.y * nwg.x + wid.x, lid, sq, 0.0);
+}
+
+@compute @workgroup_size(256)
+fn reduce_alpha(@builtin(local_invocation_index) lid: u32) {
+    if (state.running == 0u) {
+        return;
+    }
+    reduce_partials(lid);
+    if (lid == 0u) {
+        let sq = dot_part[0];
+        if (sq <= 0.0) {
+            set_running(false);
+        } else {
+            state.alpha = state.sigma / sq;
+        }
+    }
+}
+
+// p += αs, r −= αq, z = M⁻¹r; partials of r·z and max|r|.
+@compute @workgroup_size(256)
+fn cg_update(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    var rz = 0.0;
+    var big = 0.0;
+    if (i < params.cell_count) {
+        let alpha = state.alpha;
+        put(P, i, at(P, i) + alpha * at(S, i));
+        let r = at(R, i) - alpha * at(Q, i);
+        put(R, i, r);
+        let c = vec3<i32>(cell_coords(i));
+        var z = 0.0;
+        if (is_liquid(c)) {
+            z = r / diagonal(c);
+        }
+        put(Z, i, z);
+        rz = r * z;
+        big = abs(r);
+    }
+    reduce_group(wid.y * nwg.x + wid.x, lid, rz, big);
+}
+
+@compute @workgroup_size(256)
+fn reduce_beta(@builtin(local_invocation_index) lid: u32) {
+    if (state.running == 0u) {
+        return;
+    }
+    reduce_partials(lid);
+    if (lid == 0u) {
+        let next = dot_part[0];
+        state.beta = next / state.sigma;
+        state.sigma = next;
+        state.residual = max_part[0];
+        state.iterations += 1u;
+        set_running(max_part[0] > params.tolerance && state.iterations < params.max_iterations);
+    }
+}
+
+// s = z + βs.
+@compute @workgroup_size(256)
+fn cg_direction(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    if (i < params.cell_count) {
+        put(S, i, at(Z, i) + state.beta * at(S, i));
+    }
+}
+
+fn pressure(c: vec3<i32>) -> f32 {
+    if (!is_liquid(c)) {
+        return 0.0;
+    }
+    return at(P, cell_index(vec3<u32>(c)));
+}
+
+// Subtract the pressure's gradient from faces between a liquid cell and a
+// liquid or air one; mark which faces the liquid knows.
+@compute @workgroup_size(256)
+fn gradient(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = linear(wid, nwg, lid);
+    if (g >= params.face_count) {
+        return;
+    }
+    let face = face_of(g);
+    let lo = low_cell(face);
+    let hi = vec3<i32>(face.xyz);
+    let valid = !face_solid(face) && (is_liquid(lo) || is_liquid(hi));
+    if (valid) {
+        let k = params.dt / (params.density * params.h);
+        faces[g] -= k * (pressure(hi) - pressure(lo));
+    }
+    known[g] = u32(valid);
+}
+
+// Two rounds of extension into the air (`extend_between`): each unknown
+// face the mean of its known neighbours of its own axis.
+// Round one: from the velocities (copy 0) into the spare (copy 2; `known`
+// copy 1 beside it — see the offsets in `extend`).
+@compute @workgroup_size(256)
+fn extrapolate_out(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = linear(wid, nwg, lid);
+    if (g < params.face_count) {
+        extend_between(g, 0u, 2u, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(256)
+fn extrapolate_back(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = linear(wid, nwg, lid);
+    if (g < params.face_count) {
+        extend_between(g, 2u, 0u, 1u, 0u);
+    }
+}
+
+// `extend` with the velocity copies and the known copies named apart.
+fn extend_between(g: u32, src: u32, dst: u32, known_src: u32, known_dst: u32) {
+    let face = face_of(g);
+    let a = face.w;
+    let m = face_dims(a);
+    let fc = params.face_count;
+    var v = faces[src * fc + g];
+    var k = known[known_src * fc + g];
+    if (k == 0u) {
+        var sum = 0.0;
+        var n = 0u;
+        for (var b = 0u; b < 3u; b++) {
+            for (var side = -1; side <= 1; side += 2) {
+                let q = i32(face[b]) + side;
+                if (q < 0 || q >= i32(m[b])) {
+                    continue;
+                }
+                var d = face.xyz;
+                d[b] = u32(q);
+                let o = face_index(a, d);
+                if (known[known_src * fc + o] != 0u) {
+                    sum += faces[src * fc + o];
+                    n += 1u;
+                }
+            }
+        }
+        if (n > 0u) {
+            v = sum / f32(n);
+            k = 1u;
+        }
+    }
+    // The second round ends with the walls closed.
+    if (dst == 0u && face_solid(face)) {
+        v = 0.0;
+    }
+    faces[dst * fc + g] = v;
+    known[known_dst * fc + g] = k;
+}
+
+// Each particle takes the grid's change (FLIP) blended with its value
+// (PIC), then moves through the new field (midpoint rule), kept a hair
+// inside the walls.
+@compute @workgroup_size(256)
+fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    if (i >= params.particle_count) {
+        return;
+    }
+    var p = particles[i].position;
+    let v = particles[i].velocity;
+    let now = velocity_at(p, 0u);
+    let then = velocity_at(p, params.face_count);
+    let flip = params.flip;
+    particles[i].velocity = flip * (v + now - then) + (1.0 - flip) * now;
+    let mid = p + 0.5 * params.dt * now;
+    let u = velocity_at(mid, 0u);
+    let margin = 1e-3 * params.h;
+    let lo = params.origin + vec3<f32>(margin);
+    let hi = params.origin + vec3<f32>(params.cells) * params.h - vec3<f32>(margin);
+    particles[i].position = clamp(p + params.dt * u, lo, hi);
+}

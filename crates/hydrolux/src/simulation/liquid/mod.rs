@@ -1,0 +1,423 @@
+//! The volumetric liquid on the GPU (issue #29; seed 003 §2.2, the
+//! marker-and-cell method; seed 000 §2.3.2): marker particles on a MAC grid
+//! with FLIP/PIC transfers and a pressure projection by Jacobi-preconditioned
+//! conjugate gradients, all on the GPU with no read back (`liquid.wgsl`).
+//! The CPU twin is `hydrolux_core::fluid`, kernel for kernel.
+//!
+//! A follower of the clock (`simulation/mod.rs`): `fluid.substeps` steps per
+//! clock step, recorded without any per-step upload (the step's constants
+//! are the scene's), so the state at a time is the same whatever frames led
+//! there. The particle-to-grid sums are fixed-point atomics and every
+//! reduction sums in a fixed order: a step gives the same bits every time.
+//! The solve's loop is recorded `fluid.iterations` times as indirect
+//! dispatches that its reductions empty once the residual is met.
+//!
+//! It publishes its particles (`published.rs`), which `draw.rs` (the
+//! `liquid` technique) draws as shaded spheres.
+
+pub mod draw;
+pub mod readback;
+
+use crate::error::RenderError;
+use crate::gpu_util::*;
+use crate::shaders;
+use crate::technique::Shared;
+use crate::uniforms::uniform;
+use hydrolux_core::scene::{FluidDesc, Scene};
+
+uniform! { LiquidParams;
+    /// WGSL `LiquidParams` (simulation/liquid/liquid.wgsl).
+    pub(crate) struct LiquidUniforms {
+        pub cells: [u32; 3],
+        pub cell_count: u32,
+        pub faces: [u32; 3],
+        pub face_count: u32,
+        pub origin: [f32; 3],
+        pub h: f32,
+        pub gravity: [f32; 3],
+        pub dt: f32,
+        pub particle_count: u32,
+        pub cell_groups: u32,
+        pub max_iterations: u32,
+        pub tolerance: f32,
+        pub flip: f32,
+        pub density: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+    }
+}
+
+/// WGSL `LiquidParticle`: a marker particle.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LiquidParticle {
+    pub position: [f32; 3],
+    pub _pad0: f32,
+    pub velocity: [f32; 3],
+    pub _pad1: f32,
+}
+
+/// WGSL `SolveState`: how the last step's pressure solve went.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SolveState {
+    pub sigma: f32,
+    pub alpha: f32,
+    pub beta: f32,
+    /// The largest |∇·u| over liquid cells after and before the solve (1/s).
+    pub residual: f32,
+    pub residual_before: f32,
+    /// Conjugate-gradient iterations the last step took.
+    pub iterations: u32,
+    pub running: u32,
+    /// Steps taken since the start.
+    pub steps: u32,
+}
+
+pub fn source() -> String {
+    shaders::compose("", include_str!("liquid.wgsl"))
+}
+
+/// Threads per workgroup of every kernel (`WG` in liquid.wgsl).
+const WG: u32 = 256;
+/// Workgroups per row of a two-dimensional dispatch (under the 65535 limit).
+const ROW: u32 = 32768;
+
+/// Workgroups for `n` items, as (x, y).
+fn groups(n: u32) -> (u32, u32) {
+    let g = n.div_ceil(WG).max(1);
+    if g <= ROW { (g, 1) } else { (ROW, g.div_ceil(ROW)) }
+}
+
+struct Pipelines {
+    clear: wgpu::ComputePipeline,
+    splat: wgpu::ComputePipeline,
+    faces: wgpu::ComputePipeline,
+    solve_begin: wgpu::ComputePipeline,
+    reduce_begin: wgpu::ComputePipeline,
+    cg_apply: wgpu::ComputePipeline,
+    reduce_alpha: wgpu::ComputePipeline,
+    cg_update: wgpu::ComputePipeline,
+    reduce_beta: wgpu::ComputePipeline,
+    cg_direction: wgpu::ComputePipeline,
+    gradient: wgpu::ComputePipeline,
+    extrapolate_out: wgpu::ComputePipeline,
+    extrapolate_back: wgpu::ComputePipeline,
+    advance: wgpu::ComputePipeline,
+}
+
+pub struct Liquid {
+    desc: FluidDesc,
+    uniforms: LiquidUniforms,
+    /// The particles at the start (a reset writes them back).
+    initial: Vec<LiquidParticle>,
+    pub(crate) particles: wgpu::Buffer,
+    faces: wgpu::Buffer,
+    solve: wgpu::Buffer,
+    state: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    known: wgpu::Buffer,
+    args: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    args_group: wgpu::BindGroup,
+    pipelines: Pipelines,
+    /// Clock steps followed since the start.
+    clock_steps: u64,
+}
+
+impl Liquid {
+    /// The liquid of `scene` (`None` without one).
+    pub fn new(shared: &Shared, scene: &Scene) -> Result<Option<Self>, RenderError> {
+        let desc = &scene.fluid;
+        if !desc.enabled() {
+            return Ok(None);
+        }
+        let device = &shared.device;
+        let start = desc.initial();
+        let initial: Vec<LiquidParticle> = start
+            .positions
+            .iter()
+            .map(|p| LiquidParticle { position: p.map(|c| c as f32), ..Default::default() })
+            .collect();
+        let (h, n) = desc.grid_shape();
+        let cell_count = n[0] * n[1] * n[2];
+        let face_dims = |a: usize| {
+            let mut m = n;
+            m[a] += 1;
+            m[0] * m[1] * m[2]
+        };
+        let faces = [face_dims(0), face_dims(1), face_dims(2)];
+        let face_count: u32 = faces.iter().sum();
+        let count = initial.len() as u32;
+        let (cx, cy) = groups(cell_count);
+        let cell_groups = cx * cy;
+        // Every buffer within what the device binds.
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let sizes = [
+            ("particles (fluid.sources, fluid.particles_per_cell)", count as u64 * 32),
+            ("face velocities (fluid.resolution)", 3 * face_count as u64 * 4),
+            ("splat sums (fluid.resolution)", (2 * face_count + cell_count) as u64 * 4),
+            ("pressure solve (fluid.resolution)", 5 * cell_count as u64 * 4),
+        ];
+        for (what, bytes) in sizes {
+            if bytes > limit {
+                return Err(RenderError::Unsupported(format!(
+                    "the liquid's {what} need a {} MiB GPU buffer, but this device binds at most {} MiB: lower it",
+                    bytes >> 20,
+                    limit >> 20
+                )));
+            }
+        }
+        let uniforms = LiquidUniforms {
+            cells: n,
+            cell_count,
+            faces,
+            face_count,
+            origin: desc.min,
+            h,
+            gravity: desc.gravity,
+            dt: desc.step_seconds() as f32,
+            particle_count: count,
+            cell_groups,
+            max_iterations: desc.iterations,
+            tolerance: desc.tolerance,
+            flip: desc.flip,
+            density: start.settings.density as f32,
+            _pad0: 0,
+            _pad1: 0,
+        };
+        let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC
+                    | extra,
+                mapped_at_creation: false,
+            })
+        };
+        let none = wgpu::BufferUsages::empty();
+        let params = uniform_buffer(device, "liquid", &uniforms);
+        let particles = storage("liquid particles", count as u64 * 32, none);
+        let accum = storage("liquid splat", (2 * face_count + cell_count) as u64 * 4, none);
+        let faces_buffer = storage("liquid faces", 3 * face_count as u64 * 4, none);
+        let known = storage("liquid known faces", 2 * face_count as u64 * 4, none);
+        let solve = storage("liquid solve", 5 * cell_count as u64 * 4, none);
+        let partials = storage("liquid partials", 2 * cell_groups as u64 * 4, none);
+        let state = storage("liquid solve state", 32, none);
+        let args = storage("liquid solve arguments", 16, wgpu::BufferUsages::INDIRECT);
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("liquid"),
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, false),
+                storage_entry(2, cs, false),
+                storage_entry(3, cs, false),
+                storage_entry(4, cs, false),
+                storage_entry(5, cs, false),
+                storage_entry(6, cs, false),
+                storage_entry(7, cs, false),
+            ],
+        });
+        let args_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("liquid solve arguments"),
+            entries: &[storage_entry(0, cs, false)],
+        });
+        fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+        }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("liquid"),
+            layout: &layout,
+            entries: &[
+                entry(0, &params),
+                entry(1, &particles),
+                entry(2, &accum),
+                entry(3, &faces_buffer),
+                entry(4, &known),
+                entry(5, &solve),
+                entry(6, &partials),
+                entry(7, &state),
+            ],
+        });
+        let args_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("liquid solve arguments"),
+            layout: &args_layout,
+            entries: &[entry(0, &args)],
+        });
+        let module = shader(device, "liquid", &source());
+        let plain = |e: &str| compute_pipeline(device, e, &module, e, &[&layout]);
+        let reduce = |e: &str| compute_pipeline(device, e, &module, e, &[&layout, &args_layout]);
+        let pipelines = Pipelines {
+            clear: plain("clear"),
+            splat: plain("splat"),
+            faces: plain("faces_from_particles"),
+            solve_begin: plain("solve_begin"),
+            reduce_begin: reduce("reduce_begin"),
+            cg_apply: plain("cg_apply"),
+            reduce_alpha: reduce("reduce_alpha"),
+            cg_update: plain("cg_update"),
+            reduce_beta: reduce("reduce_beta"),
+            cg_direction: plain("cg_direction"),
+            gradient: plain("gradient"),
+            extrapolate_out: plain("extrapolate_out"),
+            extrapolate_back: plain("extrapolate_back"),
+            advance: plain("advance"),
+        };
+        let liquid = Liquid {
+            desc: desc.clone(),
+            uniforms,
+            initial,
+            particles,
+            faces: faces_buffer,
+            solve,
+            state,
+            accum,
+            known,
+            args,
+            group,
+            args_group,
+            pipelines,
+            clock_steps: 0,
+        };
+        liquid.write_start(&shared.queue);
+        Ok(Some(liquid))
+    }
+
+    /// The particles at rest where the sources put them, a still grid.
+    fn write_start(&self, queue: &wgpu::Queue) {
+        queue.write_buffer(&self.particles, 0, bytemuck::cast_slice(&self.initial));
+        for buffer in [&self.faces, &self.known, &self.solve, &self.accum, &self.state] {
+            queue.write_buffer(buffer, 0, &vec![0u8; buffer.size() as usize]);
+        }
+    }
+
+    /// Particles simulated.
+    pub fn particle_count(&self) -> u32 {
+        self.uniforms.particle_count
+    }
+
+    /// Drawn radius of a particle (m): its share of a cell's volume as a sphere.
+    pub fn particle_radius(&self) -> f32 {
+        let per_cell = self.desc.particles_per_cell as f32;
+        self.uniforms.h * (3.0 / (4.0 * std::f32::consts::PI * per_cell)).cbrt()
+    }
+
+    /// Record `steps` liquid steps into `encoder`.
+    pub fn record_steps(&self, encoder: &mut wgpu::CommandEncoder, steps: u64) {
+        let u = &self.uniforms;
+        let p = &self.pipelines;
+        let particles = groups(u.particle_count);
+        let cells = groups(u.cell_count);
+        let faces = groups(u.face_count);
+        let clear = groups(2 * u.face_count + u.cell_count);
+        for _ in 0..steps {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("liquid step"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, &self.group, &[]);
+            pass.set_bind_group(1, &self.args_group, &[]);
+            let run = |pass: &mut wgpu::ComputePass, pipeline, (x, y): (u32, u32)| {
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups(x, y, 1);
+            };
+            run(&mut pass, &p.clear, clear);
+            run(&mut pass, &p.splat, particles);
+            run(&mut pass, &p.faces, faces);
+            run(&mut pass, &p.solve_begin, cells);
+            run(&mut pass, &p.reduce_begin, (1, 1));
+            for _ in 0..u.max_iterations {
+                pass.set_pipeline(&p.cg_apply);
+                pass.dispatch_workgroups_indirect(&self.args, 0);
+                run(&mut pass, &p.reduce_alpha, (1, 1));
+                pass.set_pipeline(&p.cg_update);
+                pass.dispatch_workgroups_indirect(&self.args, 0);
+                run(&mut pass, &p.reduce_beta, (1, 1));
+                pass.set_pipeline(&p.cg_direction);
+                pass.dispatch_workgroups_indirect(&self.args, 0);
+            }
+            run(&mut pass, &p.gradient, faces);
+            run(&mut pass, &p.extrapolate_out, faces);
+            run(&mut pass, &p.extrapolate_back, faces);
+            run(&mut pass, &p.advance, particles);
+        }
+    }
+}
+
+impl crate::simulation::Simulation for Liquid {
+    fn create(
+        shared: &Shared,
+        scene: &Scene,
+        _published: &crate::simulation::Published,
+    ) -> Result<Option<Self>, RenderError> {
+        Liquid::new(shared, scene)
+    }
+
+    fn fits(&self, scene: &Scene) -> bool {
+        scene.fluid == self.desc
+    }
+
+    /// The liquid starts from its sources at the clock's origin.
+    fn restarts_clock(&self) -> bool {
+        true
+    }
+
+    fn publish(&self, published: &mut crate::simulation::Published) {
+        published.liquid = Some(crate::simulation::published::LiquidState {
+            particles: self.particles.clone(),
+            count: self.particle_count(),
+            radius: self.particle_radius(),
+        });
+    }
+
+    fn pace(&self) -> crate::simulation::Pace {
+        crate::simulation::Pace::Follows
+    }
+
+    fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
+        self.write_start(queue);
+        self.clock_steps = from;
+    }
+
+    fn follow(
+        &mut self,
+        _ctx: &mut crate::simulation::StepContext,
+        encoder: &mut wgpu::CommandEncoder,
+        clock_steps: u32,
+    ) {
+        self.record_steps(encoder, clock_steps as u64 * self.desc.substeps as u64);
+        self.clock_steps += clock_steps as u64;
+    }
+
+    fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        Liquid::dump(self, name, ctx)
+    }
+}
+
+pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
+    name: "liquid",
+    dumps: readback::DUMPS,
+    shaders: || vec![("liquid".into(), source())],
+    uniforms: || {
+        vec![
+            crate::uniforms::Layout::of::<LiquidUniforms>(source()),
+            crate::uniforms::Layout::sized(
+                "LiquidParticle",
+                source(),
+                std::mem::size_of::<LiquidParticle>(),
+            ),
+            crate::uniforms::Layout::sized(
+                "SolveState",
+                source(),
+                std::mem::size_of::<SolveState>(),
+            ),
+        ]
+    },
+};

@@ -1,0 +1,172 @@
+//! The liquid's readbacks and dumps (`fluid`: the particles; `fluid_grid`:
+//! the cells), declared here by their owner.
+
+use super::{Liquid, LiquidParticle, SolveState};
+use crate::gpu_util::read_buffer;
+use crate::info::{DumpData, DumpKind, DumpShape};
+use crate::renderer::Renderer;
+use crate::technique::DumpContext;
+use hydrolux_core::scene::Scene;
+
+fn no_liquid(scene: &Scene) -> Option<&'static str> {
+    (!scene.fluid.enabled())
+        .then_some("the scene has no volumetric liquid (it needs [[fluid.sources]])")
+}
+
+pub(crate) const DUMPS: &[DumpKind] = &[
+    DumpKind { name: "fluid", shape: DumpShape::List, missing: no_liquid },
+    DumpKind { name: "fluid_grid", shape: DumpShape::Grid, missing: no_liquid },
+];
+
+/// The liquid as the GPU holds it after a step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LiquidReadback {
+    pub particles: Vec<LiquidParticle>,
+    /// How the last step's pressure solve went.
+    pub solve: SolveState,
+    /// Cells per axis, the cell's side (m), the domain's low corner (m).
+    pub cells: [u32; 3],
+    pub h: f32,
+    pub origin: [f32; 3],
+    /// Per cell (x fastest, then y, then z): particles in it, pressure (Pa),
+    /// and ∇·u (1/s) of the face velocities the particles last moved through.
+    pub counts: Vec<u32>,
+    pub pressure: Vec<f32>,
+    pub divergence: Vec<f32>,
+}
+
+impl LiquidReadback {
+    /// The largest |∇·u| over cells holding particles (1/s).
+    pub fn max_liquid_divergence(&self) -> f32 {
+        self.divergence
+            .iter()
+            .zip(&self.counts)
+            .filter(|(_, c)| **c > 0)
+            .fold(0.0f32, |m, (d, _)| m.max(d.abs()))
+    }
+}
+
+impl Liquid {
+    pub(crate) fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> LiquidReadback {
+        let u = &self.uniforms;
+        let particles: Vec<LiquidParticle> = bytemuck::cast_slice(&read_buffer(
+            device,
+            queue,
+            &self.particles,
+            u.particle_count as u64 * 32,
+        ))
+        .to_vec();
+        let solve: SolveState =
+            *bytemuck::from_bytes(&read_buffer(device, queue, &self.state, 32)[..32]);
+        let accum: Vec<i32> =
+            bytemuck::cast_slice(&read_buffer(device, queue, &self.accum, self.accum.size()))
+                .to_vec();
+        let cells = u.cell_count as usize;
+        let counts: Vec<u32> =
+            accum[2 * u.face_count as usize..][..cells].iter().map(|&c| c.max(0) as u32).collect();
+        let raw: Vec<f32> =
+            bytemuck::cast_slice(&read_buffer(device, queue, &self.solve, cells as u64 * 4))
+                .to_vec();
+        let pressure =
+            raw.iter().zip(&counts).map(|(p, &c)| if c > 0 { *p } else { 0.0 }).collect();
+        let faces: Vec<f32> =
+            bytemuck::cast_slice(&read_buffer(device, queue, &self.faces, u.face_count as u64 * 4))
+                .to_vec();
+        let n = u.cells.map(|c| c as usize);
+        let offsets = [0, u.faces[0] as usize, (u.faces[0] + u.faces[1]) as usize];
+        let face = |a: usize, c: [usize; 3]| {
+            let mut m = n;
+            m[a] += 1;
+            offsets[a] + (c[2] * m[1] + c[1]) * m[0] + c[0]
+        };
+        let mut divergence = vec![0.0f32; cells];
+        for k in 0..n[2] {
+            for j in 0..n[1] {
+                for i in 0..n[0] {
+                    let mut d = 0.0;
+                    for a in 0..3 {
+                        let mut hi = [i, j, k];
+                        hi[a] += 1;
+                        d += faces[face(a, hi)] - faces[face(a, [i, j, k])];
+                    }
+                    divergence[(k * n[1] + j) * n[0] + i] = d / u.h;
+                }
+            }
+        }
+        LiquidReadback {
+            particles,
+            solve,
+            cells: u.cells,
+            h: u.h,
+            origin: u.origin,
+            counts,
+            pressure,
+            divergence,
+        }
+    }
+
+    pub(crate) fn dump(&self, name: &str, ctx: &DumpContext) -> Option<Result<DumpData, String>> {
+        match name {
+            "fluid" => {
+                let r = self.read(ctx.device, ctx.queue);
+                let data = r
+                    .particles
+                    .iter()
+                    .flat_map(|p| {
+                        let [x, y, z] = p.position;
+                        let [vx, vy, vz] = p.velocity;
+                        [x, y, z, vx, vy, vz]
+                    })
+                    .collect();
+                let note = format!(
+                    "{} particles at t = {:.4} s; columns x y z (m) vx vy vz (m/s)",
+                    r.particles.len(),
+                    ctx.time
+                );
+                Some(Ok(DumpData::Floats {
+                    columns: 6,
+                    rows: r.particles.len(),
+                    channels: 1,
+                    data,
+                    note: Some(note),
+                }))
+            }
+            "fluid_grid" => {
+                let r = self.read(ctx.device, ctx.queue);
+                let per_cell = self.desc.particles_per_cell as f32;
+                let data = (0..r.counts.len())
+                    .flat_map(|c| {
+                        [(r.counts[c] as f32 / per_cell).min(1.0), r.pressure[c], r.divergence[c]]
+                    })
+                    .collect();
+                let [nx, ny, nz] = r.cells;
+                let note = format!(
+                    "{nx}×{ny}×{nz} cells of {h} m from {o:?} at t = {t:.4} s: row k·{ny} + j, column i; channels: liquid fraction (particles over {per_cell}), pressure (Pa), ∇·u (1/s); the last solve took {it} iterations, max |∇·u| {before:.3e} → {after:.3e} 1/s",
+                    h = r.h,
+                    o = r.origin,
+                    t = ctx.time,
+                    it = r.solve.iterations,
+                    before = r.solve.residual_before,
+                    after = r.solve.residual,
+                );
+                Some(Ok(DumpData::Floats {
+                    columns: nx as usize,
+                    rows: (ny * nz) as usize,
+                    channels: 3,
+                    data,
+                    note: Some(note),
+                }))
+            }
+            _ => None,
+        }
+    }
+}
+
+impl Renderer {
+    /// The volumetric liquid after the last frame or simulation step;
+    /// `None` without `[[fluid.sources]]`.
+    pub fn read_liquid(&self) -> Option<LiquidReadback> {
+        let l = self.simulations.liquid.as_ref()?;
+        Some(l.read(self.device(), self.queue()))
+    }
+}
