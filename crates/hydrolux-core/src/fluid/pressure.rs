@@ -20,8 +20,10 @@ pub struct Projection {
 
 /// Make `grid`'s liquid velocity divergence-free for a step of `dt` s of a
 /// liquid of `density` (kg/m³): solve for the pressure to `tolerance` (the
-/// largest |∇·u| left, 1/s) in at most `max_iterations`, write it to
-/// `grid.pressure` and subtract its gradient from the face velocities.
+/// largest |∇·u| left, 1/s) in at most `max_iterations`, starting from the
+/// pressure `grid` holds in its liquid cells (the last step's), write it to
+/// `grid.pressure` (0 outside the liquid) and subtract its gradient from the
+/// face velocities.
 pub fn project(
     grid: &mut MacGrid,
     dt: f64,
@@ -86,9 +88,16 @@ pub fn project(
             z[n] = if diagonal[n] > 0.0 { r[n] / diagonal[n] } else { 0.0 };
         }
     };
-    let mut p = vec![0.0; count];
-    let mut r = b.clone();
-    let divergence_before = max_abs(&r);
+    // Warm start from the last step's pressure (what the grid holds in its
+    // liquid cells): it changes little from step to step.
+    let mut p: Vec<f64> =
+        cells.iter().map(|&[i, j, k]| grid.pressure[grid.cell(i, j, k)]).collect();
+    let divergence_before = max_abs(&b);
+    let mut r = vec![0.0; count];
+    apply(&p, &mut r);
+    for n in 0..count {
+        r[n] = b[n] - r[n];
+    }
     let mut z = vec![0.0; count];
     precondition(&r, &mut z);
     let mut s = z.clone();

@@ -83,6 +83,7 @@ const MAX_SPEED: f32 = 100.0;
 
 var<workgroup> dot_part: array<f32, 256>;
 var<workgroup> max_part: array<f32, 256>;
+var<workgroup> div_part: array<f32, 256>;
 
 fn linear(wid: vec3<u32>, nwg: vec3<u32>, lid: u32) -> u32 {
     return (wid.y * nwg.x + wid.x) * WG + lid;
@@ -291,40 +292,65 @@ fn put(v: u32, i: u32, x: f32) {
     solve[v * params.cell_count + i] = x;
 }
 
-// Sum `dot` and take the max of `big` over the workgroup (a fixed tree),
-// into the group's partials.
-fn reduce_group(group: u32, lid: u32, dot_value: f32, big: f32) {
+// Sum `dot` and take the maxima of `big` and `div` over the workgroup (a
+// fixed tree), into the group's partials.
+fn reduce_group(group: u32, lid: u32, dot_value: f32, big: f32, div: f32) {
     dot_part[lid] = dot_value;
     max_part[lid] = big;
+    div_part[lid] = div;
     workgroupBarrier();
     for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
         if (lid < stride) {
             dot_part[lid] += dot_part[lid + stride];
             max_part[lid] = max(max_part[lid], max_part[lid + stride]);
+            div_part[lid] = max(div_part[lid], div_part[lid + stride]);
         }
         workgroupBarrier();
     }
     if (lid == 0u) {
-        partials[2u * group] = dot_part[0];
-        partials[2u * group + 1u] = max_part[0];
+        partials[3u * group] = dot_part[0];
+        partials[3u * group + 1u] = max_part[0];
+        partials[3u * group + 2u] = div_part[0];
     }
 }
 
-// r = −∇·u in liquid cells, p = 0, z = M⁻¹r, s = z; partials of r·z, max|r|.
+// (A x)_i over liquid cells: scale per non-solid neighbour times x_i, less
+// scale times each liquid neighbour's x (air's pressure is 0).
+fn apply_matrix(v: u32, c: vec3<i32>) -> f32 {
+    var q = diagonal(c) * at(v, cell_index(vec3<u32>(c)));
+    for (var a = 0u; a < 3u; a++) {
+        for (var side = -1; side <= 1; side += 2) {
+            var n = c;
+            n[a] += side;
+            if (is_liquid(n)) {
+                q -= scale() * at(v, cell_index(vec3<u32>(n)));
+            }
+        }
+    }
+    return q;
+}
+
+// Warm-started from the last step's pressure (p₀ = p in liquid cells, 0
+// elsewhere): r = −∇·u − A·p₀, z = M⁻¹r, s = z; partials of r·z, max|r|.
+// A liquid cell's p₀ is its own last value, so reading a neighbour's
+// while it is written gives the same number.
 @compute @workgroup_size(256)
 fn solve_begin(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = linear(wid, nwg, lid);
     var rz = 0.0;
     var big = 0.0;
+    var div = 0.0;
     if (i < params.cell_count) {
         let c = cell_coords(i);
         var r = 0.0;
         var z = 0.0;
         if (is_liquid(vec3<i32>(c))) {
-            r = -divergence(c);
+            div = abs(divergence(c));
+            r = -divergence(c) - apply_matrix(P, vec3<i32>(c));
             z = r / diagonal(vec3<i32>(c));
+        } else {
+            put(P, i, 0.0);
         }
-        put(P, i, 0.0);
         put(R, i, r);
         put(Z, i, z);
         put(S, i, z);
@@ -332,24 +358,28 @@ fn solve_begin(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
         rz = r * z;
         big = abs(r);
     }
-    reduce_group(wid.y * nwg.x + wid.x, lid, rz, big);
+    reduce_group(wid.y * nwg.x + wid.x, lid, rz, big, div);
 }
 
 // One workgroup over the partials, in a fixed order.
 fn reduce_partials(lid: u32) {
     var d = 0.0;
     var m = 0.0;
+    var v = 0.0;
     for (var g = lid; g < params.cell_groups; g += WG) {
-        d += partials[2u * g];
-        m = max(m, partials[2u * g + 1u]);
+        d += partials[3u * g];
+        m = max(m, partials[3u * g + 1u]);
+        v = max(v, partials[3u * g + 2u]);
     }
     dot_part[lid] = d;
     max_part[lid] = m;
+    div_part[lid] = v;
     workgroupBarrier();
     for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
         if (lid < stride) {
             dot_part[lid] += dot_part[lid + stride];
             max_part[lid] = max(max_part[lid], max_part[lid + stride]);
+            div_part[lid] = max(div_part[lid], div_part[lid + stride]);
         }
         workgroupBarrier();
     }
@@ -368,7 +398,7 @@ fn reduce_begin(@builtin(local_invocation_index) lid: u32) {
     if (lid == 0u) {
         state.sigma = dot_part[0];
         state.residual = max_part[0];
-        state.residual_before = max_part[0];
+        state.residual_before = div_part[0];
         state.iterations = 0u;
         state.steps += 1u;
         set_running(max_part[0] > params.tolerance && params.max_iterations > 0u);
@@ -384,21 +414,12 @@ fn cg_apply(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
         let c = vec3<i32>(cell_coords(i));
         var q = 0.0;
         if (is_liquid(c)) {
-            q = diagonal(c) * at(S, i);
-            for (var a = 0u; a < 3u; a++) {
-                for (var side = -1; side <= 1; side += 2) {
-                    var n = c;
-                    n[a] += side;
-                    if (is_liquid(n)) {
-                        q -= scale() * at(S, cell_index(vec3<u32>(n)));
-                    }
-                }
-            }
+            q = apply_matrix(S, c);
         }
         put(Q, i, q);
         sq = at(S, i) * q;
     }
-    reduce_group(wid.y * nwg.x + wid.x, lid, sq, 0.0);
+    reduce_group(wid.y * nwg.x + wid.x, lid, sq, 0.0, 0.0);
 }
 
 @compute @workgroup_size(256)
@@ -437,7 +458,7 @@ fn cg_update(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg
         rz = r * z;
         big = abs(r);
     }
-    reduce_group(wid.y * nwg.x + wid.x, lid, rz, big);
+    reduce_group(wid.y * nwg.x + wid.x, lid, rz, big, 0.0);
 }
 
 @compute @workgroup_size(256)

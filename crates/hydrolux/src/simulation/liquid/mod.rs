@@ -64,7 +64,8 @@ pub struct SolveState {
     pub sigma: f32,
     pub alpha: f32,
     pub beta: f32,
-    /// The largest |∇·u| over liquid cells after and before the solve (1/s).
+    /// The largest |∇·u| over liquid cells after and before the solve
+    /// (1/s; after is the solver's residual).
     pub residual: f32,
     pub residual_before: f32,
     /// Conjugate-gradient iterations the last step took.
@@ -204,7 +205,7 @@ impl Liquid {
         let faces_buffer = storage("liquid faces", 3 * face_count as u64 * 4, none);
         let known = storage("liquid known faces", 2 * face_count as u64 * 4, none);
         let solve = storage("liquid solve", 5 * cell_count as u64 * 4, none);
-        let partials = storage("liquid partials", 2 * cell_groups as u64 * 4, none);
+        let partials = storage("liquid partials", 3 * cell_groups as u64 * 4, none);
         let state = storage("liquid solve state", 32, none);
         let args = storage("liquid solve arguments", 16, wgpu::BufferUsages::INDIRECT);
         let cs = wgpu::ShaderStages::COMPUTE;

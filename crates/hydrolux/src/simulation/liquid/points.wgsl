@@ -108,8 +108,9 @@ fn fs_main(in: VertexOut) -> FragmentOut {
         mirror += frame.light.sun_illuminance * frame.light.inv_sun_solid_angle * visibility;
     }
     // Through the ball: bent in, across the chord, bent out; what lies that
-    // way is the sky's (the liquid's neighbours and the scene beyond are
-    // not traced by points), absorbed by the water on the way.
+    // way is the sky above the horizon and the lighting's grey ground below
+    // it (the liquid's neighbours and the scene beyond are not traced by
+    // points), absorbed by the water on the way.
     let inside = refract(dir, n, 1.0 / ior);
     let chord = 2.0 * r * max(dot(-inside, n), 0.0);
     let exit_n = (hit + inside * chord - in.centre) / r;
@@ -117,7 +118,12 @@ fn fs_main(in: VertexOut) -> FragmentOut {
     if (dot(out_dir, out_dir) < 0.5) {
         out_dir = reflect(inside, -exit_n);
     }
-    let beyond = textureSampleLevel(sky_cube, sky_sampler, out_dir, 2.0).rgb;
+    var beyond = textureSampleLevel(sky_cube, sky_sampler, out_dir, 2.0).rgb;
+    if (out_dir.y < 0.0) {
+        let l = frame.light.sun_dir;
+        let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
+        beyond = GROUND_ALBEDO * e_down / PI;
+    }
     let through = beyond * transmittance(chord);
     // Light the water itself scatters towards the eye along the chord.
     let scatter = frame.water.scattering * chord * air_irradiance(n, vec3<f32>(visibility)) / PI;
