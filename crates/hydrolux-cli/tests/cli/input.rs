@@ -168,6 +168,46 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
             "must be angles within ±1000000 degrees",
         ),
         (&["compare", "--width", "0"], "'0' for '--width <WIDTH>'"),
+        // The volumetric liquid (#29): a domain of 0 or 10¹² cells, a
+        // source outside it, NaN, a view of a liquid the scene lacks, and
+        // a grid past the device's buffers.
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.resolution=0"],
+            "`fluid.resolution` = 0 is out of range: must be 4 to 512",
+        ),
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.resolution=1000000000000"],
+            "fluid.resolution",
+        ),
+        (
+            &[
+                "render",
+                "--scene",
+                "dam_break",
+                "--set",
+                "fluid.sources=[{kind=\"block\",min=[0,0,0],max=[2,0.1,0.1]}]",
+            ],
+            "`fluid.sources[0].max` = [2.0, 0.1, 0.1] is out of range: must lie inside the domain",
+        ),
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.gravity=[nan,0,0]"],
+            "`fluid.gravity` = [NaN, 0.0, 0.0] is out of range",
+        ),
+        (&["render", "--view", "fluid"], "it shows the volumetric liquid, and the scene has none"),
+        (
+            &[
+                "render",
+                "--scene",
+                "dam_break",
+                "--set",
+                "fluid.resolution=400",
+                "--set",
+                "fluid.budget=16000000",
+                "--set",
+                "fluid.particles_per_cell=1",
+            ],
+            "the liquid's face velocities (fluid.resolution) need a 321 MiB GPU buffer, but this device binds at most",
+        ),
     ];
     for (args, want) in cases {
         let (code, err) = hydrolux(args, &dir);
