@@ -175,3 +175,56 @@ fn ripples_and_bodies_dumps_hold_the_water_and_the_ball() {
     assert_eq!(ball["orientation"].as_array().unwrap().len(), 4);
     assert!(ball["submerged_volume"].as_f64().unwrap() > 0.0);
 }
+
+#[test]
+fn fluid_dumps_hold_the_particles_and_the_cells() {
+    // The dam break on a coarse grid (16 cells along the tank, 7.5 cm), a
+    // twentieth of a second in: every particle a row, every cell its
+    // liquid fraction, pressure and divergence.
+    let dir = scratch("fluid");
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--scene",
+            "dam_break",
+            "--set",
+            "fluid.resolution=16",
+            "--time",
+            "0.05",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--dump",
+            "fluid=f.npy",
+            "--dump",
+            "fluid_grid=g.npy",
+            "--out",
+            "d.png",
+        ],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let read = |file: &str| {
+        let npy = std::fs::read(dir.join(file)).unwrap();
+        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
+        let values: Vec<f32> = npy[10 + hlen..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        (header, values)
+    };
+    // 16 × 9 × 4 cells; the column holds 3 × 7 × 4 cells' centres, 8 each.
+    let (header, particles) = read("f.npy");
+    assert!(header.contains("'shape': (672, 6)"), "{header}");
+    assert!(particles.iter().all(|v| v.is_finite()));
+    assert!(particles.chunks(6).any(|p| p[4] < -0.1), "the column is falling");
+    let (header, cells) = read("g.npy");
+    assert!(header.contains("'shape': (36, 16, 3)"), "{header}");
+    let liquid: f32 = cells.chunks(3).map(|c| c[0]).sum();
+    assert!((liquid - 84.0).abs() <= 12.0, "liquid cells {liquid}");
+    let deepest = cells.chunks(3).map(|c| c[1]).fold(0.0f32, f32::max);
+    // Below a 0.5 m column ρ·g·h ≈ 4.9 kPa; a collapsing one less.
+    assert!(deepest > 1000.0 && deepest < 5500.0, "pressure {deepest} Pa");
+}
