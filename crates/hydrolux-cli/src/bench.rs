@@ -88,6 +88,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
         .collect();
     let timestamps = renderer.has_timestamps();
     let particles = renderer.particle_counts();
+    // The liquid's step on its own (after the frames: its extra steps
+    // start the clock over).
+    let liquid = renderer.bench_liquid(a.frames.clamp(1, 20));
     if a.json {
         let j = serde_json::json!({
             "adapter": info.name,
@@ -106,6 +109,16 @@ pub fn run(a: BenchArgs) -> Result<()> {
             "pass_times_source": if timestamps { "GPU timestamp queries" } else { "unavailable (adapter lacks TIMESTAMP_QUERY)" },
             "particles": particles.map(|p| serde_json::json!({"alive": p.alive, "capacity": p.capacity, "emitted": p.emitted, "lost": p.lost})),
             "resident_mb": memory.map(|(a, b)| serde_json::json!({"after_warm_up": a, "end": b})),
+            "liquid": liquid.as_ref().map(|l| serde_json::json!({
+                "particles": l.particles,
+                "cells": l.cells,
+                "steps": l.steps,
+                "step_ms": l.step_ms,
+                "steps_per_s": 1e3 / l.step_ms,
+                "passes_ms": l.passes.iter().map(|(n, v)| serde_json::json!({"pass": n, "median": v})).collect::<Vec<_>>(),
+                "solve_iterations": l.iterations,
+                "solve_residual_per_s": l.residual,
+            })),
         });
         println!("{}", serde_json::to_string_pretty(&j)?);
     } else {
@@ -160,6 +173,21 @@ pub fn run(a: BenchArgs) -> Result<()> {
             println!("  {:<width$} {sum:8.3}", "sum");
         } else {
             println!("passes    unavailable: the adapter has no timestamp queries");
+        }
+        if let Some(l) = liquid {
+            let [x, y, z] = l.cells;
+            println!(
+                "liquid    {} particles, {x}×{y}×{z} cells: {:.2} ms a step ({:.0} steps/s, wall clock over {} steps); the last solve {} iterations to |∇·u| ≤ {:.1e} 1/s",
+                l.particles,
+                l.step_ms,
+                1e3 / l.step_ms,
+                l.steps,
+                l.iterations,
+                l.residual
+            );
+            for (n, v) in &l.passes {
+                println!("  {n:<20} {v:8.3}");
+            }
         }
     }
     Ok(())

@@ -215,13 +215,13 @@ fn fluid_dumps_hold_the_particles_and_the_cells() {
             .collect();
         (header, values)
     };
-    // 16 × 9 × 4 cells; the column holds 3 × 7 × 4 cells' centres, 8 each.
+    // 16 × 12 × 4 cells; the column holds 3 × 7 × 4 cells' centres, 8 each.
     let (header, particles) = read("f.npy");
     assert!(header.contains("'shape': (672, 6)"), "{header}");
     assert!(particles.iter().all(|v| v.is_finite()));
     assert!(particles.chunks(6).any(|p| p[4] < -0.1), "the column is falling");
     let (header, cells) = read("g.npy");
-    assert!(header.contains("'shape': (36, 16, 3)"), "{header}");
+    assert!(header.contains("'shape': (48, 16, 3)"), "{header}");
     let liquid: f32 = cells.chunks(3).map(|c| c[0]).sum();
     assert!((liquid - 84.0).abs() <= 12.0, "liquid cells {liquid}");
     let deepest = cells.chunks(3).map(|c| c[1]).fold(0.0f32, f32::max);

@@ -64,7 +64,8 @@ impl Liquid {
                 for i in 0..g.n[0] {
                     let c = [i, j, k];
                     let centre = [0, 1, 2].map(|a| g.origin[a] + (c[a] as f64 + 0.5) * h);
-                    if (0..3).any(|a| centre[a] < lo[a] || centre[a] > hi[a]) {
+                    let solid = g.cells[g.cell(i, j, k)] == Cell::Solid;
+                    if solid || (0..3).any(|a| centre[a] < lo[a] || centre[a] > hi[a]) {
                         continue;
                     }
                     for s in 0..per_axis * per_axis * per_axis {
@@ -209,18 +210,24 @@ impl Liquid {
     }
 
     /// Move the particles through the grid's velocity (midpoint rule),
-    /// kept a hair inside the walls.
+    /// kept a hair inside the walls; a particle whose move would end in a
+    /// solid cell stays where it was.
     fn advect(&mut self, dt: f64) {
-        let g = &self.grid;
-        let margin = 1e-3 * g.h;
-        for p in self.positions.iter_mut() {
-            let u = g.velocity(*p);
+        let margin = 1e-3 * self.grid.h;
+        for n in 0..self.positions.len() {
+            let g = &self.grid;
+            let p = self.positions[n];
+            let u = g.velocity(p);
             let mid = [0, 1, 2].map(|a| p[a] + 0.5 * dt * u[a]);
             let u = g.velocity(mid);
-            for a in 0..3 {
+            let next = [0, 1, 2].map(|a| {
                 let lo = g.origin[a] + margin;
                 let hi = g.origin[a] + g.n[a] as f64 * g.h - margin;
-                p[a] = (p[a] + dt * u[a]).clamp(lo, hi);
+                (p[a] + dt * u[a]).clamp(lo, hi)
+            });
+            let [x, y, z] = self.cell_of(next);
+            if self.grid.cells[self.grid.cell(x, y, z)] != Cell::Solid {
+                self.positions[n] = next;
             }
         }
     }

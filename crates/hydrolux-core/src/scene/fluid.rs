@@ -3,8 +3,9 @@
 //! the step, and where the liquid starts. The physics is `crate::fluid`.
 
 use super::rules::{range, vec3_range};
+use super::{ObjectDesc, Primitive, Scene};
 use super::{SceneError, WORLD_EXTENT_M};
-use crate::fluid::{Liquid, LiquidSettings, MacGrid};
+use crate::fluid::{Cell, Liquid, LiquidSettings, MacGrid};
 use serde::{Deserialize, Serialize};
 
 /// Cells a domain may have at most (256³): the grid's buffers stay within
@@ -136,11 +137,33 @@ impl FluidDesc {
         }
     }
 
-    /// The liquid at its start: the grid and every source's particles
-    /// (the CPU twin; the GPU simulation starts from its particles).
-    pub fn initial(&self) -> Liquid {
+    /// The liquid at its start among `objects`: the grid with the cells
+    /// the static objects fill made solid, and every source's particles
+    /// (the CPU twin; the GPU simulation starts from its particles and
+    /// solids).
+    pub fn initial(&self, objects: &[ObjectDesc]) -> Liquid {
         let (h, n) = self.grid_shape();
-        let grid = MacGrid::new(n.map(|c| c as usize), h as f64, self.min.map(f64::from));
+        let mut grid = MacGrid::new(n.map(|c| c as usize), h as f64, self.min.map(f64::from));
+        let solids: Vec<(glam::Mat4, Primitive)> = objects
+            .iter()
+            .filter(|o| is_fluid_solid(o))
+            .map(|o| (Scene::object_transform(o).inverse(), o.primitive))
+            .collect();
+        for k in 0..n[2] as usize {
+            for j in 0..n[1] as usize {
+                for i in 0..n[0] as usize {
+                    let centre = [i, j, k].map(|c| c as f32 + 0.5);
+                    let world = glam::Vec3::from(self.min) + glam::Vec3::from(centre) * h;
+                    if solids
+                        .iter()
+                        .any(|(to_local, p)| inside(*p, to_local.transform_point3(world)))
+                    {
+                        let c = grid.cell(i, j, k);
+                        grid.cells[c] = Cell::Solid;
+                    }
+                }
+            }
+        }
         let mut liquid = Liquid::new(grid, self.settings());
         for s in &self.sources {
             match s.kind {
@@ -267,5 +290,26 @@ impl FluidDesc {
             });
         }
         Ok(())
+    }
+}
+
+/// Whether an object is a solid of the liquid: a static (neither dynamic
+/// nor moving) box, sphere or cylinder primitive. Planes have no inside;
+/// meshes and moving bodies are not yet solids of the liquid.
+pub fn is_fluid_solid(o: &ObjectDesc) -> bool {
+    o.mesh.is_empty()
+        && !o.dynamic
+        && o.velocity == [0.0; 3]
+        && matches!(o.primitive, Primitive::Box | Primitive::Sphere | Primitive::Cylinder)
+}
+
+/// Whether point `p`, in the unit primitive's own space (box of side 1,
+/// sphere and cylinder of diameter 1, the cylinder's axis y), is inside it.
+fn inside(primitive: Primitive, p: glam::Vec3) -> bool {
+    match primitive {
+        Primitive::Box => p.abs().max_element() <= 0.5,
+        Primitive::Sphere => p.length_squared() <= 0.25,
+        Primitive::Cylinder => p.x * p.x + p.z * p.z <= 0.25 && p.y.abs() <= 0.5,
+        Primitive::Plane => false,
     }
 }

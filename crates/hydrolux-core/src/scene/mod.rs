@@ -27,7 +27,9 @@ pub use air::*;
 pub use camera::*;
 pub use caustics::*;
 pub use floor::*;
-pub use fluid::{FluidDesc, FluidSource, FluidSourceKind, FluidSurface, MAX_FLUID_CELLS};
+pub use fluid::{
+    FluidDesc, FluidSource, FluidSourceKind, FluidSurface, MAX_FLUID_CELLS, is_fluid_solid,
+};
 pub use godrays::*;
 pub use material::*;
 pub use objects::*;

@@ -71,7 +71,8 @@ const MAX_SPEED: f32 = 100.0;
 @group(0) @binding(2) var<storage, read_write> accum: array<atomic<i32>>;
 // Per face: the velocity, the splatted (old) velocity, a spare copy.
 @group(0) @binding(3) var<storage, read_write> faces: array<f32>;
-// Per face: known (extrapolation), twice.
+// Per face: known (extrapolation), twice; then per cell: 1 where a static
+// object fills it (solid).
 @group(0) @binding(4) var<storage, read_write> known: array<u32>;
 // Per cell: p, r, z, s, q.
 @group(0) @binding(5) var<storage, read_write> solve: array<f32>;
@@ -111,10 +112,17 @@ fn inside(c: vec3<i32>) -> bool {
     return all(c >= vec3<i32>(0)) && all(c < vec3<i32>(params.cells));
 }
 
-// Cells outside the domain are solid (closed walls); inside, a cell holding
-// a particle is liquid.
-fn is_liquid(c: vec3<i32>) -> bool {
+// Cells outside the domain (closed walls) and those a static object fills
+// are solid; any other cell holding a particle is liquid.
+fn is_solid(c: vec3<i32>) -> bool {
     if (!inside(c)) {
+        return true;
+    }
+    return known[2u * params.face_count + cell_index(vec3<u32>(c))] != 0u;
+}
+
+fn is_liquid(c: vec3<i32>) -> bool {
+    if (is_solid(c)) {
         return false;
     }
     return atomicLoad(&accum[2u * params.face_count + cell_index(vec3<u32>(c))]) > 0;
@@ -143,7 +151,7 @@ fn low_cell(face: vec4<u32>) -> vec3<i32> {
 }
 
 fn face_solid(face: vec4<u32>) -> bool {
-    return !inside(low_cell(face)) || !inside(vec3<i32>(face.xyz));
+    return is_solid(low_cell(face)) || is_solid(vec3<i32>(face.xyz));
 }
 
 // The eight faces of axis a around world point p and their trilinear
@@ -270,7 +278,7 @@ fn diagonal(c: vec3<i32>) -> f32 {
         for (var side = -1; side <= 1; side += 2) {
             var q = c;
             q[a] += side;
-            if (inside(q)) {
+            if (!is_solid(q)) {
                 count += 1.0;
             }
         }
@@ -573,7 +581,7 @@ fn extend_between(g: u32, src: u32, dst: u32, known_src: u32, known_dst: u32) {
 
 // Each particle takes the grid's change (FLIP) blended with its value
 // (PIC), then moves through the new field (midpoint rule), kept a hair
-// inside the walls.
+// inside the walls; a move that would end in a solid cell is not made.
 @compute @workgroup_size(256)
 fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = linear(wid, nwg, lid);
@@ -591,5 +599,9 @@ fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
     let margin = 1e-3 * params.h;
     let lo = params.origin + vec3<f32>(margin);
     let hi = params.origin + vec3<f32>(params.cells) * params.h - vec3<f32>(margin);
-    particles[i].position = clamp(p + params.dt * u, lo, hi);
+    let next = clamp(p + params.dt * u, lo, hi);
+    let cell = clamp(vec3<i32>(floor((next - params.origin) / params.h)), vec3<i32>(0), vec3<i32>(params.cells) - vec3<i32>(1));
+    if (!is_solid(cell)) {
+        particles[i].position = next;
+    }
 }

@@ -109,6 +109,8 @@ struct Pipelines {
 
 pub struct Liquid {
     desc: FluidDesc,
+    /// The scene's objects that are its solids (an edit to them remakes it).
+    solid_objects: Vec<hydrolux_core::scene::ObjectDesc>,
     uniforms: LiquidUniforms,
     /// The particles at the start (a reset writes them back).
     initial: Vec<LiquidParticle>,
@@ -118,6 +120,8 @@ pub struct Liquid {
     state: wgpu::Buffer,
     accum: wgpu::Buffer,
     known: wgpu::Buffer,
+    /// 1 per cell a static object fills.
+    solids: Vec<u32>,
     args: wgpu::Buffer,
     group: wgpu::BindGroup,
     args_group: wgpu::BindGroup,
@@ -134,7 +138,15 @@ impl Liquid {
             return Ok(None);
         }
         let device = &shared.device;
-        let start = desc.initial();
+        let start = desc.initial(&scene.objects);
+        // Per cell: 1 where a static object fills it (after the faces'
+        // known flags in the same buffer).
+        let solids: Vec<u32> = start
+            .grid
+            .cells
+            .iter()
+            .map(|c| (*c == hydrolux_core::fluid::Cell::Solid) as u32)
+            .collect();
         let initial: Vec<LiquidParticle> = start
             .positions
             .iter()
@@ -157,6 +169,7 @@ impl Liquid {
         let sizes = [
             ("particles (fluid.sources, fluid.particles_per_cell)", count as u64 * 32),
             ("face velocities (fluid.resolution)", 3 * face_count as u64 * 4),
+            ("face flags (fluid.resolution)", (2 * face_count + cell_count) as u64 * 4),
             ("splat sums (fluid.resolution)", (2 * face_count + cell_count) as u64 * 4),
             ("pressure solve (fluid.resolution)", 5 * cell_count as u64 * 4),
         ];
@@ -203,7 +216,11 @@ impl Liquid {
         let particles = storage("liquid particles", count as u64 * 32, none);
         let accum = storage("liquid splat", (2 * face_count + cell_count) as u64 * 4, none);
         let faces_buffer = storage("liquid faces", 3 * face_count as u64 * 4, none);
-        let known = storage("liquid known faces", 2 * face_count as u64 * 4, none);
+        let known = storage(
+            "liquid known faces, solid cells",
+            (2 * face_count + cell_count) as u64 * 4,
+            none,
+        );
         let solve = storage("liquid solve", 5 * cell_count as u64 * 4, none);
         let partials = storage("liquid partials", 3 * cell_groups as u64 * 4, none);
         let state = storage("liquid solve state", 32, none);
@@ -269,6 +286,12 @@ impl Liquid {
         };
         let liquid = Liquid {
             desc: desc.clone(),
+            solid_objects: scene
+                .objects
+                .iter()
+                .filter(|o| hydrolux_core::scene::is_fluid_solid(o))
+                .cloned()
+                .collect(),
             uniforms,
             initial,
             particles,
@@ -277,6 +300,7 @@ impl Liquid {
             state,
             accum,
             known,
+            solids,
             args,
             group,
             args_group,
@@ -293,6 +317,8 @@ impl Liquid {
         for buffer in [&self.faces, &self.known, &self.solve, &self.accum, &self.state] {
             queue.write_buffer(buffer, 0, &vec![0u8; buffer.size() as usize]);
         }
+        let solids_at = 2 * self.uniforms.face_count as u64 * 4;
+        queue.write_buffer(&self.known, solids_at, bytemuck::cast_slice(&self.solids));
     }
 
     /// Particles simulated.
@@ -306,40 +332,61 @@ impl Liquid {
         self.uniforms.h * (3.0 / (4.0 * std::f32::consts::PI * per_cell)).cbrt()
     }
 
-    /// Record `steps` liquid steps into `encoder`.
-    pub fn record_steps(&self, encoder: &mut wgpu::CommandEncoder, steps: u64) {
+    /// Record `steps` liquid steps into `encoder`, each in three compute
+    /// passes (the transfer to the grid, the pressure solve, the transfer
+    /// back and the advection), timed by `timer` when given.
+    pub fn record_steps(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        steps: u64,
+        mut timer: Option<&mut crate::timing::GpuTimer>,
+    ) {
         let u = &self.uniforms;
         let p = &self.pipelines;
         let particles = groups(u.particle_count);
         let cells = groups(u.cell_count);
         let faces = groups(u.face_count);
         let clear = groups(2 * u.face_count + u.cell_count);
-        for _ in 0..steps {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("liquid step"),
-                timestamp_writes: None,
-            });
+        let run = |pass: &mut wgpu::ComputePass<'static>, pipeline, (x, y): (u32, u32)| {
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(x, y, 1);
+        };
+        let begin = |encoder: &mut wgpu::CommandEncoder,
+                     label: &'static str,
+                     timer: Option<&mut crate::timing::GpuTimer>| {
+            let mut pass = encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: timer.and_then(|t| t.compute_writes(label)),
+                })
+                .forget_lifetime();
             pass.set_bind_group(0, &self.group, &[]);
             pass.set_bind_group(1, &self.args_group, &[]);
-            let run = |pass: &mut wgpu::ComputePass, pipeline, (x, y): (u32, u32)| {
-                pass.set_pipeline(pipeline);
-                pass.dispatch_workgroups(x, y, 1);
-            };
-            run(&mut pass, &p.clear, clear);
-            run(&mut pass, &p.splat, particles);
-            run(&mut pass, &p.faces, faces);
-            run(&mut pass, &p.solve_begin, cells);
-            run(&mut pass, &p.reduce_begin, (1, 1));
-            for _ in 0..u.max_iterations {
-                pass.set_pipeline(&p.cg_apply);
-                pass.dispatch_workgroups_indirect(&self.args, 0);
-                run(&mut pass, &p.reduce_alpha, (1, 1));
-                pass.set_pipeline(&p.cg_update);
-                pass.dispatch_workgroups_indirect(&self.args, 0);
-                run(&mut pass, &p.reduce_beta, (1, 1));
-                pass.set_pipeline(&p.cg_direction);
-                pass.dispatch_workgroups_indirect(&self.args, 0);
+            pass
+        };
+        for _ in 0..steps {
+            {
+                let mut pass = begin(encoder, "liquid to grid", timer.as_deref_mut());
+                run(&mut pass, &p.clear, clear);
+                run(&mut pass, &p.splat, particles);
+                run(&mut pass, &p.faces, faces);
             }
+            {
+                let mut pass = begin(encoder, "liquid pressure", timer.as_deref_mut());
+                run(&mut pass, &p.solve_begin, cells);
+                run(&mut pass, &p.reduce_begin, (1, 1));
+                for _ in 0..u.max_iterations {
+                    pass.set_pipeline(&p.cg_apply);
+                    pass.dispatch_workgroups_indirect(&self.args, 0);
+                    run(&mut pass, &p.reduce_alpha, (1, 1));
+                    pass.set_pipeline(&p.cg_update);
+                    pass.dispatch_workgroups_indirect(&self.args, 0);
+                    run(&mut pass, &p.reduce_beta, (1, 1));
+                    pass.set_pipeline(&p.cg_direction);
+                    pass.dispatch_workgroups_indirect(&self.args, 0);
+                }
+            }
+            let mut pass = begin(encoder, "liquid to particles", timer.as_deref_mut());
             run(&mut pass, &p.gradient, faces);
             run(&mut pass, &p.extrapolate_out, faces);
             run(&mut pass, &p.extrapolate_back, faces);
@@ -358,7 +405,10 @@ impl crate::simulation::Simulation for Liquid {
     }
 
     fn fits(&self, scene: &Scene) -> bool {
-        scene.fluid == self.desc
+        let solids = |s: &Scene| -> Vec<hydrolux_core::scene::ObjectDesc> {
+            s.objects.iter().filter(|o| hydrolux_core::scene::is_fluid_solid(o)).cloned().collect()
+        };
+        scene.fluid == self.desc && solids(scene) == self.solid_objects
     }
 
     /// The liquid starts from its sources at the clock's origin.
@@ -389,7 +439,7 @@ impl crate::simulation::Simulation for Liquid {
         encoder: &mut wgpu::CommandEncoder,
         clock_steps: u32,
     ) {
-        self.record_steps(encoder, clock_steps as u64 * self.desc.substeps as u64);
+        self.record_steps(encoder, clock_steps as u64 * self.desc.substeps as u64, None);
         self.clock_steps += clock_steps as u64;
     }
 

@@ -162,11 +162,83 @@ impl Liquid {
     }
 }
 
+/// What `hydrolux bench` measures of the liquid's step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LiquidBench {
+    pub particles: u32,
+    pub cells: [u32; 3],
+    /// Steps measured, and the wall clock per step (ms, submit → done).
+    pub steps: u32,
+    pub step_ms: f64,
+    /// Median GPU time per pass of a step (ms), where the adapter has
+    /// timestamp queries.
+    pub passes: Vec<(&'static str, f64)>,
+    /// The last solve's iterations and residual (1/s).
+    pub iterations: u32,
+    pub residual: f32,
+}
+
 impl Renderer {
     /// The volumetric liquid after the last frame or simulation step;
     /// `None` without `[[fluid.sources]]`.
     pub fn read_liquid(&self) -> Option<LiquidReadback> {
         let l = self.simulations.liquid.as_ref()?;
         Some(l.read(self.device(), self.queue()))
+    }
+
+    /// Time `steps` liquid steps from the state now (for `hydrolux bench`):
+    /// they run outside the clock, so the clock starts over at the next
+    /// frame. `None` without a liquid.
+    pub fn bench_liquid(&mut self, steps: u32) -> Option<LiquidBench> {
+        let liquid = self.simulations.liquid.as_ref()?;
+        let device = &self.shared.device;
+        let queue = &self.shared.queue;
+        // Warm up (first dispatches compile and page in).
+        let mut encoder = device.create_command_encoder(&Default::default());
+        liquid.record_steps(&mut encoder, 1, None);
+        queue.submit([encoder.finish()]);
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        let mut timer = self.timer.as_mut();
+        if let Some(t) = timer.as_deref_mut() {
+            t.begin_frame();
+        }
+        let t0 = std::time::Instant::now();
+        let mut encoder = device.create_command_encoder(&Default::default());
+        liquid.record_steps(&mut encoder, steps as u64, timer.as_deref_mut());
+        if let Some(t) = timer.as_deref() {
+            t.resolve(&mut encoder);
+        }
+        queue.submit([encoder.finish()]);
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        let step_ms = t0.elapsed().as_secs_f64() * 1e3 / steps.max(1) as f64;
+        let mut times: Vec<(&'static str, Vec<f64>)> = Vec::new();
+        if let Some(t) = timer.as_deref() {
+            for (name, ms) in t.read(device) {
+                match times.iter_mut().find(|(n, _)| *n == name) {
+                    Some((_, v)) => v.push(ms),
+                    None => times.push((name, vec![ms])),
+                }
+            }
+        }
+        let passes = times
+            .into_iter()
+            .map(|(name, mut v)| {
+                v.sort_by(f64::total_cmp);
+                (name, v[v.len() / 2])
+            })
+            .collect();
+        let solve: SolveState =
+            *bytemuck::from_bytes(&read_buffer(device, queue, &liquid.state, 32)[..32]);
+        let bench = LiquidBench {
+            particles: liquid.particle_count(),
+            cells: liquid.uniforms.cells,
+            steps,
+            step_ms,
+            passes,
+            iterations: solve.iterations,
+            residual: solve.residual,
+        };
+        self.clock.reset();
+        Some(bench)
     }
 }
