@@ -2,6 +2,18 @@
 
 use super::*;
 
+/// An `.npy` file of f32: its header and values.
+fn npy_f32(path: &std::path::Path) -> (String, Vec<f32>) {
+    let npy = std::fs::read(path).unwrap();
+    let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
+    let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
+    let values: Vec<f32> = npy[10 + hlen..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    (header, values)
+}
+
 #[test]
 fn caustics_dump_is_an_m_by_m_float_grid() {
     let dir = scratch("caustics");
@@ -42,16 +54,7 @@ fn caustics_dump_is_an_m_by_m_float_grid() {
 #[test]
 fn god_ray_and_object_caustic_dumps_have_their_shapes() {
     let dir = scratch("volume");
-    let shape = |file: &str| {
-        let npy = std::fs::read(dir.join(file)).unwrap();
-        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
-        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
-        let values: Vec<f32> = npy[10 + hlen..]
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
-        (header, values)
-    };
+    let shape = |file: &str| npy_f32(&dir.join(file));
     let (code, err) = hydrolux(
         &[
             "render",
@@ -205,16 +208,7 @@ fn fluid_dumps_hold_the_particles_and_the_cells() {
         &dir,
     );
     assert_eq!(code, 0, "{err}");
-    let read = |file: &str| {
-        let npy = std::fs::read(dir.join(file)).unwrap();
-        let hlen = u16::from_le_bytes([npy[8], npy[9]]) as usize;
-        let header = std::str::from_utf8(&npy[10..10 + hlen]).unwrap().to_string();
-        let values: Vec<f32> = npy[10 + hlen..]
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
-        (header, values)
-    };
+    let read = |file: &str| npy_f32(&dir.join(file));
     // 16 × 12 × 4 cells; the column holds 3 × 7 × 4 cells' centres, 8 each.
     let (header, particles) = read("f.npy");
     assert!(header.contains("'shape': (672, 6)"), "{header}");

@@ -300,12 +300,9 @@ fn put(v: u32, i: u32, x: f32) {
     solve[v * params.cell_count + i] = x;
 }
 
-// Sum `dot` and take the maxima of `big` and `div` over the workgroup (a
-// fixed tree), into the group's partials.
-fn reduce_group(group: u32, lid: u32, dot_value: f32, big: f32, div: f32) {
-    dot_part[lid] = dot_value;
-    max_part[lid] = big;
-    div_part[lid] = div;
+// Sum `dot_part` and take the maxima of `max_part` and `div_part` over the
+// workgroup, in a fixed tree: the results are in element 0.
+fn tree_reduce(lid: u32) {
     workgroupBarrier();
     for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
         if (lid < stride) {
@@ -315,6 +312,14 @@ fn reduce_group(group: u32, lid: u32, dot_value: f32, big: f32, div: f32) {
         }
         workgroupBarrier();
     }
+}
+
+// Reduce one value of each kind over the workgroup into its partials.
+fn reduce_group(group: u32, lid: u32, dot_value: f32, big: f32, div: f32) {
+    dot_part[lid] = dot_value;
+    max_part[lid] = big;
+    div_part[lid] = div;
+    tree_reduce(lid);
     if (lid == 0u) {
         partials[3u * group] = dot_part[0];
         partials[3u * group + 1u] = max_part[0];
@@ -382,15 +387,7 @@ fn reduce_partials(lid: u32) {
     dot_part[lid] = d;
     max_part[lid] = m;
     div_part[lid] = v;
-    workgroupBarrier();
-    for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
-        if (lid < stride) {
-            dot_part[lid] += dot_part[lid + stride];
-            max_part[lid] = max(max_part[lid], max_part[lid + stride]);
-            div_part[lid] = max(div_part[lid], div_part[lid + stride]);
-        }
-        workgroupBarrier();
-    }
+    tree_reduce(lid);
 }
 
 fn set_running(running: bool) {
@@ -430,13 +427,12 @@ fn cg_apply(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
     reduce_group(wid.y * nwg.x + wid.x, lid, sq, 0.0, 0.0);
 }
 
+// The reductions run whether or not the solve still runs (their barriers
+// must be in uniform control flow); only thread 0 acts, and only while it runs.
 @compute @workgroup_size(256)
 fn reduce_alpha(@builtin(local_invocation_index) lid: u32) {
-    if (state.running == 0u) {
-        return;
-    }
     reduce_partials(lid);
-    if (lid == 0u) {
+    if (lid == 0u && state.running != 0u) {
         let sq = dot_part[0];
         if (sq <= 0.0) {
             set_running(false);
@@ -471,11 +467,8 @@ fn cg_update(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg
 
 @compute @workgroup_size(256)
 fn reduce_beta(@builtin(local_invocation_index) lid: u32) {
-    if (state.running == 0u) {
-        return;
-    }
     reduce_partials(lid);
-    if (lid == 0u) {
+    if (lid == 0u && state.running != 0u) {
         let next = dot_part[0];
         state.beta = next / state.sigma;
         state.sigma = next;

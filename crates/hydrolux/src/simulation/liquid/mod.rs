@@ -201,15 +201,7 @@ impl Liquid {
             _pad1: 0,
         };
         let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size.max(16),
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC
-                    | extra,
-                mapped_at_creation: false,
-            })
+            storage_buffer(device, label, size, extra)
         };
         let none = wgpu::BufferUsages::empty();
         let params = uniform_buffer(device, "liquid", &uniforms);

@@ -254,15 +254,7 @@ impl Whitewater {
         let table = capacity.next_power_of_two();
         let n2 = cells * cells;
         let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size.max(16),
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC
-                    | extra,
-                mapped_at_creation: false,
-            })
+            storage_buffer(device, label, size, extra)
         };
         let none = wgpu::BufferUsages::empty();
         let foam = [0, 1].map(|_| storage("foam", 4 * n2 as u64, none));
