@@ -6,8 +6,9 @@
 //   clear → splat (particles to faces, fixed-point atomics: the sums do not
 //   depend on the order particles arrive in) → faces (weighted means, the
 //   old copy, gravity, closed walls) → solve_begin / reduce_begin → the
-//   conjugate-gradient loop (apply, reduce_alpha, update, reduce_beta,
-//   direction: indirect dispatches that become empty once converged) →
+//   conjugate-gradient loop (apply with the new direction, update, and
+//   reduce_beta: three dispatches, the first two indirect and emptied once
+//   converged) →
 //   gradient → extrapolate (two rounds) → advance (FLIP/PIC blend, midpoint
 //   advection).
 //
@@ -72,11 +73,12 @@ const MAX_SPEED: f32 = 100.0;
 // Per face: the velocity, the splatted (old) velocity, a spare copy.
 @group(0) @binding(3) var<storage, read_write> faces: array<f32>;
 // Per face: known (extrapolation), twice; then per cell: 1 where a static
-// object fills it (solid).
+// object fills it (solid); then per cell its flags for the solve (below).
 @group(0) @binding(4) var<storage, read_write> known: array<u32>;
-// Per cell: p, r, z, s, q.
+// Per cell: p, r, z, s, q, t (s's second copy).
 @group(0) @binding(5) var<storage, read_write> solve: array<f32>;
-// Per cell workgroup: a dot product's and a max's partials.
+// Per cell workgroup: a dot product's and two maxima's partials (the
+// update's), then per cell workgroup the apply's s·q.
 @group(0) @binding(6) var<storage, read_write> partials: array<f32>;
 @group(0) @binding(7) var<storage, read_write> state: SolveState;
 // The conjugate-gradient kernels' indirect arguments (the reductions write them).
@@ -291,6 +293,10 @@ const R: u32 = 1u;
 const Z: u32 = 2u;
 const S: u32 = 3u;
 const Q: u32 = 4u;
+// The search direction's second copy (the loop alternates S and T).
+const T: u32 = 5u;
+// Where the apply's s·q partials start (in workgroups' worth of partials).
+const SQ_PARTIALS: u32 = 3u;
 
 fn at(v: u32, i: u32) -> f32 {
     return solve[v * params.cell_count + i];
@@ -301,17 +307,40 @@ fn put(v: u32, i: u32, x: f32) {
 }
 
 // Sum `dot_part` and take the maxima of `max_part` and `div_part` over the
-// workgroup, in a fixed tree: the results are in element 0.
+// workgroup in a fixed order — sixteen runs of sixteen, then the sixteen —
+// with two barriers (a software rasteriser pays for each): the results are
+// in element 0.
 fn tree_reduce(lid: u32) {
     workgroupBarrier();
-    for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
-        if (lid < stride) {
-            dot_part[lid] += dot_part[lid + stride];
-            max_part[lid] = max(max_part[lid], max_part[lid + stride]);
-            div_part[lid] = max(div_part[lid], div_part[lid + stride]);
+    if (lid < 16u) {
+        var d = 0.0;
+        var m = 0.0;
+        var v = 0.0;
+        for (var k = 0u; k < 16u; k++) {
+            let j = lid * 16u + k;
+            d += dot_part[j];
+            m = max(m, max_part[j]);
+            v = max(v, div_part[j]);
         }
-        workgroupBarrier();
+        dot_part[lid * 16u] = d;
+        max_part[lid * 16u] = m;
+        div_part[lid * 16u] = v;
     }
+    workgroupBarrier();
+    if (lid == 0u) {
+        var d = 0.0;
+        var m = 0.0;
+        var v = 0.0;
+        for (var k = 0u; k < 16u; k++) {
+            d += dot_part[k * 16u];
+            m = max(m, max_part[k * 16u]);
+            v = max(v, div_part[k * 16u]);
+        }
+        dot_part[0] = d;
+        max_part[0] = m;
+        div_part[0] = v;
+    }
+    workgroupBarrier();
 }
 
 // Reduce one value of each kind over the workgroup into its partials.
@@ -343,6 +372,50 @@ fn apply_matrix(v: u32, c: vec3<i32>) -> f32 {
     return q;
 }
 
+// A cell's flags for the solve, so the loop reads one word where it would
+// test seven cells (and no atomics): bit 0 liquid, bits 1–6 which of the
+// neighbours −x, +x, −y, +y, −z, +z are liquid, bits 8–10 how many are not
+// solid (the matrix's diagonal over scale).
+const LIQUID: u32 = 1u;
+
+fn solve_flags(i: u32) -> u32 {
+    return known[2u * params.face_count + params.cell_count + i];
+}
+
+fn flags_of(c: vec3<i32>) -> u32 {
+    if (!is_liquid(c)) {
+        return 0u;
+    }
+    var f = LIQUID;
+    var open = 0u;
+    var bit = 2u;
+    for (var a = 0u; a < 3u; a++) {
+        for (var side = -1; side <= 1; side += 2) {
+            var n = c;
+            n[a] += side;
+            if (is_liquid(n)) {
+                f |= bit;
+            }
+            if (!is_solid(n)) {
+                open += 1u;
+            }
+            bit <<= 1u;
+        }
+    }
+    return f | (open << 8u);
+}
+
+fn diagonal_of(flags: u32) -> f32 {
+    return f32((flags >> 8u) & 7u) * scale();
+}
+
+// The index offsets of a cell's six neighbours, in the flags' order.
+fn neighbour_offset(k: u32) -> i32 {
+    let n = vec3<i32>(params.cells);
+    let step = array<i32, 3>(1, n.x, n.x * n.y);
+    return select(-step[k / 2u], step[k / 2u], (k & 1u) == 1u);
+}
+
 // Warm-started from the last step's pressure (p₀ = p in liquid cells, 0
 // elsewhere): r = −∇·u − A·p₀, z = M⁻¹r, s = z; partials of r·z, max|r|.
 // A liquid cell's p₀ is its own last value, so reading a neighbour's
@@ -355,6 +428,7 @@ fn solve_begin(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     var div = 0.0;
     if (i < params.cell_count) {
         let c = cell_coords(i);
+        known[2u * params.face_count + params.cell_count + i] = flags_of(vec3<i32>(c));
         var r = 0.0;
         var z = 0.0;
         if (is_liquid(vec3<i32>(c))) {
@@ -402,6 +476,8 @@ fn reduce_begin(@builtin(local_invocation_index) lid: u32) {
     reduce_partials(lid);
     if (lid == 0u) {
         state.sigma = dot_part[0];
+        // The first direction is z itself.
+        state.beta = 0.0;
         state.residual = max_part[0];
         state.residual_before = div_part[0];
         state.iterations = 0u;
@@ -410,80 +486,125 @@ fn reduce_begin(@builtin(local_invocation_index) lid: u32) {
     }
 }
 
-// q = A s; partials of s·q.
-@compute @workgroup_size(256)
-fn cg_apply(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let i = linear(wid, nwg, lid);
+// The loop: three dispatches an iteration. `cg_apply_*` forms the search
+// direction s = z + βs (into the other of two copies, so neighbours still
+// read the old one) and q = A s, with partials of s·q; `cg_update_*` reduces
+// those partials itself in every workgroup (the same sum in the same order
+// everywhere) for α, then p += αs, r −= αq, z = M⁻¹r with partials of r·z
+// and max|r|; `reduce_beta` (one workgroup) takes β, the residual and
+// whether to go on. The even iterations read S and write T, the odd ones
+// read T and write S.
+
+// The search direction at cell `i` from z and the old direction.
+fn direction(i: u32, old: u32) -> f32 {
+    return at(Z, i) + state.beta * at(old, i);
+}
+
+fn apply_direction(i: u32, old: u32, next: u32, group: u32, lid: u32) {
     var sq = 0.0;
     if (i < params.cell_count) {
-        let c = vec3<i32>(cell_coords(i));
+        let flags = solve_flags(i);
+        var s = 0.0;
         var q = 0.0;
-        if (is_liquid(c)) {
-            q = apply_matrix(S, c);
+        if ((flags & LIQUID) != 0u) {
+            s = direction(i, old);
+            q = diagonal_of(flags) * s;
+            for (var k = 0u; k < 6u; k++) {
+                if ((flags & (2u << k)) != 0u) {
+                    q -= scale() * direction(u32(i32(i) + neighbour_offset(k)), old);
+                }
+            }
         }
+        put(next, i, s);
         put(Q, i, q);
-        sq = at(S, i) * q;
+        sq = s * q;
     }
-    reduce_group(wid.y * nwg.x + wid.x, lid, sq, 0.0, 0.0);
-}
-
-// The reductions run whether or not the solve still runs (their barriers
-// must be in uniform control flow); only thread 0 acts, and only while it runs.
-@compute @workgroup_size(256)
-fn reduce_alpha(@builtin(local_invocation_index) lid: u32) {
-    reduce_partials(lid);
-    if (lid == 0u && state.running != 0u) {
-        let sq = dot_part[0];
-        if (sq <= 0.0) {
-            set_running(false);
-        } else {
-            state.alpha = state.sigma / sq;
-        }
+    dot_part[lid] = sq;
+    max_part[lid] = 0.0;
+    div_part[lid] = 0.0;
+    tree_reduce(lid);
+    if (lid == 0u) {
+        partials[SQ_PARTIALS * params.cell_groups + group] = dot_part[0];
     }
 }
 
-// p += αs, r −= αq, z = M⁻¹r; partials of r·z and max|r|.
 @compute @workgroup_size(256)
-fn cg_update(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let i = linear(wid, nwg, lid);
+fn cg_apply_s_to_t(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    apply_direction(linear(wid, nwg, lid), S, T, wid.y * nwg.x + wid.x, lid);
+}
+
+@compute @workgroup_size(256)
+fn cg_apply_t_to_s(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    apply_direction(linear(wid, nwg, lid), T, S, wid.y * nwg.x + wid.x, lid);
+}
+
+// s·q over the domain, from the apply's partials (fixed order).
+fn sum_sq(lid: u32) -> f32 {
+    var d = 0.0;
+    for (var g = lid; g < params.cell_groups; g += WG) {
+        d += partials[SQ_PARTIALS * params.cell_groups + g];
+    }
+    dot_part[lid] = d;
+    max_part[lid] = 0.0;
+    div_part[lid] = 0.0;
+    tree_reduce(lid);
+    let sq = dot_part[0];
+    // Every thread has read it before any writes the next reduction.
+    workgroupBarrier();
+    return sq;
+}
+
+fn update(i: u32, s_now: u32, group: u32, lid: u32) {
+    let sq = sum_sq(lid);
+    // A direction the matrix does not see: the reduction stops the loop.
+    let go = sq > 0.0;
+    let alpha = select(0.0, state.sigma / sq, go);
     var rz = 0.0;
     var big = 0.0;
-    if (i < params.cell_count) {
-        let alpha = state.alpha;
-        put(P, i, at(P, i) + alpha * at(S, i));
+    if (go && i < params.cell_count) {
+        put(P, i, at(P, i) + alpha * at(s_now, i));
         let r = at(R, i) - alpha * at(Q, i);
         put(R, i, r);
-        let c = vec3<i32>(cell_coords(i));
+        let flags = solve_flags(i);
         var z = 0.0;
-        if (is_liquid(c)) {
-            z = r / diagonal(c);
+        if ((flags & LIQUID) != 0u) {
+            z = r / diagonal_of(flags);
         }
         put(Z, i, z);
         rz = r * z;
         big = abs(r);
     }
-    reduce_group(wid.y * nwg.x + wid.x, lid, rz, big, 0.0);
+    reduce_group(group, lid, rz, big, 0.0);
 }
 
+@compute @workgroup_size(256)
+fn cg_update_t(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    update(linear(wid, nwg, lid), T, wid.y * nwg.x + wid.x, lid);
+}
+
+@compute @workgroup_size(256)
+fn cg_update_s(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    update(linear(wid, nwg, lid), S, wid.y * nwg.x + wid.x, lid);
+}
+
+// The reductions run whether or not the solve still runs (their barriers
+// must be in uniform control flow); only thread 0 acts, and only while it runs.
 @compute @workgroup_size(256)
 fn reduce_beta(@builtin(local_invocation_index) lid: u32) {
+    let sq = sum_sq(lid);
     reduce_partials(lid);
     if (lid == 0u && state.running != 0u) {
-        let next = dot_part[0];
-        state.beta = next / state.sigma;
-        state.sigma = next;
-        state.residual = max_part[0];
-        state.iterations += 1u;
-        set_running(max_part[0] > params.tolerance && state.iterations < params.max_iterations);
-    }
-}
-
-// s = z + βs.
-@compute @workgroup_size(256)
-fn cg_direction(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let i = linear(wid, nwg, lid);
-    if (i < params.cell_count) {
-        put(S, i, at(Z, i) + state.beta * at(S, i));
+        if (sq <= 0.0) {
+            set_running(false);
+        } else {
+            let next = dot_part[0];
+            state.alpha = state.sigma / sq;
+            state.beta = next / state.sigma;
+            state.sigma = next;
+            state.residual = max_part[0];
+            state.iterations += 1u;
+            set_running(max_part[0] > params.tolerance && state.iterations < params.max_iterations);
+        }
     }
 }
 

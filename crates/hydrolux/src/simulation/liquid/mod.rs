@@ -96,11 +96,11 @@ struct Pipelines {
     faces: wgpu::ComputePipeline,
     solve_begin: wgpu::ComputePipeline,
     reduce_begin: wgpu::ComputePipeline,
-    cg_apply: wgpu::ComputePipeline,
-    reduce_alpha: wgpu::ComputePipeline,
-    cg_update: wgpu::ComputePipeline,
+    /// The conjugate-gradient loop's even and odd iterations (the search
+    /// direction alternates between two copies).
+    cg_apply: [wgpu::ComputePipeline; 2],
+    cg_update: [wgpu::ComputePipeline; 2],
     reduce_beta: wgpu::ComputePipeline,
-    cg_direction: wgpu::ComputePipeline,
     gradient: wgpu::ComputePipeline,
     extrapolate_out: wgpu::ComputePipeline,
     extrapolate_back: wgpu::ComputePipeline,
@@ -169,9 +169,9 @@ impl Liquid {
         let sizes = [
             ("particles (fluid.sources, fluid.particles_per_cell)", count as u64 * 32),
             ("face velocities (fluid.resolution)", 3 * face_count as u64 * 4),
-            ("face flags (fluid.resolution)", (2 * face_count + cell_count) as u64 * 4),
+            ("face and cell flags (fluid.resolution)", 2 * (face_count + cell_count) as u64 * 4),
             ("splat sums (fluid.resolution)", (2 * face_count + cell_count) as u64 * 4),
-            ("pressure solve (fluid.resolution)", 5 * cell_count as u64 * 4),
+            ("pressure solve (fluid.resolution)", 6 * cell_count as u64 * 4),
         ];
         for (what, bytes) in sizes {
             if bytes > limit {
@@ -209,12 +209,12 @@ impl Liquid {
         let accum = storage("liquid splat", (2 * face_count + cell_count) as u64 * 4, none);
         let faces_buffer = storage("liquid faces", 3 * face_count as u64 * 4, none);
         let known = storage(
-            "liquid known faces, solid cells",
-            (2 * face_count + cell_count) as u64 * 4,
+            "liquid known faces, solid cells, solve flags",
+            2 * (face_count + cell_count) as u64 * 4,
             none,
         );
-        let solve = storage("liquid solve", 5 * cell_count as u64 * 4, none);
-        let partials = storage("liquid partials", 3 * cell_groups as u64 * 4, none);
+        let solve = storage("liquid solve", 6 * cell_count as u64 * 4, none);
+        let partials = storage("liquid partials", 4 * cell_groups as u64 * 4, none);
         let state = storage("liquid solve state", 32, none);
         let args = storage("liquid solve arguments", 16, wgpu::BufferUsages::INDIRECT);
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -266,11 +266,9 @@ impl Liquid {
             faces: plain("faces_from_particles"),
             solve_begin: plain("solve_begin"),
             reduce_begin: reduce("reduce_begin"),
-            cg_apply: plain("cg_apply"),
-            reduce_alpha: reduce("reduce_alpha"),
-            cg_update: plain("cg_update"),
+            cg_apply: [plain("cg_apply_s_to_t"), plain("cg_apply_t_to_s")],
+            cg_update: [plain("cg_update_t"), plain("cg_update_s")],
             reduce_beta: reduce("reduce_beta"),
-            cg_direction: plain("cg_direction"),
             gradient: plain("gradient"),
             extrapolate_out: plain("extrapolate_out"),
             extrapolate_back: plain("extrapolate_back"),
@@ -367,15 +365,12 @@ impl Liquid {
                 let mut pass = begin(encoder, "liquid pressure", timer.as_deref_mut());
                 run(&mut pass, &p.solve_begin, cells);
                 run(&mut pass, &p.reduce_begin, (1, 1));
-                for _ in 0..u.max_iterations {
-                    pass.set_pipeline(&p.cg_apply);
+                for iteration in 0..u.max_iterations as usize {
+                    pass.set_pipeline(&p.cg_apply[iteration % 2]);
                     pass.dispatch_workgroups_indirect(&self.args, 0);
-                    run(&mut pass, &p.reduce_alpha, (1, 1));
-                    pass.set_pipeline(&p.cg_update);
+                    pass.set_pipeline(&p.cg_update[iteration % 2]);
                     pass.dispatch_workgroups_indirect(&self.args, 0);
                     run(&mut pass, &p.reduce_beta, (1, 1));
-                    pass.set_pipeline(&p.cg_direction);
-                    pass.dispatch_workgroups_indirect(&self.args, 0);
                 }
             }
             let mut pass = begin(encoder, "liquid to particles", timer.as_deref_mut());
