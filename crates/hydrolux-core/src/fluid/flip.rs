@@ -36,14 +36,46 @@ impl Default for LiquidSettings {
     }
 }
 
+/// A nozzle (seed 003 §2.3's emitter): each step from `first_step` until
+/// `end_step` it puts one layer of particles at its mouth, `points` (world
+/// positions, m) moving at `velocity` (m/s). The layers go round a ring of
+/// `layers` layers of slots from `first_slot`: a layer overwrites the one
+/// emitted `layers` steps before, so the particles a nozzle has alive never
+/// exceed its share of the budget, however long it runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Emitter {
+    pub points: Vec<[f64; 3]>,
+    pub velocity: [f64; 3],
+    pub first_step: u64,
+    pub end_step: u64,
+    pub first_slot: usize,
+    pub layers: usize,
+}
+
+impl Emitter {
+    /// The slot of the `j`th point of the layer emitted at `step`.
+    pub fn slot(&self, step: u64, j: usize) -> usize {
+        let layer = ((step - self.first_step) % self.layers as u64) as usize;
+        self.first_slot + layer * self.points.len() + j
+    }
+}
+
 /// A liquid of marker particles in a MAC grid.
 #[derive(Clone, Debug)]
 pub struct Liquid {
     pub grid: MacGrid,
     pub settings: LiquidSettings,
-    /// World position (m) and velocity (m/s) of each particle.
+    /// Per particle slot: world position (m), velocity (m/s), and whether
+    /// it holds liquid (a nozzle's slots wait empty for their layer; a
+    /// drain empties them).
     pub positions: Vec<[f64; 3]>,
     pub velocities: Vec<[f64; 3]>,
+    pub alive: Vec<bool>,
+    /// Nozzles, and drains (boxes, m) that take the particles entering them.
+    pub emitters: Vec<Emitter>,
+    pub drains: Vec<[[f64; 3]; 2]>,
+    /// Steps taken.
+    pub steps: u64,
     /// The last step's projection.
     pub last: Option<Projection>,
 }
@@ -51,7 +83,67 @@ pub struct Liquid {
 impl Liquid {
     /// No liquid yet in `grid`.
     pub fn new(grid: MacGrid, settings: LiquidSettings) -> Self {
-        Liquid { grid, settings, positions: Vec::new(), velocities: Vec::new(), last: None }
+        Liquid {
+            grid,
+            settings,
+            positions: Vec::new(),
+            velocities: Vec::new(),
+            alive: Vec::new(),
+            emitters: Vec::new(),
+            drains: Vec::new(),
+            steps: 0,
+            last: None,
+        }
+    }
+
+    /// Add a nozzle with `layers` layers of empty slots after the present
+    /// ones (see [`Emitter`]).
+    pub fn add_emitter(
+        &mut self,
+        points: Vec<[f64; 3]>,
+        velocity: [f64; 3],
+        steps: std::ops::Range<u64>,
+        layers: usize,
+    ) {
+        let first_slot = self.positions.len();
+        let slots = points.len() * layers;
+        self.positions.extend(std::iter::repeat_n([0.0; 3], slots));
+        self.velocities.extend(std::iter::repeat_n([0.0; 3], slots));
+        self.alive.extend(std::iter::repeat_n(false, slots));
+        self.emitters.push(Emitter {
+            points,
+            velocity,
+            first_step: steps.start,
+            end_step: steps.end,
+            first_slot,
+            layers,
+        });
+    }
+
+    /// Particles holding liquid now.
+    pub fn alive_count(&self) -> usize {
+        self.alive.iter().filter(|a| **a).count()
+    }
+
+    /// The live particles' positions.
+    pub fn live_positions(&self) -> impl Iterator<Item = &[f64; 3]> {
+        self.positions.iter().zip(&self.alive).filter(|(_, a)| **a).map(|(p, _)| p)
+    }
+
+    /// Each nozzle's layer for this step.
+    fn emit(&mut self) {
+        let step = self.steps;
+        for e in &self.emitters {
+            if step < e.first_step || step >= e.end_step {
+                continue;
+            }
+            for (j, p) in e.points.iter().enumerate() {
+                let slot = e.slot(step, j);
+                self.positions[slot] = *p;
+                self.velocities[slot] = e.velocity;
+                self.alive[slot] = true;
+            }
+        }
     }
 
     /// Fill the cells whose centres lie in the box `lo`..`hi` (m) with
@@ -76,6 +168,7 @@ impl Liquid {
                         });
                         self.positions.push(p);
                         self.velocities.push([0.0; 3]);
+                        self.alive.push(true);
                     }
                 }
             }
@@ -90,6 +183,7 @@ impl Liquid {
 
     /// One step of `dt` s (keep dt·|u|max under a cell: the caller's CFL).
     pub fn step(&mut self, dt: f64) {
+        self.emit();
         self.particles_to_grid();
         self.mark_cells();
         let old = self.grid.vel.clone();
@@ -102,6 +196,7 @@ impl Liquid {
         self.extrapolate();
         self.grid_to_particles(&old);
         self.advect(dt);
+        self.steps += 1;
     }
 
     /// Splat the particles' velocities onto the faces (weighted means);
@@ -111,7 +206,10 @@ impl Liquid {
         for a in 0..3 {
             let mut sum = vec![0.0; g.vel[a].len()];
             let mut weight = vec![0.0; g.vel[a].len()];
-            for (p, v) in self.positions.iter().zip(&self.velocities) {
+            let live = self.alive.iter();
+            for ((p, v), _) in
+                self.positions.iter().zip(&self.velocities).zip(live).filter(|t| *t.1)
+            {
                 let (idx, w) = g.stencil(a, *p);
                 for (f, wt) in idx.iter().zip(w) {
                     sum[*f] += wt * v[a];
@@ -131,7 +229,7 @@ impl Liquid {
                 *c = Cell::Air;
             }
         }
-        for i in 0..self.positions.len() {
+        for i in (0..self.positions.len()).filter(|i| self.alive[*i]) {
             let [x, y, z] = self.cell_of(self.positions[i]);
             let c = self.grid.cell(x, y, z);
             if self.grid.cells[c] != Cell::Solid {
@@ -202,7 +300,10 @@ impl Liquid {
         let flip = self.settings.flip;
         let mut before = self.grid.clone();
         before.vel = old.clone();
-        for (p, v) in self.positions.iter().zip(self.velocities.iter_mut()) {
+        let live = self.alive.iter();
+        for ((p, v), _) in
+            self.positions.iter().zip(self.velocities.iter_mut()).zip(live).filter(|t| *t.1)
+        {
             let now = self.grid.velocity(*p);
             let then = before.velocity(*p);
             *v = [0, 1, 2].map(|a| flip * (v[a] + now[a] - then[a]) + (1.0 - flip) * now[a]);
@@ -211,10 +312,13 @@ impl Liquid {
 
     /// Move the particles through the grid's velocity (midpoint rule),
     /// kept a hair inside the walls; a particle whose move would end in a
-    /// solid cell stays where it was.
+    /// solid cell stays where it was; one that ends in a drain is gone.
     fn advect(&mut self, dt: f64) {
         let margin = 1e-3 * self.grid.h;
         for n in 0..self.positions.len() {
+            if !self.alive[n] {
+                continue;
+            }
             let g = &self.grid;
             let p = self.positions[n];
             let u = g.velocity(p);
@@ -228,6 +332,10 @@ impl Liquid {
             let [x, y, z] = self.cell_of(next);
             if self.grid.cells[self.grid.cell(x, y, z)] != Cell::Solid {
                 self.positions[n] = next;
+            }
+            let p = self.positions[n];
+            if self.drains.iter().any(|[lo, hi]| (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a])) {
+                self.alive[n] = false;
             }
         }
     }

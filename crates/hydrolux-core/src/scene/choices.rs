@@ -56,7 +56,7 @@ choice!(GodRayMethod: Lines, March, Off);
 choice!(RippleEdges: Walls, Open);
 choice!(Quality: Auto, Low, Medium, High, Ultra);
 choice!(FluidSurface: Points, None);
-choice!(FluidSourceKind: Block);
+choice!(FluidSourceKind: Block, Nozzle, Drain);
 
 /// Each enumerated key (array indices left out: `objects.primitive`) and
 /// its allowed values.

@@ -33,20 +33,53 @@ pub enum FluidSurface {
 pub enum FluidSourceKind {
     /// Liquid at rest filling the box `min`..`max` at the start.
     Block,
+    /// A nozzle: a round jet of `radius` from `position` along `direction`
+    /// at `speed`, from `start` until `end` (s).
+    Nozzle,
+    /// A drain: the box `min`..`max` takes every particle that enters it.
+    Drain,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FluidSource {
     pub kind: FluidSourceKind,
-    /// The block's corners (m), inside the domain.
+    /// A block's or a drain's corners (m), inside the domain.
     pub min: [f32; 3],
     pub max: [f32; 3],
+    /// A nozzle's mouth (m, inside the domain), the way it points (any
+    /// length), its speed (m/s, at most a cell a step) and radius (m).
+    pub position: [f32; 3],
+    pub direction: [f32; 3],
+    pub speed: f32,
+    pub radius: f32,
+    /// When a nozzle runs (s on the scene's clock; `end` = inf: for ever).
+    pub start: f32,
+    pub end: f32,
 }
 
 impl Default for FluidSource {
     fn default() -> Self {
-        FluidSource { kind: FluidSourceKind::Block, min: [0.0; 3], max: [0.0; 3] }
+        FluidSource {
+            kind: FluidSourceKind::Block,
+            min: [0.0; 3],
+            max: [0.0; 3],
+            position: [0.0; 3],
+            direction: [0.0, -1.0, 0.0],
+            speed: 1.0,
+            radius: 0.02,
+            start: 0.0,
+            end: f32::INFINITY,
+        }
+    }
+}
+
+impl FluidSource {
+    /// A nozzle's unit direction and two unit vectors across it.
+    fn frame(&self) -> [glam::DVec3; 3] {
+        let d = glam::Vec3::from(self.direction).as_dvec3().normalize();
+        let across = d.any_orthonormal_vector();
+        [d, across, d.cross(across)]
     }
 }
 
@@ -172,9 +205,68 @@ impl FluidDesc {
                     s.max.map(f64::from),
                     self.particles_per_axis(),
                 ),
+                FluidSourceKind::Drain => {
+                    liquid.drains.push([s.min.map(f64::from), s.max.map(f64::from)])
+                }
+                FluidSourceKind::Nozzle => {}
             }
         }
+        // The nozzles share the slots the blocks leave, by their flow.
+        let nozzles: Vec<(&FluidSource, Vec<[f64; 3]>)> = self
+            .sources
+            .iter()
+            .filter(|s| s.kind == FluidSourceKind::Nozzle)
+            .map(|s| (s, self.nozzle_points(s)))
+            .collect();
+        let free = self.slots().saturating_sub(liquid.positions.len());
+        let per_step: usize = nozzles.iter().map(|(_, p)| p.len()).sum();
+        let dt = self.step_seconds();
+        for (s, points) in nozzles {
+            let first = (s.start as f64 / dt).ceil() as u64;
+            let end = if s.end.is_finite() { (s.end as f64 / dt).ceil() as u64 } else { u64::MAX };
+            let share = free * points.len() / per_step.max(1);
+            let layers = (share / points.len()).min((end - first) as usize).max(1);
+            let [d, ..] = s.frame();
+            let velocity = (d * s.speed as f64).to_array();
+            liquid.add_emitter(points, velocity, first..end, layers);
+        }
         liquid
+    }
+
+    /// A particle's share of the liquid (m³): a cell over its particles.
+    pub fn particle_volume(&self) -> f64 {
+        let (h, _) = self.grid_shape();
+        (h as f64).powi(3) / self.particles_per_cell as f64
+    }
+
+    /// Particle slots: the budget, but no more than the domain holds at
+    /// its seeding density (more could not be liquid at once).
+    pub fn slots(&self) -> usize {
+        let (_, n) = self.grid_shape();
+        let cells: u64 = n.iter().map(|&c| c as u64).product();
+        (self.budget as u64).min(cells * self.particles_per_cell as u64) as usize
+    }
+
+    /// Where a nozzle's particles start each step (m): one layer a step,
+    /// moving at its speed, must carry its flow (πr²·speed) at a
+    /// particle's volume, so a layer holds πr²·speed·step / volume points
+    /// (rounded, at least one), spread evenly over the mouth on Vogel's
+    /// sunflower spiral (point k at radius r·√((k+½)/n), turned by the
+    /// golden angle).
+    pub fn nozzle_points(&self, s: &FluidSource) -> Vec<[f64; 3]> {
+        let [_, u, v] = s.frame();
+        let r = s.radius as f64;
+        let flow = std::f64::consts::PI * r * r * s.speed as f64 * self.step_seconds();
+        let n = ((flow / self.particle_volume()).round() as usize).max(1);
+        let centre = glam::Vec3::from(s.position).as_dvec3();
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        (0..n)
+            .map(|k| {
+                let radius = r * ((k as f64 + 0.5) / n as f64).sqrt();
+                let angle = k as f64 * golden;
+                (centre + (u * angle.cos() + v * angle.sin()) * radius).to_array()
+            })
+            .collect()
     }
 
     pub fn validate(&self) -> Result<(), SceneError> {
@@ -245,22 +337,79 @@ impl FluidDesc {
             });
         }
         let mut particles = 0u64;
+        let mut nozzle_points = 0u64;
         let per_cell = f.particles_per_cell as u64;
         let (h, _) = f.grid_shape();
+        let inside_domain = |key: String, v: [f32; 3]| -> Result<(), SceneError> {
+            vec3_range(&key, v, WORLD_EXTENT_M, &within)?;
+            if (0..3).any(|a| v[a] < f.min[a] || v[a] > f.max[a]) {
+                return Err(SceneError::OutOfRange {
+                    key,
+                    value: format!("{v:?}"),
+                    allowed: format!(
+                        "must lie inside the domain, fluid.min = {:?} to fluid.max = {:?}",
+                        f.min, f.max
+                    ),
+                });
+            }
+            Ok(())
+        };
         for (i, s) in f.sources.iter().enumerate() {
-            for (corner, v) in [("min", s.min), ("max", s.max)] {
-                let key = format!("fluid.sources[{i}].{corner}");
-                vec3_range(&key, v, WORLD_EXTENT_M, &within)?;
-                if (0..3).any(|a| v[a] < f.min[a] || v[a] > f.max[a]) {
+            let key = |k: &str| format!("fluid.sources[{i}].{k}");
+            if s.kind == FluidSourceKind::Nozzle {
+                inside_domain(key("position"), s.position)?;
+                let d = glam::Vec3::from(s.direction);
+                if !d.is_finite() || d.length() < 1e-6 {
                     return Err(SceneError::OutOfRange {
-                        key,
-                        value: format!("{v:?}"),
-                        allowed: format!(
-                            "must lie inside the domain, fluid.min = {:?} to fluid.max = {:?}",
-                            f.min, f.max
-                        ),
+                        key: key("direction"),
+                        value: format!("{:?}", s.direction),
+                        allowed: "must be a finite, non-zero vector".into(),
                     });
                 }
+                let fastest = h as f64 / f.step_seconds();
+                range(
+                    &key("speed"),
+                    s.speed,
+                    s.speed > 0.0 && s.speed as f64 <= fastest,
+                    &format!(
+                        "must be over 0 and at most a cell a step, {fastest:.3} m/s here (raise fluid.substeps for faster jets)"
+                    ),
+                )?;
+                let longest = (0..3).map(|a| f.max[a] - f.min[a]).fold(0.0f32, f32::max);
+                range(
+                    &key("radius"),
+                    s.radius,
+                    s.radius > 0.0 && s.radius <= longest,
+                    &format!("must be over 0 and at most the domain's longest side, {longest} m"),
+                )?;
+                range(
+                    &key("start"),
+                    s.start,
+                    s.start.is_finite() && s.start >= 0.0,
+                    "must be 0 or more seconds",
+                )?;
+                // inf (for ever) is allowed here, unlike the other keys.
+                if !(s.end > s.start) {
+                    return Err(SceneError::OutOfRange {
+                        key: key("end"),
+                        value: s.end.to_string(),
+                        allowed: format!("must be after start = {} s (inf: for ever)", s.start),
+                    });
+                }
+                nozzle_points += f.nozzle_points(s).len() as u64;
+                continue;
+            }
+            inside_domain(key("min"), s.min)?;
+            inside_domain(key("max"), s.max)?;
+            if s.kind == FluidSourceKind::Drain {
+                if (0..3).any(|a| s.max[a] <= s.min[a]) {
+                    return Err(SceneError::OutOfRange {
+                        key: key("max"),
+                        value: format!("{:?}", s.max),
+                        allowed: format!("must exceed min = {:?} on every axis", s.min),
+                    });
+                }
+                continue;
             }
             // Cells whose centres the block holds.
             let count: u64 = (0..3)
@@ -272,7 +421,7 @@ impl FluidDesc {
                 .product();
             if count == 0 {
                 return Err(SceneError::OutOfRange {
-                    key: format!("fluid.sources[{i}].max"),
+                    key: key("max"),
                     value: format!("{:?}", s.max),
                     allowed: format!(
                         "the block from {:?} must hold at least one cell's centre (cells are {h} m)",
@@ -282,11 +431,28 @@ impl FluidDesc {
             }
             particles += count * per_cell;
         }
+        if !f.sources.iter().any(|s| s.kind != FluidSourceKind::Drain) && !f.sources.is_empty() {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.sources".into(),
+                value: "only drains".into(),
+                allowed: "needs a block or a nozzle to have liquid".into(),
+            });
+        }
         if particles > f.budget as u64 {
             return Err(SceneError::OutOfRange {
                 key: "fluid.budget".into(),
                 value: f.budget.to_string(),
                 allowed: format!("the sources need {particles} particles; raise it or shrink them"),
+            });
+        }
+        if nozzle_points > 0 && particles + nozzle_points > f.slots() as u64 {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.budget".into(),
+                value: f.budget.to_string(),
+                allowed: format!(
+                    "the blocks take {particles} particles and the nozzles {nozzle_points} a step; at most {} fit (the budget, or the domain's cells × particles_per_cell)",
+                    f.slots()
+                ),
             });
         }
         Ok(())
