@@ -17,6 +17,10 @@ pub const MAX_FLUID_CELLS: u64 = 1 << 24;
 /// sources at the clock's origin (`clock.rs`).
 pub const FLUID_MEMORY_S: f64 = 600.0;
 
+/// Nozzles and drains a liquid may have (the GPU's fixed tables).
+pub const MAX_FLUID_NOZZLES: usize = 4;
+pub const MAX_FLUID_DRAINS: usize = 4;
+
 /// How the liquid is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -430,6 +434,19 @@ impl FluidDesc {
                 });
             }
             particles += count * per_cell;
+        }
+        for (kind, most, what) in [
+            (FluidSourceKind::Nozzle, MAX_FLUID_NOZZLES, "nozzles"),
+            (FluidSourceKind::Drain, MAX_FLUID_DRAINS, "drains"),
+        ] {
+            let count = f.sources.iter().filter(|s| s.kind == kind).count();
+            if count > most {
+                return Err(SceneError::OutOfRange {
+                    key: "fluid.sources".into(),
+                    value: format!("{count} {what}"),
+                    allowed: format!("at most {most} {what}"),
+                });
+            }
         }
         if !f.sources.iter().any(|s| s.kind != FluidSourceKind::Drain) && !f.sources.is_empty() {
             return Err(SceneError::OutOfRange {

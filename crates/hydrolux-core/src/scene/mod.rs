@@ -28,7 +28,8 @@ pub use camera::*;
 pub use caustics::*;
 pub use floor::*;
 pub use fluid::{
-    FluidDesc, FluidSource, FluidSourceKind, FluidSurface, MAX_FLUID_CELLS, is_fluid_solid,
+    FluidDesc, FluidSource, FluidSourceKind, FluidSurface, MAX_FLUID_CELLS, MAX_FLUID_DRAINS,
+    MAX_FLUID_NOZZLES, is_fluid_solid,
 };
 pub use godrays::*;
 pub use material::*;

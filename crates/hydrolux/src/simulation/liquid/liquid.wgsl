@@ -41,9 +41,49 @@ struct LiquidParams {
 
 struct LiquidParticle {
     position: vec3<f32>,
-    _pad0: f32,
+    // 1 while the slot holds liquid (a nozzle's slots wait empty; a drain
+    // empties them).
+    alive: u32,
     velocity: vec3<f32>,
     _pad1: f32,
+}
+
+// A nozzle (hydrolux_core::fluid::Emitter): each step in first_step ..
+// end_step it writes its `points` mouth positions, moving at `velocity`,
+// into the next layer of its ring of `layers` layers from `first_slot`.
+struct Emitter {
+    velocity: vec3<f32>,
+    first_step: u32,
+    end_step: u32,
+    first_slot: u32,
+    layers: u32,
+    points: u32,
+    point_offset: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+// A box that takes the particles entering it.
+struct Drain {
+    min: vec3<f32>,
+    _pad0: f32,
+    max: vec3<f32>,
+    _pad1: f32,
+}
+
+const MAX_EMITTERS: u32 = 4u;
+const MAX_DRAINS: u32 = 4u;
+
+struct Sources {
+    emitter_count: u32,
+    drain_count: u32,
+    // Mouth points of all the nozzles.
+    point_count: u32,
+    _pad0: u32,
+    emitters: array<Emitter, MAX_EMITTERS>,
+    drains: array<Drain, MAX_DRAINS>,
+    points: array<vec4<f32>>,
 }
 
 // What the solve leaves for the next kernels and for the host to read.
@@ -75,11 +115,11 @@ const MAX_SPEED: f32 = 100.0;
 // Per face: known (extrapolation), twice; then per cell: 1 where a static
 // object fills it (solid); then per cell its flags for the solve (below).
 @group(0) @binding(4) var<storage, read_write> known: array<u32>;
-// Per cell: p, r, z, s, q, t (s's second copy).
+// Per cell: p, r, z, s, q, t (s's second copy); then per cell workgroup
+// a dot product's and two maxima's partials (the update's), then per cell
+// workgroup the apply's s·q.
 @group(0) @binding(5) var<storage, read_write> solve: array<f32>;
-// Per cell workgroup: a dot product's and two maxima's partials (the
-// update's), then per cell workgroup the apply's s·q.
-@group(0) @binding(6) var<storage, read_write> partials: array<f32>;
+@group(0) @binding(6) var<storage, read> sources: Sources;
 @group(0) @binding(7) var<storage, read_write> state: SolveState;
 // The conjugate-gradient kernels' indirect arguments (the reductions write them).
 @group(1) @binding(0) var<storage, read_write> args: array<u32>;
@@ -202,6 +242,28 @@ fn velocity_at(p: vec3<f32>, offset: u32) -> vec3<f32> {
     return vec3<f32>(sample(0u, p, offset), sample(1u, p, offset), sample(2u, p, offset));
 }
 
+// Each nozzle's layer for this step (before the splat): thread i writes
+// mouth point i of whichever nozzle holds it.
+@compute @workgroup_size(256)
+fn emit(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    if (i >= sources.point_count) {
+        return;
+    }
+    let step = state.steps;
+    for (var k = 0u; k < sources.emitter_count; k++) {
+        let e = sources.emitters[k];
+        if (i < e.point_offset || i >= e.point_offset + e.points) {
+            continue;
+        }
+        if (step >= e.first_step && step < e.end_step) {
+            let j = i - e.point_offset;
+            let slot = e.first_slot + ((step - e.first_step) % e.layers) * e.points + j;
+            particles[slot] = LiquidParticle(sources.points[i].xyz, 1u, e.velocity, 0.0);
+        }
+    }
+}
+
 @compute @workgroup_size(256)
 fn clear(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = linear(wid, nwg, lid);
@@ -213,7 +275,7 @@ fn clear(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: ve
 @compute @workgroup_size(256)
 fn splat(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = linear(wid, nwg, lid);
-    if (i >= params.particle_count) {
+    if (i >= params.particle_count || particles[i].alive == 0u) {
         return;
     }
     let p = particles[i].position;
@@ -350,9 +412,9 @@ fn reduce_group(group: u32, lid: u32, dot_value: f32, big: f32, div: f32) {
     div_part[lid] = div;
     tree_reduce(lid);
     if (lid == 0u) {
-        partials[3u * group] = dot_part[0];
-        partials[3u * group + 1u] = max_part[0];
-        partials[3u * group + 2u] = div_part[0];
+        solve[6u * params.cell_count + 3u * group] = dot_part[0];
+        solve[6u * params.cell_count + 3u * group + 1u] = max_part[0];
+        solve[6u * params.cell_count + 3u * group + 2u] = div_part[0];
     }
 }
 
@@ -454,9 +516,9 @@ fn reduce_partials(lid: u32) {
     var m = 0.0;
     var v = 0.0;
     for (var g = lid; g < params.cell_groups; g += WG) {
-        d += partials[3u * g];
-        m = max(m, partials[3u * g + 1u]);
-        v = max(v, partials[3u * g + 2u]);
+        d += solve[6u * params.cell_count + 3u * g];
+        m = max(m, solve[6u * params.cell_count + 3u * g + 1u]);
+        v = max(v, solve[6u * params.cell_count + 3u * g + 2u]);
     }
     dot_part[lid] = d;
     max_part[lid] = m;
@@ -524,7 +586,7 @@ fn apply_direction(i: u32, old: u32, next: u32, group: u32, lid: u32) {
     div_part[lid] = 0.0;
     tree_reduce(lid);
     if (lid == 0u) {
-        partials[SQ_PARTIALS * params.cell_groups + group] = dot_part[0];
+        solve[6u * params.cell_count + SQ_PARTIALS * params.cell_groups + group] = dot_part[0];
     }
 }
 
@@ -542,7 +604,7 @@ fn cg_apply_t_to_s(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
 fn sum_sq(lid: u32) -> f32 {
     var d = 0.0;
     for (var g = lid; g < params.cell_groups; g += WG) {
-        d += partials[SQ_PARTIALS * params.cell_groups + g];
+        d += solve[6u * params.cell_count + SQ_PARTIALS * params.cell_groups + g];
     }
     dot_part[lid] = d;
     max_part[lid] = 0.0;
@@ -699,7 +761,7 @@ fn extend_between(g: u32, src: u32, dst: u32, known_src: u32, known_dst: u32) {
 @compute @workgroup_size(256)
 fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = linear(wid, nwg, lid);
-    if (i >= params.particle_count) {
+    if (i >= params.particle_count || particles[i].alive == 0u) {
         return;
     }
     var p = particles[i].position;
@@ -717,5 +779,12 @@ fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
     let cell = clamp(vec3<i32>(floor((next - params.origin) / params.h)), vec3<i32>(0), vec3<i32>(params.cells) - vec3<i32>(1));
     if (!is_solid(cell)) {
         particles[i].position = next;
+    }
+    let at = particles[i].position;
+    for (var d = 0u; d < sources.drain_count; d++) {
+        let box = sources.drains[d];
+        if (all(at >= box.min) && all(at <= box.max)) {
+            particles[i].alive = 0u;
+        }
     }
 }

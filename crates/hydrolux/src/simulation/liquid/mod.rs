@@ -52,9 +52,75 @@ uniform! { LiquidParams;
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct LiquidParticle {
     pub position: [f32; 3],
-    pub _pad0: f32,
+    /// 1 while the slot holds liquid.
+    pub alive: u32,
     pub velocity: [f32; 3],
     pub _pad1: f32,
+}
+
+/// WGSL `Emitter`: a nozzle (`hydrolux_core::fluid::Emitter`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct EmitterRecord {
+    velocity: [f32; 3],
+    first_step: u32,
+    end_step: u32,
+    first_slot: u32,
+    layers: u32,
+    points: u32,
+    point_offset: u32,
+    _pad: [u32; 3],
+}
+
+/// WGSL `Drain`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct DrainRecord {
+    min: [f32; 3],
+    _pad0: f32,
+    max: [f32; 3],
+    _pad1: f32,
+}
+
+/// `MAX_EMITTERS`, `MAX_DRAINS` in liquid.wgsl (the scene allows as many).
+const MAX_EMITTERS: usize = hydrolux_core::scene::MAX_FLUID_NOZZLES;
+const MAX_DRAINS: usize = hydrolux_core::scene::MAX_FLUID_DRAINS;
+
+/// WGSL `Sources` as bytes: the counts, the nozzles, the drains, then
+/// every nozzle's mouth points.
+fn sources_bytes(start: &hydrolux_core::fluid::Liquid) -> Vec<u8> {
+    let mut emitters = [EmitterRecord::default(); MAX_EMITTERS];
+    let mut points: Vec<[f32; 4]> = Vec::new();
+    for (record, e) in emitters.iter_mut().zip(&start.emitters) {
+        let step = |s: u64| s.min(u32::MAX as u64) as u32;
+        *record = EmitterRecord {
+            velocity: e.velocity.map(|c| c as f32),
+            first_step: step(e.first_step),
+            end_step: step(e.end_step),
+            first_slot: e.first_slot as u32,
+            layers: e.layers as u32,
+            points: e.points.len() as u32,
+            point_offset: points.len() as u32,
+            _pad: [0; 3],
+        };
+        points.extend(e.points.iter().map(|p| [p[0] as f32, p[1] as f32, p[2] as f32, 0.0]));
+    }
+    let mut drains = [DrainRecord::default(); MAX_DRAINS];
+    for (record, [lo, hi]) in drains.iter_mut().zip(&start.drains) {
+        *record = DrainRecord {
+            min: lo.map(|c| c as f32),
+            max: hi.map(|c| c as f32),
+            ..Default::default()
+        };
+    }
+    let header = [start.emitters.len() as u32, start.drains.len() as u32, points.len() as u32, 0];
+    let mut bytes = bytemuck::cast_slice(&header).to_vec();
+    bytes.extend_from_slice(bytemuck::cast_slice(&emitters));
+    bytes.extend_from_slice(bytemuck::cast_slice(&drains));
+    // At least one point: a storage binding is never empty.
+    points.resize(points.len().max(1), [0.0; 4]);
+    bytes.extend_from_slice(bytemuck::cast_slice(&points));
+    bytes
 }
 
 /// WGSL `SolveState`: how the last step's pressure solve went.
@@ -91,6 +157,7 @@ fn groups(n: u32) -> (u32, u32) {
 }
 
 struct Pipelines {
+    emit: wgpu::ComputePipeline,
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
     faces: wgpu::ComputePipeline,
@@ -128,6 +195,8 @@ pub struct Liquid {
     pipelines: Pipelines,
     /// Clock steps followed since the start.
     clock_steps: u64,
+    /// Mouth points of all the nozzles (threads of `emit`).
+    emit_points: u32,
 }
 
 impl Liquid {
@@ -150,8 +219,14 @@ impl Liquid {
         let initial: Vec<LiquidParticle> = start
             .positions
             .iter()
-            .map(|p| LiquidParticle { position: p.map(|c| c as f32), ..Default::default() })
+            .zip(&start.alive)
+            .map(|(p, &alive)| LiquidParticle {
+                position: p.map(|c| c as f32),
+                alive: alive as u32,
+                ..Default::default()
+            })
             .collect();
+        let emit_points: u32 = start.emitters.iter().map(|e| e.points.len() as u32).sum();
         let (h, n) = desc.grid_shape();
         let cell_count = n[0] * n[1] * n[2];
         let face_dims = |a: usize| {
@@ -171,7 +246,10 @@ impl Liquid {
             ("face velocities (fluid.resolution)", 3 * face_count as u64 * 4),
             ("face and cell flags (fluid.resolution)", 2 * (face_count + cell_count) as u64 * 4),
             ("splat sums (fluid.resolution)", (2 * face_count + cell_count) as u64 * 4),
-            ("pressure solve (fluid.resolution)", 6 * cell_count as u64 * 4),
+            (
+                "pressure solve (fluid.resolution)",
+                (6 * cell_count as u64 + 4 * cell_groups as u64) * 4,
+            ),
         ];
         for (what, bytes) in sizes {
             if bytes > limit {
@@ -213,8 +291,17 @@ impl Liquid {
             2 * (face_count + cell_count) as u64 * 4,
             none,
         );
-        let solve = storage("liquid solve", 6 * cell_count as u64 * 4, none);
-        let partials = storage("liquid partials", 4 * cell_groups as u64 * 4, none);
+        let solve = storage(
+            "liquid solve and partial sums",
+            (6 * cell_count as u64 + 4 * cell_groups as u64) * 4,
+            none,
+        );
+        let sources = {
+            let bytes = sources_bytes(&start);
+            let buffer = storage("liquid sources", bytes.len() as u64, none);
+            shared.queue.write_buffer(&buffer, 0, &bytes);
+            buffer
+        };
         let state = storage("liquid solve state", 32, none);
         let args = storage("liquid solve arguments", 16, wgpu::BufferUsages::INDIRECT);
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -227,7 +314,7 @@ impl Liquid {
                 storage_entry(3, cs, false),
                 storage_entry(4, cs, false),
                 storage_entry(5, cs, false),
-                storage_entry(6, cs, false),
+                storage_entry(6, cs, true),
                 storage_entry(7, cs, false),
             ],
         });
@@ -248,7 +335,7 @@ impl Liquid {
                 entry(3, &faces_buffer),
                 entry(4, &known),
                 entry(5, &solve),
-                entry(6, &partials),
+                entry(6, &sources),
                 entry(7, &state),
             ],
         });
@@ -261,6 +348,7 @@ impl Liquid {
         let plain = |e: &str| compute_pipeline(device, e, &module, e, &[&layout]);
         let reduce = |e: &str| compute_pipeline(device, e, &module, e, &[&layout, &args_layout]);
         let pipelines = Pipelines {
+            emit: plain("emit"),
             clear: plain("clear"),
             splat: plain("splat"),
             faces: plain("faces_from_particles"),
@@ -296,6 +384,7 @@ impl Liquid {
             args_group,
             pipelines,
             clock_steps: 0,
+            emit_points,
         };
         liquid.write_start(&shared.queue);
         Ok(Some(liquid))
@@ -357,6 +446,9 @@ impl Liquid {
         for _ in 0..steps {
             {
                 let mut pass = begin(encoder, "liquid to grid", timer.as_deref_mut());
+                if self.emit_points > 0 {
+                    run(&mut pass, &p.emit, groups(self.emit_points));
+                }
                 run(&mut pass, &p.clear, clear);
                 run(&mut pass, &p.splat, particles);
                 run(&mut pass, &p.faces, faces);
@@ -456,6 +548,12 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
                 source(),
                 std::mem::size_of::<SolveState>(),
             ),
+            crate::uniforms::Layout::sized(
+                "Emitter",
+                source(),
+                std::mem::size_of::<EmitterRecord>(),
+            ),
+            crate::uniforms::Layout::sized("Drain", source(), std::mem::size_of::<DrainRecord>()),
         ]
     },
 };

@@ -18,7 +18,7 @@ struct PointsParams {
 
 struct LiquidParticle {
     position: vec3<f32>,
-    _pad0: f32,
+    alive: u32,
     velocity: vec3<f32>,
     _pad1: f32,
 }
@@ -54,6 +54,10 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
     let world = p.position + right * c.x + up * c.y - forward * r;
     var out: VertexOut;
     out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
+    if (p.alive == 0u) {
+        // An empty slot: behind the far plane, clipped.
+        out.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
+    }
     out.world = world;
     out.centre = p.position;
     out.speed = length(p.velocity);

@@ -21,6 +21,7 @@ pub(crate) const DUMPS: &[DumpKind] = &[
 /// The liquid as the GPU holds it after a step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LiquidReadback {
+    /// The particles holding liquid (empty slots left out).
     pub particles: Vec<LiquidParticle>,
     /// How the last step's pressure solve went.
     pub solve: SolveState,
@@ -55,7 +56,10 @@ impl Liquid {
             &self.particles,
             u.particle_count as u64 * 32,
         ))
-        .to_vec();
+        .iter()
+        .filter(|p: &&LiquidParticle| p.alive != 0)
+        .copied()
+        .collect();
         let solve: SolveState =
             *bytemuck::from_bytes(&read_buffer(device, queue, &self.state, 32)[..32]);
         let accum: Vec<i32> =
