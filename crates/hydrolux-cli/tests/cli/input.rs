@@ -193,6 +193,27 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
             &["render", "--scene", "dam_break", "--set", "fluid.gravity=[nan,0,0]"],
             "`fluid.gravity` = [NaN, 0.0, 0.0] is out of range",
         ),
+        // A jet faster than a cell a step; a nozzle running backwards in time.
+        (
+            &[
+                "render",
+                "--scene",
+                "pour",
+                "--set",
+                "fluid.sources=[{kind=\"nozzle\",position=[0,0.2,0],speed=50}]",
+            ],
+            "`fluid.sources[0].speed` = 50 is out of range: must be over 0 and at most a cell a step",
+        ),
+        (
+            &[
+                "render",
+                "--scene",
+                "pour",
+                "--set",
+                "fluid.sources=[{kind=\"nozzle\",position=[0,0.2,0],start=2,end=1}]",
+            ],
+            "`fluid.sources[0].end` = 1 is out of range: must be after start = 2 s",
+        ),
         (&["render", "--view", "fluid"], "it shows the volumetric liquid, and the scene has none"),
         (
             &[

@@ -17,6 +17,7 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     BuiltinScene { name: "underwater", toml: include_str!("../../../../scenes/underwater.toml") },
     BuiltinScene { name: "wake", toml: include_str!("../../../../scenes/wake.toml") },
     BuiltinScene { name: "dam_break", toml: include_str!("../../../../scenes/dam_break.toml") },
+    BuiltinScene { name: "pour", toml: include_str!("../../../../scenes/pour.toml") },
     BuiltinScene {
         name: "water_dragon",
         toml: include_str!("../../../../scenes/water_dragon.toml"),

@@ -393,7 +393,7 @@ impl FluidDesc {
                     "must be 0 or more seconds",
                 )?;
                 // inf (for ever) is allowed here, unlike the other keys.
-                if !(s.end > s.start) {
+                if s.end.is_nan() || s.end <= s.start {
                     return Err(SceneError::OutOfRange {
                         key: key("end"),
                         value: s.end.to_string(),
