@@ -71,7 +71,11 @@ for (const [i, scene] of scenes.entries()) {
 // pulled ball). Any console error fails the scene (the pool once crashed on
 // its second frame: a blocking readback a browser cannot do). A faster clock
 // only made each frame step more water: 20× took ten minutes for the lot.
-const PLAY_SECONDS = 0.9, PLAY_SCALE = 3;
+// The volumetric liquid's scenes (named in $LIQUID_SCENES) play
+// PLAY_SECONDS_LIQUID: SwiftShader takes about a second a liquid step, and
+// 0.3 s is still dozens of steps over several frames.
+const PLAY_SECONDS = 0.9, PLAY_SECONDS_LIQUID = 0.3, PLAY_SCALE = 3;
+const liquidScenes = new Set((process.env.LIQUID_SCENES || "").split(",").filter((s) => s));
 for (const entry of report) {
   if (entry.state.error) break;
   const scene = entry.scene;
@@ -80,6 +84,7 @@ for (const entry of report) {
   await page.evaluate((s) => window.hydrolux_show(s), scene);
   await page.waitForFunction((s) => window.hydrolux.scene === s, scene, { timeout: 240000, polling: 100 });
   const startTime = await page.evaluate(() => window.hydrolux.time);
+  const wanted = liquidScenes.has(scene) ? PLAY_SECONDS_LIQUID : PLAY_SECONDS;
   await page.evaluate((k) => window.hydrolux_play(k), PLAY_SCALE);
   let played = null;
   try {
@@ -93,13 +98,13 @@ for (const entry of report) {
     await page.mouse.up();
     await page.waitForFunction(
       (t) => window.hydrolux && (window.hydrolux.error || window.hydrolux.time >= t),
-      startTime + PLAY_SECONDS, { timeout: 300000, polling: 250 });
+      startTime + wanted, { timeout: 300000, polling: 250 });
   } catch (e) {
     errors.push(`timed out running: ${e.message.split("\n")[0]}`);
   }
   played = await page.evaluate(() => ({ time: window.hydrolux.time, frames: window.hydrolux.scene_frames, error: window.hydrolux.error }));
   await page.evaluate(() => window.hydrolux_play(0));
-  entry.played = { ...played, advanced: played.time - startTime, wanted: PLAY_SECONDS, errors, seconds: (Date.now() - started) / 1000 };
+  entry.played = { ...played, advanced: played.time - startTime, wanted, errors, seconds: (Date.now() - started) / 1000 };
   console.log(`${scene} running: ${JSON.stringify(entry.played)}`);
   if (played.error) break;
 }

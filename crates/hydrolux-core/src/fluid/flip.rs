@@ -22,6 +22,9 @@ pub struct LiquidSettings {
     /// The largest |∇·u| the projection leaves (1/s), and its iteration cap.
     pub tolerance: f64,
     pub max_iterations: usize,
+    /// Kinematic viscosity ν (m²/s): water's is 1e-6, too small to matter
+    /// on these grids; honey's about 1e-2. Explicit, so ν·dt/h² ≤ 1/6.
+    pub viscosity: f64,
 }
 
 impl Default for LiquidSettings {
@@ -32,6 +35,7 @@ impl Default for LiquidSettings {
             flip: 0.95,
             tolerance: 1e-6,
             max_iterations: 2000,
+            viscosity: 0.0,
         }
     }
 }
@@ -191,6 +195,7 @@ impl Liquid {
             let dv = self.settings.gravity[a] * dt;
             self.grid.vel[a].iter_mut().for_each(|v| *v += dv);
         }
+        self.diffuse(dt);
         let s = self.settings;
         self.last = Some(project(&mut self.grid, dt, s.density, s.tolerance, s.max_iterations));
         self.extrapolate();
@@ -234,6 +239,48 @@ impl Liquid {
             let c = self.grid.cell(x, y, z);
             if self.grid.cells[c] != Cell::Solid {
                 self.grid.cells[c] = Cell::Liquid;
+            }
+        }
+    }
+
+    /// Viscosity (the momentum equation's ν∇²u), one explicit step on the
+    /// liquid's faces: each face's 7-point Laplacian over its own axis's
+    /// faces, a neighbour on a solid wall counting 0 (no slip through it),
+    /// one beyond the domain or in the air counting as the face itself
+    /// (free slip along a wall, no stress at the free surface).
+    fn diffuse(&mut self, dt: f64) {
+        let nu = self.settings.viscosity;
+        if nu <= 0.0 {
+            return;
+        }
+        self.grid.enforce_walls();
+        let k = nu * dt / (self.grid.h * self.grid.h);
+        for a in 0..3 {
+            let m = self.grid.face_dims(a);
+            let vel = self.grid.vel[a].clone();
+            for f in 0..vel.len() {
+                let c = [f % m[0], (f / m[0]) % m[1], f / (m[0] * m[1])];
+                if !self.face_valid(a, c) {
+                    continue;
+                }
+                let own = vel[f];
+                let mut laplacian = 0.0;
+                for b in 0..3 {
+                    for side in [-1i64, 1] {
+                        let q = c[b] as i64 + side;
+                        if q < 0 || q >= m[b] as i64 {
+                            continue;
+                        }
+                        let mut d = c;
+                        d[b] = q as usize;
+                        if self.grid.face_solid(a, d[0], d[1], d[2]) {
+                            laplacian -= own;
+                        } else if self.face_valid(a, d) {
+                            laplacian += vel[self.grid.face(a, d[0], d[1], d[2])] - own;
+                        }
+                    }
+                }
+                self.grid.vel[a][f] = own + k * laplacian;
             }
         }
     }

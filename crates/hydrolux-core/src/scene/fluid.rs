@@ -103,6 +103,10 @@ pub struct FluidDesc {
     /// The FLIP share of a particle's new velocity (0 = PIC, smooth and
     /// dissipative, to 1 = pure FLIP, lively and noisy); 0 to 1.
     pub flip: f32,
+    /// Kinematic viscosity (m²/s): 0 (water's 1e-6 is below what these
+    /// grids resolve) up to what one explicit step a substep holds,
+    /// ν·step/cell² ≤ 1/6.
+    pub viscosity: f32,
     /// Liquid steps per 120 Hz clock step (1 to 16): more for faster flow
     /// on finer grids (keep a step's travel under a cell).
     pub substeps: u32,
@@ -128,6 +132,7 @@ impl Default for FluidDesc {
             particles_per_cell: 8,
             gravity: [0.0, -9.81, 0.0],
             flip: 0.95,
+            viscosity: 0.0,
             substeps: 2,
             tolerance: 1e-3,
             iterations: 200,
@@ -171,6 +176,7 @@ impl FluidDesc {
             flip: self.flip as f64,
             tolerance: self.tolerance as f64,
             max_iterations: self.iterations as usize,
+            viscosity: self.viscosity as f64,
         }
     }
 
@@ -320,6 +326,16 @@ impl FluidDesc {
                 allowed: "must be 1 to 16 steps per 120 Hz clock step".into(),
             });
         }
+        let (h, _) = f.grid_shape();
+        let most = (h as f64).powi(2) / (6.0 * f.step_seconds());
+        range(
+            "fluid.viscosity",
+            f.viscosity,
+            f.viscosity >= 0.0 && f.viscosity as f64 <= most,
+            &format!(
+                "must be 0 to {most:.3e} m²/s here (ν·step/cell² ≤ 1/6; raise fluid.substeps for more)"
+            ),
+        )?;
         range(
             "fluid.tolerance",
             f.tolerance,
@@ -343,7 +359,6 @@ impl FluidDesc {
         let mut particles = 0u64;
         let mut nozzle_points = 0u64;
         let per_cell = f.particles_per_cell as u64;
-        let (h, _) = f.grid_shape();
         let inside_domain = |key: String, v: [f32; 3]| -> Result<(), SceneError> {
             vec3_range(&key, v, WORLD_EXTENT_M, &within)?;
             if (0..3).any(|a| v[a] < f.min[a] || v[a] > f.max[a]) {

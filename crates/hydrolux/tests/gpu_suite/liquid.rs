@@ -27,15 +27,17 @@ fn max_distance(a: &[[f32; 3]], b: &[[f64; 3]]) -> f64 {
 }
 
 /// A collapsing column for 0.1 s (12 steps) on the GPU and on the CPU twin
-/// (f64, the same transfers and solve), in the open tank and with a box
-/// standing in its way (a solid): every particle where the twin has it to
-/// a millimetre, with the solve meeting its residual.
+/// (f64, the same transfers and solve), in the open tank, with a box
+/// standing in its way (a solid), and as a viscous liquid (ν = 5e-3 m²/s):
+/// every particle where the twin has it to a millimetre, with the solve
+/// meeting its residual.
 #[test]
 fn a_collapsing_column_follows_its_cpu_twin() {
     use hydrolux::core::scene::{ObjectDesc, Primitive};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
-    for obstacle in [false, true] {
+    for (obstacle, viscosity) in [(false, 0.0), (true, 0.0), (false, 5e-3)] {
         let mut s = tank([0.0, 0.0, 0.0], [0.1, 0.2, 0.1]);
+        s.fluid.viscosity = viscosity;
         if obstacle {
             s.objects = vec![ObjectDesc {
                 primitive: Primitive::Box,
@@ -60,7 +62,10 @@ fn a_collapsing_column_follows_its_cpu_twin() {
         assert_eq!(gpu.solve.steps as usize, steps);
         let positions: Vec<[f32; 3]> = gpu.particles.iter().map(|p| p.position).collect();
         let apart = max_distance(&positions, &twin.positions);
-        assert!(apart < 1e-3, "obstacle {obstacle}: a particle is {apart} m from the twin's");
+        assert!(
+            apart < 1e-3,
+            "obstacle {obstacle}, ν {viscosity}: a particle is {apart} m from the twin's"
+        );
         // It moved: the column is falling and spreading.
         let start = s.fluid.initial(&s.objects);
         let moved = max_distance(&positions, &start.positions);

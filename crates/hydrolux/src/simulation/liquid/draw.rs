@@ -50,9 +50,14 @@ impl PointsDraw {
         let (vs, fs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("liquid points"),
-            entries: &[uniform_entry(0, vs | fs), storage_entry(1, vs, true)],
+            entries: &[storage_entry(0, vs | fs, true), storage_entry(1, vs, true)],
         });
-        let params = uniform_buffer(device, "liquid points", &PointsUniforms::default());
+        let params = storage_buffer(
+            device,
+            "liquid points",
+            std::mem::size_of::<PointsUniforms>() as u64,
+            wgpu::BufferUsages::empty(),
+        );
         let module = shader(device, "liquid points", &source());
         let pipeline_layout =
             pipeline_layout(device, "liquid points", &[&shared.layouts.globals, &layout]);

@@ -35,7 +35,8 @@ struct LiquidParams {
     tolerance: f32,
     flip: f32,
     density: f32,
-    _pad0: u32,
+    // Kinematic viscosity (m²/s; 0: none).
+    viscosity: f32,
     _pad1: u32,
 }
 
@@ -314,6 +315,54 @@ fn faces_from_particles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_work
         v = 0.0;
     }
     faces[g] = v;
+}
+
+// Viscosity, one explicit step of ν∇²u on the liquid's faces into the
+// spare copy (twin: Liquid::diffuse): a neighbour face on a solid counts 0,
+// one beyond the domain or in the air counts as the face itself.
+fn liquid_face(face: vec4<u32>) -> bool {
+    return !face_solid(face) && (is_liquid(low_cell(face)) || is_liquid(vec3<i32>(face.xyz)));
+}
+
+@compute @workgroup_size(256)
+fn diffuse(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = linear(wid, nwg, lid);
+    if (g >= params.face_count) {
+        return;
+    }
+    let face = face_of(g);
+    let own = faces[g];
+    var next = own;
+    if (liquid_face(face)) {
+        let a = face.w;
+        let m = vec3<i32>(face_dims(a));
+        var laplacian = 0.0;
+        for (var b = 0u; b < 3u; b++) {
+            for (var side = -1; side <= 1; side += 2) {
+                var d = vec3<i32>(face.xyz);
+                d[b] += side;
+                if (d[b] < 0 || d[b] >= m[b]) {
+                    continue;
+                }
+                let other = vec4<u32>(vec3<u32>(d), a);
+                if (face_solid(other)) {
+                    laplacian -= own;
+                } else if (liquid_face(other)) {
+                    laplacian += faces[face_index(a, vec3<u32>(d))] - own;
+                }
+            }
+        }
+        next = own + params.viscosity * params.dt / (params.h * params.h) * laplacian;
+    }
+    faces[2u * params.face_count + g] = next;
+}
+
+@compute @workgroup_size(256)
+fn diffuse_back(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = linear(wid, nwg, lid);
+    if (g < params.face_count) {
+        faces[g] = faces[2u * params.face_count + g];
+    }
 }
 
 fn divergence(c: vec3<u32>) -> f32 {

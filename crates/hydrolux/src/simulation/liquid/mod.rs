@@ -42,7 +42,7 @@ uniform! { LiquidParams;
         pub tolerance: f32,
         pub flip: f32,
         pub density: f32,
-        pub _pad0: u32,
+        pub viscosity: f32,
         pub _pad1: u32,
     }
 }
@@ -161,6 +161,8 @@ struct Pipelines {
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
     faces: wgpu::ComputePipeline,
+    diffuse: wgpu::ComputePipeline,
+    diffuse_back: wgpu::ComputePipeline,
     solve_begin: wgpu::ComputePipeline,
     reduce_begin: wgpu::ComputePipeline,
     /// The conjugate-gradient loop's even and odd iterations (the search
@@ -275,7 +277,7 @@ impl Liquid {
             tolerance: desc.tolerance,
             flip: desc.flip,
             density: start.settings.density as f32,
-            _pad0: 0,
+            viscosity: desc.viscosity,
             _pad1: 0,
         };
         let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
@@ -352,6 +354,8 @@ impl Liquid {
             clear: plain("clear"),
             splat: plain("splat"),
             faces: plain("faces_from_particles"),
+            diffuse: plain("diffuse"),
+            diffuse_back: plain("diffuse_back"),
             solve_begin: plain("solve_begin"),
             reduce_begin: reduce("reduce_begin"),
             cg_apply: [plain("cg_apply_s_to_t"), plain("cg_apply_t_to_s")],
@@ -452,6 +456,10 @@ impl Liquid {
                 run(&mut pass, &p.clear, clear);
                 run(&mut pass, &p.splat, particles);
                 run(&mut pass, &p.faces, faces);
+                if u.viscosity > 0.0 {
+                    run(&mut pass, &p.diffuse, faces);
+                    run(&mut pass, &p.diffuse_back, faces);
+                }
             }
             {
                 let mut pass = begin(encoder, "liquid pressure", timer.as_deref_mut());

@@ -23,7 +23,10 @@ struct LiquidParticle {
     _pad1: f32,
 }
 
-@group(1) @binding(0) var<uniform> params: PointsParams;
+// A storage buffer, not a uniform one: Mesa's lavapipe inlines a small
+// uniform buffer's values into the shaders that branch on them and keeps a
+// compiled copy per draw (about 1 MB a frame; tests/memory.rs).
+@group(1) @binding(0) var<storage, read> params: PointsParams;
 @group(1) @binding(1) var<storage, read> particles: array<LiquidParticle>;
 
 struct VertexOut {
