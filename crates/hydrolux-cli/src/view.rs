@@ -89,10 +89,11 @@ impl Viewer {
                 self.args.size.height,
             ));
         let window = Arc::new(event_loop.create_window(attrs).context("cannot open a window")?);
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
-                Box::new(event_loop.owned_display_handle()),
-            ));
+        let mut descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
+            event_loop.owned_display_handle(),
+        ));
+        descriptor.flags = hydrolux::context::instance_flags(descriptor.flags);
+        let instance = wgpu::Instance::new(descriptor);
         let surface = instance
             .create_surface(window.clone())
             .context("cannot create a drawing surface for the window")?;

@@ -23,6 +23,20 @@ pub enum ContextError {
     Device(String),
 }
 
+/// The instance flags Hydrolux's own devices use: wgpu's, less its
+/// validation of indirect calls (which adds a dispatch before every one:
+/// about a fifth of the liquid's step on lavapipe) unless
+/// WGPU_VALIDATION_INDIRECT_CALL asks for it. Every indirect call Hydrolux
+/// records has arguments its own kernels write within the limits: the
+/// liquid's solve (its cells' workgroups in rows, `set_running`) and the
+/// white water's particles (at most 65535 workgroups, its capacity).
+pub fn instance_flags(flags: wgpu::InstanceFlags) -> wgpu::InstanceFlags {
+    if std::env::var_os("WGPU_VALIDATION_INDIRECT_CALL").is_some() {
+        return flags;
+    }
+    flags - wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL
+}
+
 /// Check `WGPU_BACKEND` (which wgpu would silently ignore when it names no
 /// backend); its value, when set.
 pub fn backend_from_env() -> Result<Option<String>, ContextError> {
@@ -78,6 +92,7 @@ impl GpuContext {
             None => backend_from_env()?,
         };
         let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        descriptor.flags = instance_flags(descriptor.flags);
         if let Some(b) = backends {
             descriptor.backends = b;
         }

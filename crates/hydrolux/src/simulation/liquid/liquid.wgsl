@@ -575,10 +575,17 @@ fn reduce_partials(lid: u32) {
     tree_reduce(lid);
 }
 
+// Workgroups per row of a two-dimensional dispatch (`ROW` in mod.rs: under
+// the 65535 a dimension may have).
+const ROW: u32 = 32768u;
+
+// The loop's indirect arguments: the cells' workgroups, in rows of ROW as
+// the direct dispatches have them, or none once the solve stops.
 fn set_running(running: bool) {
     state.running = u32(running);
-    args[0] = select(0u, params.cell_groups, running);
-    args[1] = 1u;
+    let groups = params.cell_groups;
+    args[0] = select(0u, min(groups, ROW), running);
+    args[1] = (groups + ROW - 1u) / ROW;
     args[2] = 1u;
 }
 

@@ -247,7 +247,9 @@ impl Whitewater {
         let limit = device.limits().max_storage_buffer_binding_size;
         let per_slot = std::mem::size_of::<Particle>() as u64;
         let capacity = if w.particles {
-            (w.budget as u64).min(limit / per_slot).min(limit / 20) as u32
+            // …and its indirect dispatches (64 a workgroup) within the
+            // 65535 workgroups a dimension may have.
+            (w.budget as u64).min(limit / per_slot).min(limit / 20).min(65_535 * 64) as u32
         } else {
             1
         };
