@@ -193,6 +193,10 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
             &["render", "--scene", "dam_break", "--set", "fluid.gravity=[nan,0,0]"],
             "`fluid.gravity` = [NaN, 0.0, 0.0] is out of range",
         ),
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.open=[\"top\"]"],
+            "`fluid.open` = \"top\" is out of range: each must be one of -x, +x, -y, +y, -z, +z",
+        ),
         // A jet faster than a cell a step; a nozzle running backwards in time.
         (
             &[

@@ -358,8 +358,9 @@ impl Liquid {
     }
 
     /// Move the particles through the grid's velocity (midpoint rule),
-    /// kept a hair inside the walls; a particle whose move would end in a
-    /// solid cell stays where it was; one that ends in a drain is gone.
+    /// kept a hair inside the closed walls; a particle whose move would end
+    /// in a solid cell stays where it was; one that ends in a drain or
+    /// beyond an open side is gone.
     fn advect(&mut self, dt: f64) {
         let margin = 1e-3 * self.grid.h;
         for n in 0..self.positions.len() {
@@ -371,11 +372,19 @@ impl Liquid {
             let u = g.velocity(p);
             let mid = [0, 1, 2].map(|a| p[a] + 0.5 * dt * u[a]);
             let u = g.velocity(mid);
+            // Kept inside the closed sides; through an open one it leaves.
             let next = [0, 1, 2].map(|a| {
                 let lo = g.origin[a] + margin;
                 let hi = g.origin[a] + g.n[a] as f64 * g.h - margin;
-                (p[a] + dt * u[a]).clamp(lo, hi)
+                let v = p[a] + dt * u[a];
+                let v = if g.open[a][0] { v } else { v.max(lo) };
+                if g.open[a][1] { v } else { v.min(hi) }
             });
+            if (0..3).any(|a| next[a] < g.origin[a] || next[a] > g.origin[a] + g.n[a] as f64 * g.h)
+            {
+                self.alive[n] = false;
+                continue;
+            }
             let [x, y, z] = self.cell_of(next);
             if self.grid.cells[self.grid.cell(x, y, z)] != Cell::Solid {
                 self.positions[n] = next;

@@ -23,6 +23,9 @@ pub struct MacGrid {
     /// Pressure (Pa) per cell (0 in air).
     pub pressure: Vec<f64>,
     pub cells: Vec<Cell>,
+    /// Which of the domain's sides are open, per axis low and high: beyond
+    /// an open side is air (p = 0), and particles crossing it leave.
+    pub open: [[bool; 2]; 3],
 }
 
 impl MacGrid {
@@ -41,6 +44,7 @@ impl MacGrid {
             vel: [vec![0.0; faces(0)], vec![0.0; faces(1)], vec![0.0; faces(2)]],
             pressure: vec![0.0; count],
             cells: vec![Cell::Air; count],
+            open: [[false; 2]; 3],
         }
     }
 
@@ -64,10 +68,21 @@ impl MacGrid {
         m
     }
 
-    /// The cell at integer coordinates that may lie outside: outside is solid.
+    /// The cell at integer coordinates that may lie outside: outside is
+    /// solid (a closed wall) or air (beyond an open side).
     pub fn cell_at(&self, c: [i64; 3]) -> Cell {
-        if (0..3).any(|a| c[a] < 0 || c[a] >= self.n[a] as i64) {
-            return Cell::Solid;
+        let beyond = |a: usize| {
+            if c[a] < 0 {
+                Some(self.open[a][0])
+            } else if c[a] >= self.n[a] as i64 {
+                Some(self.open[a][1])
+            } else {
+                None
+            }
+        };
+        let sides: Vec<bool> = (0..3).filter_map(beyond).collect();
+        if !sides.is_empty() {
+            return if sides.iter().all(|o| *o) { Cell::Air } else { Cell::Solid };
         }
         self.cells[self.cell(c[0] as usize, c[1] as usize, c[2] as usize)]
     }

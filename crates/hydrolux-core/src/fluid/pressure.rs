@@ -147,7 +147,11 @@ pub fn project(
                     if cl != Cell::Liquid && ch != Cell::Liquid {
                         continue;
                     }
+                    // Beyond an open side: air, p = 0.
                     let at = |c: [i64; 3]| {
+                        if (0..3).any(|a| c[a] < 0 || c[a] >= grid.n[a] as i64) {
+                            return 0.0;
+                        }
                         grid.pressure[grid.cell(c[0] as usize, c[1] as usize, c[2] as usize)]
                     };
                     let f = grid.face(a, i, j, k);

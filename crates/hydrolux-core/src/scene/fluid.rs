@@ -12,6 +12,9 @@ use serde::{Deserialize, Serialize};
 /// what every device binds.
 pub const MAX_FLUID_CELLS: u64 = 1 << 24;
 
+/// The names of the domain's sides (`fluid.open`), per axis low then high.
+pub const OPEN_SIDES: [&str; 6] = ["-x", "+x", "-y", "+y", "-z", "+z"];
+
 /// The clock's memory (s) with a liquid: its longest. Times under twice
 /// this are simulated from the start; later ones from a restart of the
 /// sources at the clock's origin (`clock.rs`).
@@ -117,6 +120,9 @@ pub struct FluidDesc {
     /// Most particles at once (1 to 16777216; the device's buffer limits
     /// may allow fewer).
     pub budget: u32,
+    /// The domain's open sides ("-x", "+x", "-y", "+y", "-z", "+z"): beyond
+    /// them is air, and the liquid leaves through them; the rest are walls.
+    pub open: Vec<String>,
     /// How it is drawn: "points" or "none".
     pub surface: FluidSurface,
     /// Where the liquid starts; no sources, no liquid.
@@ -137,6 +143,7 @@ impl Default for FluidDesc {
             tolerance: 1e-3,
             iterations: 200,
             budget: 1 << 20,
+            open: Vec::new(),
             surface: FluidSurface::Points,
             sources: Vec::new(),
         }
@@ -187,6 +194,7 @@ impl FluidDesc {
     pub fn initial(&self, objects: &[ObjectDesc]) -> Liquid {
         let (h, n) = self.grid_shape();
         let mut grid = MacGrid::new(n.map(|c| c as usize), h as f64, self.min.map(f64::from));
+        grid.open = self.open_sides();
         let solids: Vec<(glam::Mat4, Primitive)> = objects
             .iter()
             .filter(|o| is_fluid_solid(o))
@@ -241,6 +249,15 @@ impl FluidDesc {
             liquid.add_emitter(points, velocity, first..end, layers);
         }
         liquid
+    }
+
+    /// Which sides are open, per axis low and high.
+    pub fn open_sides(&self) -> [[bool; 2]; 3] {
+        let mut open = [[false; 2]; 3];
+        for (k, name) in OPEN_SIDES.iter().enumerate() {
+            open[k / 2][k % 2] = self.open.iter().any(|s| s == name);
+        }
+        open
     }
 
     /// A particle's share of the liquid (m³): a cell over its particles.
@@ -324,6 +341,13 @@ impl FluidDesc {
                 key: "fluid.substeps".into(),
                 value: f.substeps.to_string(),
                 allowed: "must be 1 to 16 steps per 120 Hz clock step".into(),
+            });
+        }
+        if let Some(bad) = f.open.iter().find(|s| !OPEN_SIDES.contains(&s.as_str())) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.open".into(),
+                value: format!("{bad:?}"),
+                allowed: format!("each must be one of {}", OPEN_SIDES.join(", ")),
             });
         }
         let (h, _) = f.grid_shape();

@@ -104,6 +104,10 @@ fn check_against_schema(
     Ok(())
 }
 
+/// Keys whose value is a list of names of any length (every other array
+/// is a fixed number of numbers, as its default has).
+const STRING_LISTS: [&str; 1] = ["fluid.open"];
+
 /// The schema of one entry of a top-level array of tables, by its name.
 fn array_schema(name: &str) -> Option<Table> {
     let table = |t: Result<Table, _>| t.expect("a default entry serialises");
@@ -182,6 +186,13 @@ fn check_value(
         (Value::Float(_), Value::Integer(i)) => {
             *v = Value::Float(*i as f64);
             Ok(())
+        }
+        (Value::Array(_), Value::Array(a)) if STRING_LISTS.contains(&path) => {
+            if a.iter().all(|item| matches!(item, Value::String(_))) {
+                Ok(())
+            } else {
+                Err(wrong(v, "an array of strings".into()))
+            }
         }
         (Value::Array(e), Value::Array(a)) => {
             if a.len() != e.len() {

@@ -234,3 +234,11 @@ fn a_file_with_one_section_gets_defaults_for_the_rest() {
     assert_eq!(s.sun.elevation_deg, 10.0);
     assert_eq!(s.ocean, super::super::OceanDesc::default());
 }
+
+#[test]
+fn fluid_open_sides_are_a_list_of_names() {
+    let s = Scene::load("dam_break", &["fluid.open=[\"+x\", \"-y\"]".into()]).expect("valid");
+    assert_eq!(s.fluid.open_sides(), [[false, true], [true, false], [false, false]]);
+    let err = Scene::load("dam_break", &["fluid.open=[1]".into()]).unwrap_err().to_string();
+    assert!(err.contains("an array of strings"), "{err}");
+}

@@ -37,7 +37,8 @@ struct LiquidParams {
     density: f32,
     // Kinematic viscosity (m²/s; 0: none).
     viscosity: f32,
-    _pad1: u32,
+    // Bit 2a + side set: the domain's side (axis a, low 0 / high 1) is open.
+    open_sides: u32,
 }
 
 struct LiquidParticle {
@@ -155,17 +156,32 @@ fn inside(c: vec3<i32>) -> bool {
     return all(c >= vec3<i32>(0)) && all(c < vec3<i32>(params.cells));
 }
 
-// Cells outside the domain (closed walls) and those a static object fills
-// are solid; any other cell holding a particle is liquid.
+// Whether a cell outside the domain lies beyond open sides only (air).
+fn beyond_open(c: vec3<i32>) -> bool {
+    let n = vec3<i32>(params.cells);
+    for (var a = 0u; a < 3u; a++) {
+        if (c[a] < 0 && (params.open_sides & (1u << (2u * a))) == 0u) {
+            return false;
+        }
+        if (c[a] >= n[a] && (params.open_sides & (2u << (2u * a))) == 0u) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Cells outside the domain are solid (closed walls) or air (beyond open
+// sides); those a static object fills are solid; any other cell holding a
+// particle is liquid.
 fn is_solid(c: vec3<i32>) -> bool {
     if (!inside(c)) {
-        return true;
+        return !beyond_open(c);
     }
     return known[2u * params.face_count + cell_index(vec3<u32>(c))] != 0u;
 }
 
 fn is_liquid(c: vec3<i32>) -> bool {
-    if (is_solid(c)) {
+    if (!inside(c) || is_solid(c)) {
         return false;
     }
     return atomicLoad(&accum[2u * params.face_count + cell_index(vec3<u32>(c))]) > 0;
@@ -831,7 +847,21 @@ fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
     let margin = 1e-3 * params.h;
     let lo = params.origin + vec3<f32>(margin);
     let hi = params.origin + vec3<f32>(params.cells) * params.h - vec3<f32>(margin);
-    let next = clamp(p + params.dt * u, lo, hi);
+    // Kept inside the closed sides; through an open one it leaves.
+    var next = p + params.dt * u;
+    for (var a = 0u; a < 3u; a++) {
+        if ((params.open_sides & (1u << (2u * a))) == 0u) {
+            next[a] = max(next[a], lo[a]);
+        }
+        if ((params.open_sides & (2u << (2u * a))) == 0u) {
+            next[a] = min(next[a], hi[a]);
+        }
+    }
+    let top = params.origin + vec3<f32>(params.cells) * params.h;
+    if (any(next < params.origin) || any(next > top)) {
+        particles[i].alive = 0u;
+        return;
+    }
     let cell = clamp(vec3<i32>(floor((next - params.origin) / params.h)), vec3<i32>(0), vec3<i32>(params.cells) - vec3<i32>(1));
     if (!is_solid(cell)) {
         particles[i].position = next;

@@ -43,7 +43,7 @@ uniform! { LiquidParams;
         pub flip: f32,
         pub density: f32,
         pub viscosity: f32,
-        pub _pad1: u32,
+        pub open_sides: u32,
     }
 }
 
@@ -278,7 +278,13 @@ impl Liquid {
             flip: desc.flip,
             density: start.settings.density as f32,
             viscosity: desc.viscosity,
-            _pad1: 0,
+            open_sides: desc
+                .open_sides()
+                .iter()
+                .flatten()
+                .enumerate()
+                .map(|(k, open)| (*open as u32) << k)
+                .sum(),
         };
         let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
             storage_buffer(device, label, size, extra)
