@@ -265,19 +265,11 @@ impl Liquid {
                 }
                 let own = vel[f];
                 let mut laplacian = 0.0;
-                for b in 0..3 {
-                    for side in [-1i64, 1] {
-                        let q = c[b] as i64 + side;
-                        if q < 0 || q >= m[b] as i64 {
-                            continue;
-                        }
-                        let mut d = c;
-                        d[b] = q as usize;
-                        if self.grid.face_solid(a, d[0], d[1], d[2]) {
-                            laplacian -= own;
-                        } else if self.face_valid(a, d) {
-                            laplacian += vel[self.grid.face(a, d[0], d[1], d[2])] - own;
-                        }
+                for d in face_neighbours(m, c) {
+                    if self.grid.face_solid(a, d[0], d[1], d[2]) {
+                        laplacian -= own;
+                    } else if self.face_valid(a, d) {
+                        laplacian += vel[self.grid.face(a, d[0], d[1], d[2])] - own;
                     }
                 }
                 self.grid.vel[a][f] = own + k * laplacian;
@@ -316,19 +308,11 @@ impl Liquid {
                     }
                     let c = [f % m[0], (f / m[0]) % m[1], f / (m[0] * m[1])];
                     let (mut sum, mut n) = (0.0, 0);
-                    for b in 0..3 {
-                        for side in [-1i64, 1] {
-                            let q = c[b] as i64 + side;
-                            if q < 0 || q >= m[b] as i64 {
-                                continue;
-                            }
-                            let mut d = c;
-                            d[b] = q as usize;
-                            let g = self.grid.face(a, d[0], d[1], d[2]);
-                            if was[g] {
-                                sum += vel[g];
-                                n += 1;
-                            }
+                    for d in face_neighbours(m, c) {
+                        let g = self.grid.face(a, d[0], d[1], d[2]);
+                        if was[g] {
+                            sum += vel[g];
+                            n += 1;
                         }
                     }
                     if n > 0 {
@@ -395,4 +379,20 @@ impl Liquid {
             }
         }
     }
+}
+
+/// The up to six neighbours of face `c` in a face grid of `m` faces per
+/// side (its own axis's faces one step along each axis), those in range.
+fn face_neighbours(m: [usize; 3], c: [usize; 3]) -> impl Iterator<Item = [usize; 3]> {
+    (0..6).filter_map(move |k| {
+        let (b, up) = (k / 2, k % 2 == 1);
+        let mut d = c;
+        if up {
+            d[b] += 1;
+            (d[b] < m[b]).then_some(d)
+        } else {
+            d[b] = c[b].checked_sub(1)?;
+            Some(d)
+        }
+    })
 }
