@@ -333,13 +333,15 @@ fn faces_from_particles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_work
     faces[g] = v;
 }
 
-// Viscosity, one explicit step of ν∇²u on the liquid's faces into the
-// spare copy (twin: Liquid::diffuse): a neighbour face on a solid counts 0,
-// one beyond the domain or in the air counts as the face itself.
+// A face of the liquid: beside a liquid cell and no solid (twin:
+// Liquid::face_valid); the gradient and the viscosity act on these.
 fn liquid_face(face: vec4<u32>) -> bool {
     return !face_solid(face) && (is_liquid(low_cell(face)) || is_liquid(vec3<i32>(face.xyz)));
 }
 
+// Viscosity, one explicit step of ν∇²u on the liquid's faces into the
+// spare copy (twin: Liquid::diffuse): a neighbour face on a solid counts 0,
+// one beyond the domain or in the air counts as the face itself.
 @compute @workgroup_size(256)
 fn diffuse(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let g = linear(wid, nwg, lid);
@@ -760,7 +762,7 @@ fn gradient(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
     let face = face_of(g);
     let lo = low_cell(face);
     let hi = vec3<i32>(face.xyz);
-    let valid = !face_solid(face) && (is_liquid(lo) || is_liquid(hi));
+    let valid = liquid_face(face);
     if (valid) {
         let k = params.dt / (params.density * params.h);
         faces[g] -= k * (pressure(hi) - pressure(lo));
