@@ -82,6 +82,33 @@ pub struct Liquid {
     pub steps: u64,
     /// The last step's projection.
     pub last: Option<Projection>,
+    /// Surface water below the liquid (the interactive water's mean level):
+    /// a particle that falls under it becomes that water (a [`Landing`]).
+    pub surface: Option<LandingSurface>,
+    /// The landings since the caller last took them, in step order.
+    pub landings: Vec<Landing>,
+}
+
+/// Where the liquid meets the surface water below it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LandingSurface {
+    /// Its mean level (m).
+    pub level: f64,
+    /// Each particle's share of the liquid (m³): the domain's cell volume
+    /// over its particles per cell.
+    pub particle_volume: f64,
+}
+
+/// A particle that fell into the surface water: where (x, z, m), at what
+/// velocity (m/s), how much water (m³), in which step (the liquid's own
+/// count). The surface water takes its mass and momentum
+/// (`waves::ripples::RippleSim::land_liquid`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Landing {
+    pub position: [f64; 2],
+    pub velocity: [f64; 3],
+    pub volume: f64,
+    pub step: u64,
 }
 
 impl Liquid {
@@ -97,6 +124,8 @@ impl Liquid {
             drains: Vec::new(),
             steps: 0,
             last: None,
+            surface: None,
+            landings: Vec::new(),
         }
     }
 
@@ -344,7 +373,8 @@ impl Liquid {
     /// Move the particles through the grid's velocity (midpoint rule),
     /// kept a hair inside the closed walls; a particle whose move would end
     /// in a solid cell stays where it was; one that ends in a drain or
-    /// beyond an open side is gone.
+    /// beyond an open side is gone, and one under the surface water's level
+    /// lands in it.
     fn advect(&mut self, dt: f64) {
         let margin = 1e-3 * self.grid.h;
         for n in 0..self.positions.len() {
@@ -376,6 +406,16 @@ impl Liquid {
             let p = self.positions[n];
             if self.drains.iter().any(|[lo, hi]| (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a])) {
                 self.alive[n] = false;
+            } else if let Some(surface) = self.surface
+                && p[1] < surface.level
+            {
+                self.alive[n] = false;
+                self.landings.push(Landing {
+                    position: [p[0], p[2]],
+                    velocity: self.velocities[n],
+                    volume: surface.particle_volume,
+                    step: self.steps,
+                });
             }
         }
     }

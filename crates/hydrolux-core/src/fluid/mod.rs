@@ -8,7 +8,7 @@ pub mod flip;
 pub mod grid;
 pub mod pressure;
 
-pub use flip::{Emitter, Liquid, LiquidSettings};
+pub use flip::{Emitter, Landing, LandingSurface, Liquid, LiquidSettings};
 pub use grid::{Cell, MacGrid};
 pub use pressure::{Projection, project};
 

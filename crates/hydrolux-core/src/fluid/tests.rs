@@ -417,3 +417,43 @@ fn liquid_leaves_through_an_open_side() {
     let (start, left) = run(&["-y"], block, 96);
     assert!(start > 0 && left == 0, "{left} of {start} particles left over an open floor");
 }
+
+#[test]
+fn a_block_falling_into_surface_water_lands_with_its_volume_at_free_fall_speed() {
+    // A block of liquid dropped over the surface water (issue #29): it
+    // falls freely (no pressure inside a falling block), each particle
+    // lands once, under the level, at the speed g·t of its step, and the
+    // landed water is the block's.
+    let h = 0.025;
+    let grid = MacGrid::new([16, 24, 16], h, [0.0; 3]);
+    let mut liquid = Liquid::new(grid, LiquidSettings::default());
+    liquid.fill_box([0.15, 0.4, 0.15], [0.25, 0.5, 0.25], 2);
+    let particles = liquid.alive_count();
+    assert_eq!(particles, 4 * 4 * 4 * 8);
+    let volume = h.powi(3) / 8.0;
+    liquid.surface = Some(LandingSurface { level: 0.1, particle_volume: volume });
+    let dt = 1.0 / 120.0;
+    for _ in 0..60 {
+        liquid.step(dt);
+    }
+    assert_eq!(liquid.alive_count(), 0, "all of it landed");
+    assert_eq!(liquid.landings.len(), particles, "each particle once");
+    let landed: f64 = liquid.landings.iter().map(|l| l.volume).sum();
+    assert!((landed - particles as f64 * volume).abs() < 1e-12);
+    for l in &liquid.landings {
+        let fall = G * (l.step + 1) as f64 * dt;
+        assert!(
+            (-l.velocity[1] - fall).abs() < 0.01 * fall,
+            "landed at {:?} m/s in step {}, g·t = {fall}",
+            l.velocity,
+            l.step
+        );
+        assert!(l.velocity[0].abs() < 0.01 * fall && l.velocity[2].abs() < 0.01 * fall);
+        let [x, z] = l.position;
+        assert!((0.15..=0.25).contains(&x) && (0.15..=0.25).contains(&z), "straight down");
+    }
+    // The first landings: the block's bottom fell 0.3 m, ~0.25 s.
+    let first = liquid.landings.iter().map(|l| l.step).min().unwrap();
+    let t = (first + 1) as f64 * dt;
+    assert!((0.5 * G * t * t - 0.3).abs() < 0.03, "first landing at t = {t} s");
+}

@@ -418,6 +418,10 @@ pub struct RippleSim {
     /// over the cell's area, per unit
     /// ([`crate::coupling::kick_per_unit`]; 0: spray does not ring the water).
     pub kick_per_unit: f64,
+    /// Water that liquid landings added since the last step (fixed point,
+    /// [`PUSHED_UNITS_PER_M`] per metre of height summed over the FFT grid,
+    /// like the hulls' `pushed`): it joins the level at the next step.
+    pub landed: i64,
     planner: FftPlanner<f64>,
     pub steps: u64,
 }
@@ -434,6 +438,7 @@ impl RippleSim {
             depth: vec![settings.depths[0]; n * n],
             kicks: vec![0; n * n],
             kick_per_unit: 0.0,
+            landed: 0,
             planner: FftPlanner::new(),
             steps: 0,
         }
@@ -447,6 +452,12 @@ impl RippleSim {
     pub fn height(&self, i: usize, j: usize) -> f64 {
         let g = grid_cell(&self.settings.grid, &self.window, [i, j]);
         self.h[g[1] * self.f() + g[0]]
+    }
+
+    /// The surface potential φ (m²/s) of domain cell (i, j).
+    pub fn potential(&self, i: usize, j: usize) -> f64 {
+        let g = grid_cell(&self.settings.grid, &self.window, [i, j]);
+        self.phi[g[1] * self.f() + g[0]]
     }
 
     /// Heights over the domain, row = z, col = x.
@@ -481,6 +492,31 @@ impl RippleSim {
         if let Some(t) = texel_of(&self.settings.grid, &self.window, x as f64, z as f64) {
             self.kicks[t] = self.kicks[t].wrapping_add(crate::coupling::kick_units(speed));
         }
+    }
+
+    /// Liquid landing at world (x, z): `volume` m³ falling at `down_speed`
+    /// m/s becomes this water (issue #29; `fluid::Landing`). Its momentum
+    /// ρ·V·v is an impulsive pressure over its cell, Δφ = −V·v/A (as for
+    /// spray, [`crate::coupling::kick_per_unit`]), in kick units of this
+    /// water's `kick_per_unit` (0: it rings nothing); its volume joins the
+    /// level between walls at the next step (open water hands it to the sea
+    /// around, as it does the hulls'). The horizontal momentum is lost: the
+    /// surface water is a potential flow of its heights. Outside the domain
+    /// it is lost. Twin of `land_liquid` in `simulation/ripples/landing.wgsl`.
+    pub fn land_liquid(&mut self, x: f64, z: f64, down_speed: f64, volume: f64) {
+        let Some(t) = texel_of(&self.settings.grid, &self.window, x, z) else {
+            return;
+        };
+        let grid = self.settings.grid;
+        let area = grid.cell_size * grid.cell_size;
+        if self.kick_per_unit > 0.0 {
+            let speed = if down_speed.is_finite() { down_speed.clamp(0.0, 60.0) } else { 0.0 };
+            let units = (volume * speed / area / self.kick_per_unit).round();
+            self.kicks[t] = self.kicks[t].wrapping_add(units as u32);
+        }
+        // Every image of the cell in the FFT grid holds the level's rise.
+        let images = (grid.fft_size() / grid.cells).pow(2) as f64;
+        self.landed += (volume / area * images * PUSHED_UNITS_PER_M).round() as i64;
     }
 
     /// One step: the disturbances first (drops, the sponge), then the
@@ -563,7 +599,7 @@ impl RippleSim {
         // sprang up as high as it was deep. Summed in fixed point, so that
         // the sum is the same in any order. Twin of the contact in
         // ripples.wgsl's `disturb`.
-        let mut pushed: i64 = 0;
+        let mut pushed: i64 = std::mem::take(&mut self.landed);
         for i in 0..f * f {
             let (_, w) = domain_cell(&grid, &self.window, [i % f, i / f]);
             let was: f64 = bodies.iter().map(|b| b.depth_before(w[0], w[1])).sum();

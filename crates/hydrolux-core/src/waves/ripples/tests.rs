@@ -492,3 +492,51 @@ fn breaking_acts_only_past_the_stokes_slope_and_keeps_the_volume() {
     let take = breaking(0.0, [0.2, 0.0, 0.0, 0.0], cell);
     assert!(give > 0.0 && (give / 4.0 + take).abs() < 1e-12, "{give} {take}");
 }
+
+#[test]
+fn landing_liquid_hands_the_pool_its_volume_and_its_momentum() {
+    // Parcels of liquid falling into a walled pool (issue #29's hand-over,
+    // `fluid::Landing`): the pool's volume grows by theirs, and its
+    // vertical impulse ρ∫(−φ)dA by their momentum ρΣV·v (the mean of φ is
+    // the one part of it no wave moves: the k = 0 mode does not rotate).
+    let s = settings(RippleBoundary::Walls, 32, 0.125, 1.0);
+    let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+    sim.kick_per_unit = crate::coupling::kick_per_unit(0.02, 0.125);
+    let (mut volume, mut momentum) = (0.0, 0.0);
+    for k in 0..300 {
+        let (x, z) = (0.3 + 0.011 * k as f64, 2.0 + 0.4 * ((k % 7) as f64 - 3.0));
+        let (v, speed) = (1.25e-7 * (1 + k % 3) as f64, 1.0 + 0.01 * k as f64);
+        sim.land_liquid(x, z, speed, v);
+        volume += v;
+        momentum += v * speed;
+    }
+    // Outside the pool nothing lands.
+    sim.land_liquid(-0.5, 1.0, 3.0, 1e-3);
+    sim.land_liquid(1.0, 4.2, 3.0, 1e-3);
+    let before = sim.volume();
+    sim.step(&[]);
+    let area = 0.125 * 0.125;
+    let impulse: f64 = (0..32)
+        .flat_map(|j| (0..32).map(move |i| (i, j)))
+        .map(|(i, j)| -sim.potential(i, j) * area)
+        .sum();
+    let gained = sim.volume() - before;
+    assert!(
+        (gained - volume).abs() < 1e-3 * volume,
+        "the pool gained {gained:e} m³ of the {volume:e} m³ that landed"
+    );
+    assert!(
+        (impulse - momentum).abs() < 1e-3 * momentum,
+        "its impulse per density {impulse:e} m⁴/s, the liquid's momentum {momentum:e}"
+    );
+    // A wave: the water under the landings moved, the pool is not flat.
+    let heights = sim.heights();
+    let spread = heights.iter().fold(0.0f64, |m, h| m.max((h - gained / 16.0).abs()));
+    assert!(spread > 1e-7, "the landings ring the water");
+    // Without a kick scale the water takes the volume and rings nothing.
+    let mut quiet = RippleSim::new(s, RippleWindow { origin: [0, 0] });
+    quiet.land_liquid(2.0, 2.0, 3.0, 1e-4);
+    quiet.step(&[]);
+    assert!((quiet.volume() - 1e-4).abs() < 1e-7);
+    assert!((0..32).all(|i| quiet.potential(i, 16).abs() < 1e-12));
+}
