@@ -72,9 +72,12 @@ for (const [i, scene] of scenes.entries()) {
 // its second frame: a blocking readback a browser cannot do). A faster clock
 // only made each frame step more water: 20× took ten minutes for the lot.
 // The volumetric liquid's scenes (named in $LIQUID_SCENES) play
-// PLAY_SECONDS_LIQUID: SwiftShader takes about a second a liquid step, and
-// 0.3 s is still dozens of steps over several frames.
-const PLAY_SECONDS = 0.9, PLAY_SECONDS_LIQUID = 0.3, PLAY_SCALE = 3;
+// PLAY_SECONDS_LIQUID at real time: SwiftShader takes about a second a liquid
+// step, and at 3× a frame steps the 0.3 s cap at once (18 clock steps, each
+// of one or more liquid steps), so 0.3 s played as 0.9 s and the next scene
+// waited minutes for the queue to drain. At 1× the first played frame steps
+// the time since the last (about 0.2 s): still a dozen liquid steps or more.
+const PLAY_SECONDS = 0.9, PLAY_SECONDS_LIQUID = 0.1, PLAY_SCALE = 3, PLAY_SCALE_LIQUID = 1;
 const liquidScenes = new Set((process.env.LIQUID_SCENES || "").split(",").filter((s) => s));
 for (const entry of report) {
   if (entry.state.error) break;
@@ -84,8 +87,9 @@ for (const entry of report) {
   await page.evaluate((s) => window.hydrolux_show(s), scene);
   await page.waitForFunction((s) => window.hydrolux.scene === s, scene, { timeout: 240000, polling: 100 });
   const startTime = await page.evaluate(() => window.hydrolux.time);
-  const wanted = liquidScenes.has(scene) ? PLAY_SECONDS_LIQUID : PLAY_SECONDS;
-  await page.evaluate((k) => window.hydrolux_play(k), PLAY_SCALE);
+  const liquid = liquidScenes.has(scene);
+  const wanted = liquid ? PLAY_SECONDS_LIQUID : PLAY_SECONDS;
+  await page.evaluate((k) => window.hydrolux_play(k), liquid ? PLAY_SCALE_LIQUID : PLAY_SCALE);
   let played = null;
   try {
     // Drag across the middle of the view while it runs.
