@@ -280,5 +280,12 @@ pub fn kick_units(speed: f32) -> u32 {
 /// it), and the linearised Bernoulli equation ∂φ/∂t = −p/ρ − g·h turns an
 /// impulse into a jump of the surface potential, Δφ = −V·v / A.
 pub fn kick_per_unit(spray_size: f32, cell: f64) -> f64 {
-    spray_parcel_volume(spray_size) / (cell * cell) / KICK_SCALE as f64
+    kick_per_unit_of_volume(spray_parcel_volume(spray_size), cell)
+}
+
+/// Δφ (m²/s) one kick unit gives a cell `cell` m wide when a unit stands
+/// for a parcel of `volume` m³ at 1/[`KICK_SCALE`] m/s (the liquid's
+/// particles, where no spray sets the unit).
+pub fn kick_per_unit_of_volume(volume: f64, cell: f64) -> f64 {
+    volume / (cell * cell) / KICK_SCALE as f64
 }

@@ -18,6 +18,7 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     BuiltinScene { name: "wake", toml: include_str!("../../../../scenes/wake.toml") },
     BuiltinScene { name: "dam_break", toml: include_str!("../../../../scenes/dam_break.toml") },
     BuiltinScene { name: "pour", toml: include_str!("../../../../scenes/pour.toml") },
+    BuiltinScene { name: "fountain", toml: include_str!("../../../../scenes/fountain.toml") },
     BuiltinScene {
         name: "water_dragon",
         toml: include_str!("../../../../scenes/water_dragon.toml"),

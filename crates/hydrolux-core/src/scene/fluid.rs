@@ -5,7 +5,7 @@
 use super::rules::{range, vec3_range};
 use super::{ObjectDesc, Primitive, Scene};
 use super::{SceneError, WORLD_EXTENT_M};
-use crate::fluid::{Cell, Liquid, LiquidSettings, MacGrid};
+use crate::fluid::{Cell, LandingSurface, Liquid, LiquidSettings, MacGrid};
 use serde::{Deserialize, Serialize};
 
 /// Cells a domain may have at most (256³): the grid's buffers stay within
@@ -192,6 +192,12 @@ impl FluidDesc {
     /// (the CPU twin; the GPU simulation starts from its particles and
     /// solids).
     pub fn initial(&self, objects: &[ObjectDesc]) -> Liquid {
+        self.initial_over(objects, None)
+    }
+
+    /// [`FluidDesc::initial`] over the surface water `surface` (`None`:
+    /// none below it), which takes what falls under its level.
+    pub fn initial_over(&self, objects: &[ObjectDesc], surface: Option<LandingSurface>) -> Liquid {
         let (h, n) = self.grid_shape();
         let mut grid = MacGrid::new(n.map(|c| c as usize), h as f64, self.min.map(f64::from));
         grid.open = self.open_sides();
@@ -216,6 +222,7 @@ impl FluidDesc {
             }
         }
         let mut liquid = Liquid::new(grid, self.settings());
+        liquid.surface = surface;
         for s in &self.sources {
             match s.kind {
                 FluidSourceKind::Block => liquid.fill_box(
@@ -533,5 +540,21 @@ fn inside(primitive: Primitive, p: glam::Vec3) -> bool {
         Primitive::Sphere => p.length_squared() <= 0.25,
         Primitive::Cylinder => p.x * p.x + p.z * p.z <= 0.25 && p.y.abs() <= 0.5,
         Primitive::Plane => false,
+    }
+}
+
+impl Scene {
+    /// Where the liquid meets the interactive water (issue #29): a liquid
+    /// domain that reaches below the water's mean level (y = 0) over
+    /// interactive water (`water.dynamic`) hands it what falls under it.
+    pub fn fluid_landing(&self) -> Option<LandingSurface> {
+        let reaches = self.fluid.enabled() && self.fluid.min[1] < 0.0;
+        (reaches && self.ripple_settings().is_some())
+            .then(|| LandingSurface { level: 0.0, particle_volume: self.fluid.particle_volume() })
+    }
+
+    /// The liquid at the start, over the interactive water if it lands in it.
+    pub fn fluid_start(&self) -> Liquid {
+        self.fluid.initial_over(&self.objects, self.fluid_landing())
     }
 }

@@ -3,15 +3,17 @@
 //! folder with its settings' GPU side, state, step, CPU twin (in
 //! `hydrolux-core`) and tests, and one line in [`simulations!`] below:
 //!
+//! - `liquid`: the volumetric liquid (seed 003 §2.2, marker particles on a
+//!   MAC grid), `fluid.substeps` steps on every clock step; what falls
+//!   under the interactive water's level lands in it (first, so that the
+//!   water's steps find the landings of their clock steps);
 //! - `ripples`: the interactive water and the bodies in it (seed 003 §2.1,
 //!   `ripples/dynamics.rs`), stepped on every clock step;
 //! - `whitewater`: foam, bubbles and spray (seed 003 §4.4–4.6), stepped at
 //!   its own rate, reading the surface at its own step's time;
 //! - `surface`: the water surface's model (seed 000 §2.4: the FFT ocean in
 //!   `ocean`, sines, a heightfield), a function of time evaluated for the
-//!   frame and whenever a step reads it at another time;
-//! - `liquid`: the volumetric liquid (seed 003 §2.2, marker particles on a
-//!   MAC grid), `fluid.substeps` steps on every clock step.
+//!   frame and whenever a step reads it at another time.
 //!
 //! The scheduler ([`Simulations::advance`]) walks them on the one
 //! [`SimulationClock`]'s steps in registry order: followers take any run of
@@ -273,11 +275,14 @@ macro_rules! simulations {
     };
 }
 
+// The liquid comes first: the interactive water's steps take what lands
+// in it during the same clock steps, so the liquid's run is recorded (and
+// submitted) before the water's.
 simulations! {
+    liquid: liquid::Liquid => liquid::INFO,
     ripples: ripples::dynamics::Dynamics => ripples::INFO,
     whitewater: whitewater::Whitewater => whitewater::INFO,
     surface: surface::Surface => surface::INFO,
-    liquid: liquid::Liquid => liquid::INFO,
 }
 
 impl Simulations {

@@ -79,6 +79,9 @@ pub(crate) struct LiquidState {
     pub count: u32,
     /// A particle's radius (m) as a sphere of its share of a cell.
     pub radius: f32,
+    /// Where it lands in the interactive water: the buffer whose log the
+    /// water takes (liquid/landing.wgsl; `None`: it lands in none).
+    pub landings: Option<wgpu::Buffer>,
 }
 
 #[derive(Clone, Default)]

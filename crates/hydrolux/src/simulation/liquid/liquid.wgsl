@@ -14,6 +14,7 @@
 //
 // Every reduction sums in a fixed order (a tree in each workgroup, then one
 // workgroup over the partials), so a step gives the same bits every time.
+#import liquid_landing
 
 struct LiquidParams {
     // Cells per axis and in all; faces per axis and in all.
@@ -39,6 +40,13 @@ struct LiquidParams {
     viscosity: f32,
     // Bit 2a + side set: the domain's side (axis a, low 0 / high 1) is open.
     open_sides: u32,
+    // 1: particles under `landing_level` (m) land in the interactive water
+    // (liquid_landing.wgsl), into a log of `landing_capacity`; steps a
+    // clock step.
+    landing: u32,
+    landing_level: f32,
+    landing_capacity: u32,
+    substeps: u32,
 }
 
 struct LiquidParticle {
@@ -122,7 +130,14 @@ const MAX_SPEED: f32 = 100.0;
 // workgroup the apply's s·q.
 @group(0) @binding(5) var<storage, read_write> solve: array<f32>;
 @group(0) @binding(6) var<storage, read> sources: Sources;
-@group(0) @binding(7) var<storage, read_write> state: SolveState;
+// The solve's state, then the landings' log (liquid_landing.wgsl).
+struct LiquidState {
+    solve: SolveState,
+    landing_dispatch: array<u32, 3>,
+    landing_count: atomic<u32>,
+    landings: array<Landing>,
+}
+@group(0) @binding(7) var<storage, read_write> state: LiquidState;
 // The conjugate-gradient kernels' indirect arguments (the reductions write them).
 @group(1) @binding(0) var<storage, read_write> args: array<u32>;
 
@@ -267,7 +282,7 @@ fn emit(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     if (i >= sources.point_count) {
         return;
     }
-    let step = state.steps;
+    let step = state.solve.steps;
     for (var k = 0u; k < sources.emitter_count; k++) {
         let e = sources.emitters[k];
         if (i < e.point_offset || i >= e.point_offset + e.points) {
@@ -600,7 +615,7 @@ const ROW: u32 = 32768u;
 // The loop's indirect arguments: the cells' workgroups, in rows of ROW as
 // the direct dispatches have them, or none once the solve stops.
 fn set_running(running: bool) {
-    state.running = u32(running);
+    state.solve.running = u32(running);
     let groups = params.cell_groups;
     args[0] = select(0u, min(groups, ROW), running);
     args[1] = (groups + ROW - 1u) / ROW;
@@ -611,13 +626,13 @@ fn set_running(running: bool) {
 fn reduce_begin(@builtin(local_invocation_index) lid: u32) {
     reduce_partials(lid);
     if (lid == 0u) {
-        state.sigma = dot_part[0];
+        state.solve.sigma = dot_part[0];
         // The first direction is z itself.
-        state.beta = 0.0;
-        state.residual = max_part[0];
-        state.residual_before = div_part[0];
-        state.iterations = 0u;
-        state.steps += 1u;
+        state.solve.beta = 0.0;
+        state.solve.residual = max_part[0];
+        state.solve.residual_before = div_part[0];
+        state.solve.iterations = 0u;
+        state.solve.steps += 1u;
         set_running(max_part[0] > params.tolerance && params.max_iterations > 0u);
     }
 }
@@ -633,7 +648,7 @@ fn reduce_begin(@builtin(local_invocation_index) lid: u32) {
 
 // The search direction at cell `i` from z and the old direction.
 fn direction(i: u32, old: u32) -> f32 {
-    return at(Z, i) + state.beta * at(old, i);
+    return at(Z, i) + state.solve.beta * at(old, i);
 }
 
 fn apply_direction(i: u32, old: u32, next: u32, group: u32, lid: u32) {
@@ -694,7 +709,7 @@ fn update(i: u32, s_now: u32, group: u32, lid: u32) {
     let sq = sum_sq(lid);
     // A direction the matrix does not see: the reduction stops the loop.
     let go = sq > 0.0;
-    let alpha = select(0.0, state.sigma / sq, go);
+    let alpha = select(0.0, state.solve.sigma / sq, go);
     var rz = 0.0;
     var big = 0.0;
     if (go && i < params.cell_count) {
@@ -729,17 +744,17 @@ fn cg_update_s(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
 fn reduce_beta(@builtin(local_invocation_index) lid: u32) {
     let sq = sum_sq(lid);
     reduce_partials(lid);
-    if (lid == 0u && state.running != 0u) {
+    if (lid == 0u && state.solve.running != 0u) {
         if (sq <= 0.0) {
             set_running(false);
         } else {
             let next = dot_part[0];
-            state.alpha = state.sigma / sq;
-            state.beta = next / state.sigma;
-            state.sigma = next;
-            state.residual = max_part[0];
-            state.iterations += 1u;
-            set_running(max_part[0] > params.tolerance && state.iterations < params.max_iterations);
+            state.solve.alpha = state.solve.sigma / sq;
+            state.solve.beta = next / state.solve.sigma;
+            state.solve.sigma = next;
+            state.solve.residual = max_part[0];
+            state.solve.iterations += 1u;
+            set_running(max_part[0] > params.tolerance && state.solve.iterations < params.max_iterations);
         }
     }
 }
@@ -873,6 +888,28 @@ fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
         let box = sources.drains[d];
         if (all(at >= box.min) && all(at <= box.max)) {
             particles[i].alive = 0u;
+            return;
         }
     }
+    // Under the interactive water's level it becomes that water. (A log
+    // too small, which its capacity rules out, would lose the landing.)
+    if (params.landing == 1u && at.y < params.landing_level) {
+        particles[i].alive = 0u;
+        let k = atomicAdd(&state.landing_count, 1u);
+        if (k < params.landing_capacity) {
+            // This step's index (reduce_begin counted it already).
+            let step = state.solve.steps - 1u;
+            let speed = -particles[i].velocity.y;
+            state.landings[k] = Landing(at.xz, speed, step / params.substeps);
+        }
+    }
+}
+
+// After a run of steps: the interactive water's dispatch over the log.
+@compute @workgroup_size(1)
+fn landing_dispatch() {
+    let count = min(atomicLoad(&state.landing_count), params.landing_capacity);
+    state.landing_dispatch[0] = (count + LANDING_WG - 1u) / LANDING_WG;
+    state.landing_dispatch[1] = 1u;
+    state.landing_dispatch[2] = 1u;
 }

@@ -44,8 +44,29 @@ uniform! { LiquidParams;
         pub density: f32,
         pub viscosity: f32,
         pub open_sides: u32,
+        pub landing: u32,
+        pub landing_level: f32,
+        pub landing_capacity: u32,
+        pub substeps: u32,
     }
 }
+
+/// WGSL `Landing` (liquid_landing.wgsl): a particle that fell into the
+/// interactive water (`hydrolux_core::fluid::Landing`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LandingRecord {
+    pub position: [f32; 2],
+    pub down_speed: f32,
+    pub step: u32,
+}
+
+/// Where the landings' log starts in the state buffer (bytes): after the
+/// solve state, the water's indirect dispatch and the count.
+pub(crate) const LANDINGS_AT: u64 = 48;
+/// The water's indirect dispatch over the log, and the count.
+pub(crate) const LANDING_DISPATCH_AT: u64 = 32;
+const LANDING_COUNT_AT: u64 = 44;
 
 /// WGSL `LiquidParticle`: a marker particle.
 #[repr(C)]
@@ -174,6 +195,7 @@ struct Pipelines {
     extrapolate_out: wgpu::ComputePipeline,
     extrapolate_back: wgpu::ComputePipeline,
     advance: wgpu::ComputePipeline,
+    landing_dispatch: wgpu::ComputePipeline,
 }
 
 pub struct Liquid {
@@ -199,6 +221,14 @@ pub struct Liquid {
     clock_steps: u64,
     /// Mouth points of all the nozzles (threads of `emit`).
     emit_points: u32,
+    /// Clock steps a step of the interactive water it lands in spans.
+    landing_stride: u64,
+    landing: Option<hydrolux_core::fluid::LandingSurface>,
+}
+
+/// Clock steps per step of the scene's interactive water (`ripples.rate`).
+fn landing_stride(scene: &Scene) -> u64 {
+    (hydrolux_core::scene::CLOCK_HZ / scene.ripples.rate.max(1)).max(1) as u64
 }
 
 impl Liquid {
@@ -209,7 +239,7 @@ impl Liquid {
             return Ok(None);
         }
         let device = &shared.device;
-        let start = desc.initial(&scene.objects);
+        let start = scene.fluid_start();
         // Per cell: 1 where a static object fills it (after the faces'
         // known flags in the same buffer).
         let solids: Vec<u32> = start
@@ -239,6 +269,17 @@ impl Liquid {
         let faces = [face_dims(0), face_dims(1), face_dims(2)];
         let face_count: u32 = faces.iter().sum();
         let count = initial.len() as u32;
+        // The log holds what lands before the water takes it: every particle
+        // there is, and every one the nozzles emit in the longest run of
+        // steps (a batch, and the clock steps of a water step begun before).
+        let landing = start.surface;
+        let landing_capacity = if landing.is_some() {
+            let run = (crate::renderer::SIMULATION_BATCH + hydrolux_core::scene::CLOCK_HZ) as u64;
+            let emitted = emit_points as u64 * desc.substeps.max(1) as u64 * run;
+            (count as u64 + emitted).min(u32::MAX as u64 / 2) as u32
+        } else {
+            0
+        };
         let (cx, cy) = groups(cell_count);
         let cell_groups = cx * cy;
         // Every buffer within what the device binds.
@@ -251,6 +292,10 @@ impl Liquid {
             (
                 "pressure solve (fluid.resolution)",
                 (6 * cell_count as u64 + 4 * cell_groups as u64) * 4,
+            ),
+            (
+                "landings in the interactive water (fluid.budget)",
+                LANDINGS_AT + landing_capacity as u64 * 16,
             ),
         ];
         for (what, bytes) in sizes {
@@ -285,6 +330,10 @@ impl Liquid {
                 .enumerate()
                 .map(|(k, open)| (*open as u32) << k)
                 .sum(),
+            landing: landing.is_some() as u32,
+            landing_level: landing.map_or(0.0, |l| l.level as f32),
+            landing_capacity,
+            substeps: desc.substeps.max(1),
         };
         let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
             storage_buffer(device, label, size, extra)
@@ -310,7 +359,11 @@ impl Liquid {
             shared.queue.write_buffer(&buffer, 0, &bytes);
             buffer
         };
-        let state = storage("liquid solve state", 32, none);
+        let state = storage(
+            "liquid solve state and landings",
+            LANDINGS_AT + landing_capacity.max(1) as u64 * 16,
+            wgpu::BufferUsages::INDIRECT,
+        );
         let args = storage("liquid solve arguments", 16, wgpu::BufferUsages::INDIRECT);
         let cs = wgpu::ShaderStages::COMPUTE;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -371,6 +424,7 @@ impl Liquid {
             extrapolate_out: plain("extrapolate_out"),
             extrapolate_back: plain("extrapolate_back"),
             advance: plain("advance"),
+            landing_dispatch: plain("landing_dispatch"),
         };
         let liquid = Liquid {
             desc: desc.clone(),
@@ -395,6 +449,8 @@ impl Liquid {
             pipelines,
             clock_steps: 0,
             emit_points,
+            landing_stride: landing_stride(scene),
+            landing,
         };
         liquid.write_start(&shared.queue);
         Ok(Some(liquid))
@@ -501,7 +557,10 @@ impl crate::simulation::Simulation for Liquid {
         let solids = |s: &Scene| -> Vec<hydrolux_core::scene::ObjectDesc> {
             s.objects.iter().filter(|o| hydrolux_core::scene::is_fluid_solid(o)).cloned().collect()
         };
-        scene.fluid == self.desc && solids(scene) == self.solid_objects
+        scene.fluid == self.desc
+            && solids(scene) == self.solid_objects
+            && scene.fluid_landing() == self.landing
+            && landing_stride(scene) == self.landing_stride
     }
 
     /// The liquid starts from its sources at the clock's origin.
@@ -514,6 +573,7 @@ impl crate::simulation::Simulation for Liquid {
             particles: self.particles.clone(),
             count: self.particle_count(),
             radius: self.particle_radius(),
+            landings: (self.uniforms.landing == 1).then(|| self.state.clone()),
         });
     }
 
@@ -526,13 +586,40 @@ impl crate::simulation::Simulation for Liquid {
         self.clock_steps = from;
     }
 
+    /// Where it lands in the interactive water, its run is submitted at
+    /// once: the water's steps that take the landings (which follow in the
+    /// registry) may submit early parts of their run before the caller's
+    /// `encoder` goes.
     fn follow(
         &mut self,
-        _ctx: &mut crate::simulation::StepContext,
+        ctx: &mut crate::simulation::StepContext,
         encoder: &mut wgpu::CommandEncoder,
         clock_steps: u32,
     ) {
-        self.record_steps(encoder, clock_steps as u64 * self.desc.substeps as u64, None);
+        let steps = clock_steps as u64 * self.desc.substeps as u64;
+        if self.uniforms.landing == 0 {
+            self.record_steps(encoder, steps, None);
+            self.clock_steps += clock_steps as u64;
+            return;
+        }
+        let shared = ctx.shared;
+        let mut own = shared.device.create_command_encoder(&Default::default());
+        // The log starts anew where every landing in it has been taken: at
+        // the start of a water step (its stride of clock steps).
+        if self.clock_steps.is_multiple_of(self.landing_stride) {
+            own.clear_buffer(&self.state, LANDING_COUNT_AT, Some(4));
+        }
+        self.record_steps(&mut own, steps, None);
+        {
+            let mut pass = own.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("liquid landings"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, &self.group, &[]);
+            pass.set_pipeline(&self.pipelines.landing_dispatch);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        shared.queue.submit([own.finish()]);
         self.clock_steps += clock_steps as u64;
     }
 
@@ -568,6 +655,11 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
                 std::mem::size_of::<EmitterRecord>(),
             ),
             crate::uniforms::Layout::sized("Drain", source(), std::mem::size_of::<DrainRecord>()),
+            crate::uniforms::Layout::sized(
+                "Landing",
+                source(),
+                std::mem::size_of::<LandingRecord>(),
+            ),
         ]
     },
 };

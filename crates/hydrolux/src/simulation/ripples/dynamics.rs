@@ -305,7 +305,7 @@ impl Dynamics {
             for s in first + k..first + end {
                 let moves = self.step_bodies(s);
                 let drops = self.ripples.as_mut().map_or(Vec::new(), |r| r.drops_for(s));
-                inputs.push(StepInput { drops, moves });
+                inputs.push(StepInput { drops, moves, step: s });
             }
             if let Some(r) = &mut self.ripples {
                 if end < count {
@@ -372,13 +372,26 @@ impl crate::simulation::Simulation for Dynamics {
     fn create(
         shared: &crate::technique::Shared,
         scene: &Scene,
-        _published: &crate::simulation::Published,
+        published: &crate::simulation::Published,
     ) -> Result<Option<Self>, crate::error::RenderError> {
         let (device, queue) = (&shared.device, &shared.queue);
-        let ripples = scene
-            .ripple_settings()
-            .map(|settings| RipplePass::new(device, queue, &shared.caps, scene, settings));
+        let ripples = scene.ripple_settings().map(|settings| {
+            let mut pass = RipplePass::new(device, queue, &shared.caps, scene, settings);
+            pass.bind_landings(device, landings(published));
+            pass
+        });
         Ok(Dynamics::new(queue, scene, ripples))
+    }
+
+    /// The liquid (before it in the registry) was made anew: take its log.
+    fn connect(
+        &mut self,
+        shared: &crate::technique::Shared,
+        published: &crate::simulation::Published,
+    ) {
+        if let Some(r) = &mut self.ripples {
+            r.bind_landings(&shared.device, landings(published));
+        }
     }
 
     fn fits(&self, scene: &Scene) -> bool {
@@ -481,4 +494,9 @@ impl crate::simulation::Simulation for Dynamics {
     ) -> Option<Result<crate::info::DumpData, String>> {
         Dynamics::dump(self, name, ctx)
     }
+}
+
+/// The log of the liquid that lands in this water, if one does.
+fn landings(published: &crate::simulation::Published) -> Option<&wgpu::Buffer> {
+    published.liquid.as_ref().and_then(|l| l.landings.as_ref())
 }

@@ -41,6 +41,10 @@ uniform! { RippleParams;
         pub kick_per_unit: f32,
         pub first_move: i32,
         pub move_count: i32,
+        pub landing_step: u32,
+        pub landing_stride: u32,
+        pub landing_volume: f32,
+        pub landing_images: f32,
     }
 }
 
@@ -80,6 +84,8 @@ pub const MAX_STEPS: usize = SLOTS as usize - 1;
 pub struct StepInput {
     pub drops: Vec<Drop>,
     pub moves: Vec<BodyMove>,
+    /// The water's step index (since its clock's origin).
+    pub step: u64,
 }
 
 /// A body's move as `BodyMove` in ripples.wgsl: its shape, the pose whose
@@ -93,14 +99,28 @@ fn gpu_move(m: &BodyMove) -> [[f32; 4]; 5] {
 }
 
 /// Δφ (m²/s) per unit of landing spray: the scene's spray parcel over a
-/// cell (0 without spray).
+/// cell; without spray, the liquid's particle where it lands here (0
+/// without either).
 fn kick_per_unit(scene: &Scene, settings: &RippleSettings) -> f32 {
     let w = &scene.whitewater;
+    let cell = settings.grid.cell_size;
     if scene.has_whitewater() && w.particles {
-        hydrolux_core::whitewater::kick_per_unit(w.spray_size, settings.grid.cell_size) as f32
+        hydrolux_core::whitewater::kick_per_unit(w.spray_size, cell) as f32
+    } else if let Some(l) = scene.fluid_landing() {
+        hydrolux_core::coupling::kick_per_unit_of_volume(l.particle_volume, cell) as f32
     } else {
         0.0
     }
+}
+
+/// The liquid's landings: the pipeline over its log, the layout and group of
+/// the water's buffers it writes (group 0), the log's layout (group 1).
+struct LandingPass {
+    pipeline: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    log_layout: wgpu::BindGroupLayout,
+    /// The liquid's log, once it lands here.
+    log: Option<(wgpu::Buffer, wgpu::BindGroup)>,
 }
 
 fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
@@ -150,6 +170,7 @@ pub struct RipplePass {
     publish: wgpu::ComputePipeline,
     fft_rows: wgpu::ComputePipeline,
     fft_columns: wgpu::ComputePipeline,
+    landing: LandingPass,
 }
 
 impl RipplePass {
@@ -257,6 +278,53 @@ impl RipplePass {
         let (disturb, spectral_step, publish) =
             (pipeline("disturb"), pipeline("spectral_step"), pipeline("publish"));
         let (fft_rows, fft_columns) = (fft("fft_rows"), fft("fft_columns"));
+        let landing = {
+            let params_entry = layout_entry(
+                0,
+                cs,
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(
+                        std::mem::size_of::<RippleUniforms>() as u64
+                    ),
+                },
+            );
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ripples liquid landings"),
+                entries: &[params_entry, storage_entry(8, cs, false), storage_entry(9, cs, false)],
+            });
+            let log_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ripples liquid landings log"),
+                entries: &[storage_entry(0, cs, true)],
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ripples liquid landings"),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &params,
+                            offset: 0,
+                            size: wgpu::BufferSize::new(
+                                std::mem::size_of::<RippleUniforms>() as u64
+                            ),
+                        }),
+                    },
+                    wgpu::BindGroupEntry { binding: 8, resource: kicks.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 9, resource: pushed.as_entire_binding() },
+                ],
+            });
+            let pipeline = compute_pipeline(
+                device,
+                "land_liquid",
+                &module,
+                "land_liquid",
+                &[&layout, &log_layout],
+            );
+            LandingPass { pipeline, group, log_layout, log: None }
+        };
         let move_capacity = 16;
         let moves = cells(move_capacity, 80, "ripples body moves", copy);
         // Bound below, once the pass owns its resources.
@@ -294,6 +362,7 @@ impl RipplePass {
             publish,
             fft_rows,
             fft_columns,
+            landing,
         };
         pass.group = pass.bind(device);
         pass.reset(queue);
@@ -333,6 +402,22 @@ impl RipplePass {
         })
     }
 
+    /// Take the liquid's landings from `log` (its state buffer; `None`: no
+    /// liquid lands here).
+    pub fn bind_landings(&mut self, device: &wgpu::Device, log: Option<&wgpu::Buffer>) {
+        self.landing.log = log.map(|buffer| {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ripples liquid landings log"),
+                layout: &self.landing.log_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            });
+            (buffer.clone(), group)
+        });
+    }
+
     /// Whether `scene` keeps this simulation (same physics, grid and script).
     pub fn fits(&self, scene: &Scene) -> bool {
         scene.ripple_settings() == Some(self.settings)
@@ -340,6 +425,7 @@ impl RipplePass {
             && scene.drops == self.scene.drops
             && scene.emitters == self.scene.emitters
             && kick_per_unit(scene, &self.settings) == self.kick_per_unit
+            && scene.fluid_landing() == self.scene.fluid_landing()
     }
 
     /// Back to still water (t = 0).
@@ -425,6 +511,11 @@ impl RipplePass {
             kick_per_unit: self.kick_per_unit,
             first_move: 0,
             move_count: 0,
+            landing_step: 0,
+            landing_stride: (hydrolux_core::scene::CLOCK_HZ / self.scene.ripples.rate.max(1))
+                .max(1),
+            landing_volume: self.scene.fluid_landing().map_or(0.0, |l| l.particle_volume as f32),
+            landing_images: ((g.fft_size() / g.cells) as f32).powi(2),
         }
     }
 
@@ -460,6 +551,7 @@ impl RipplePass {
             let empty = StepInput::default();
             let input = inputs.get(i).unwrap_or(&empty);
             let mut u = self.uniforms(drops.len(), input.drops.len());
+            u.landing_step = input.step as u32;
             drops.extend(
                 input
                     .drops
@@ -508,6 +600,15 @@ impl RipplePass {
         let groups = f.div_ceil(8);
         for i in 0..count {
             let offset = (i * self.slot_size) as u32;
+            if let Some((log, log_group)) = &self.landing.log {
+                pass.set_pipeline(&self.landing.pipeline);
+                pass.set_bind_group(0, &self.landing.group, &[offset]);
+                pass.set_bind_group(1, log_group, &[]);
+                pass.dispatch_workgroups_indirect(
+                    log,
+                    crate::simulation::liquid::LANDING_DISPATCH_AT,
+                );
+            }
             pass.set_pipeline(&self.disturb);
             pass.set_bind_group(0, &self.group, &[offset]);
             pass.dispatch_workgroups(groups, groups, 1);

@@ -5,7 +5,7 @@
 // rotation at both depth levels), the inverse FFT of `spectral`. `publish`
 // writes the heights and slopes the surface is drawn with. Twin:
 // hydrolux_core::waves::ripples.
-#import constants, complex, ray_primitive
+#import constants, complex, ray_primitive, liquid_landing
 
 struct RippleParams {
     // Domain cells N, FFT size F, edges (0 walls, 1 open, 2 periodic), sponge cells.
@@ -33,6 +33,13 @@ struct RippleParams {
     kick_per_unit: f32,
     first_move: i32,
     move_count: i32,
+    // The volumetric liquid landing here (liquid_landing.wgsl): this step's
+    // index, clock steps per step, a particle's water (m³), and the copies
+    // of each domain cell in the FFT grid (4 between walls, else 1).
+    landing_step: u32,
+    landing_stride: u32,
+    landing_volume: f32,
+    landing_images: f32,
 }
 
 // A body in the water during one step (twin: waves::ripples::BodyMove):
@@ -71,6 +78,16 @@ struct BodyMove {
 // per metre summed over the grid): `disturb` adds, `spectral_step` adds it
 // to the level and clears it.
 @group(0) @binding(9) var<storage, read_write> pushed: atomic<i32>;
+// The liquid's landings log (liquid_landing.wgsl; its state buffer read
+// here past the solve state). Only `land_liquid` binds it, in a layout of
+// its own with bindings 0, 8 and 9 of group 0.
+struct LandingLog {
+    solve: array<u32, 8>,
+    dispatch: array<u32, 3>,
+    count: u32,
+    landings: array<Landing>,
+}
+@group(1) @binding(0) var<storage, read> liquid: LandingLog;
 
 
 fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
@@ -422,4 +439,46 @@ fn publish(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     heights[d.y * n + d.x] = h;
     textureStore(surface_out, vec2<i32>(g), vec4<f32>(h, slope, select(0.0, 1.0, covered)));
+}
+
+// The kicks' texel (domain cell, row = z) holding world point p, or −1
+// outside the domain. Twin: hydrolux_core::waves::ripples::texel_of.
+fn texel_of_world(p: vec2<f32>) -> i32 {
+    let n = i32(params.cells);
+    let c = vec2<i32>(floor(p / params.cell));
+    let d = c - params.window_origin;
+    if (any(d < vec2<i32>(0)) || any(d >= vec2<i32>(n))) {
+        return -1;
+    }
+    var t = d;
+    if (params.edges != EDGES_WALLS) {
+        t = ((c % n) + n) % n;
+    }
+    return t.y * n + t.x;
+}
+
+// Before `disturb`: the liquid that landed in this step's clock steps
+// becomes this water, its momentum a kick (Δφ = −V·v/A), its volume the
+// level's. Twin: RippleSim::land_liquid.
+@compute @workgroup_size(64)
+fn land_liquid(@builtin(global_invocation_id) id: vec3<u32>) {
+    let count = min(liquid.count, arrayLength(&liquid.landings));
+    if (id.x >= count) {
+        return;
+    }
+    let l = liquid.landings[id.x];
+    if (l.step / params.landing_stride != params.landing_step) {
+        return;
+    }
+    let t = texel_of_world(l.position);
+    if (t < 0) {
+        return;
+    }
+    let area = params.cell * params.cell;
+    let v = params.landing_volume;
+    if (params.kick_per_unit > 0.0) {
+        let speed = clamp(l.down_speed, 0.0, 60.0);
+        atomicAdd(&kicks[t], u32(round(v * speed / area / params.kick_per_unit)));
+    }
+    atomicAdd(&pushed, i32(round(v / area * params.landing_images * PUSHED_UNITS_PER_M)));
 }
