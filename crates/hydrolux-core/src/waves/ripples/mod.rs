@@ -502,7 +502,7 @@ impl RippleSim {
     /// level between walls at the next step (open water hands it to the sea
     /// around, as it does the hulls'). The horizontal momentum is lost: the
     /// surface water is a potential flow of its heights. Outside the domain
-    /// it is lost. (The GPU side of the hand-over is still to come: issue #29.)
+    /// it is lost. Twin of `land_liquid` in `simulation/ripples/ripples.wgsl`.
     pub fn land_liquid(&mut self, x: f64, z: f64, down_speed: f64, volume: f64) {
         let Some(t) = texel_of(&self.settings.grid, &self.window, x, z) else {
             return;
