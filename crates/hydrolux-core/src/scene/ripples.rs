@@ -116,6 +116,12 @@ impl Scene {
 pub const CLOCK_HZ: u32 = 120;
 
 impl RipplesDesc {
+    /// Clock steps a step of the interactive water spans (`rate` divides
+    /// [`CLOCK_HZ`]; validation says so).
+    pub fn clock_stride(&self) -> u32 {
+        (CLOCK_HZ / self.rate.max(1)).max(1)
+    }
+
     /// This section as quality tier `q` renders it ([`Quality::apply`]):
     /// never coarser than `cells_needed`, what the scene's drops and the
     /// pointer's crater need ([`Scene::ripple_cells_needed`]).

@@ -228,7 +228,7 @@ pub struct Liquid {
 
 /// Clock steps per step of the scene's interactive water (`ripples.rate`).
 fn landing_stride(scene: &Scene) -> u64 {
-    (hydrolux_core::scene::CLOCK_HZ / scene.ripples.rate.max(1)).max(1) as u64
+    scene.ripples.clock_stride() as u64
 }
 
 impl Liquid {

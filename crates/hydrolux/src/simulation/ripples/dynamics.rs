@@ -115,7 +115,7 @@ impl Dynamics {
             readback_origin: [0.0; 2],
             levels: Vec::new(),
             clock_steps: 0,
-            stride: (CLOCK_HZ / scene.ripples.rate.max(1)) as u64,
+            stride: scene.ripples.clock_stride() as u64,
             dt,
             scene: scene.clone(),
             unpublished: false,

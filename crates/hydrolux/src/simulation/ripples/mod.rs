@@ -512,8 +512,7 @@ impl RipplePass {
             first_move: 0,
             move_count: 0,
             landing_step: 0,
-            landing_stride: (hydrolux_core::scene::CLOCK_HZ / self.scene.ripples.rate.max(1))
-                .max(1),
+            landing_stride: self.scene.ripples.clock_stride(),
             landing_volume: self.scene.fluid_landing().map_or(0.0, |l| l.particle_volume as f32),
             landing_images: ((g.fft_size() / g.cells) as f32).powi(2),
         }

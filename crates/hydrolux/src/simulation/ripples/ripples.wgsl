@@ -5,7 +5,7 @@
 // rotation at both depth levels), the inverse FFT of `spectral`. `publish`
 // writes the heights and slopes the surface is drawn with. Twin:
 // hydrolux_core::waves::ripples.
-#import constants, complex, ray_primitive, liquid_landing
+#import constants, complex, ray_primitive, liquid_landing, ripple_texel
 
 struct RippleParams {
     // Domain cells N, FFT size F, edges (0 walls, 1 open, 2 periodic), sponge cells.
@@ -441,21 +441,6 @@ fn publish(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(surface_out, vec2<i32>(g), vec4<f32>(h, slope, select(0.0, 1.0, covered)));
 }
 
-// The kicks' texel (domain cell, row = z) holding world point p, or −1
-// outside the domain. Twin: hydrolux_core::waves::ripples::texel_of.
-fn texel_of_world(p: vec2<f32>) -> i32 {
-    let n = i32(params.cells);
-    let c = vec2<i32>(floor(p / params.cell));
-    let d = c - params.window_origin;
-    if (any(d < vec2<i32>(0)) || any(d >= vec2<i32>(n))) {
-        return -1;
-    }
-    var t = d;
-    if (params.edges != EDGES_WALLS) {
-        t = ((c % n) + n) % n;
-    }
-    return t.y * n + t.x;
-}
 
 // Before `disturb`: the liquid that landed in this step's clock steps
 // becomes this water, its momentum a kick (Δφ = −V·v/A), its volume the
@@ -470,7 +455,7 @@ fn land_liquid(@builtin(global_invocation_id) id: vec3<u32>) {
     if (l.step / params.landing_stride != params.landing_step) {
         return;
     }
-    let t = texel_of_world(l.position);
+    let t = ripple_texel(l.position, params.cell, i32(params.cells), params.window_origin, params.edges == EDGES_WALLS);
     if (t < 0) {
         return;
     }

@@ -7,7 +7,7 @@
 // `update` (integrate; what lands feeds the foam), `foam_step` (drift,
 // decay, sources; breaking crests emit particles), `emit` (the CPU's
 // splashes). Twin: hydrolux_core::whitewater, line by line.
-#import constants, surface, particle
+#import constants, surface, particle, ripple_texel
 
 struct WhitewaterParams {
     // The foam grid: world cell of the window's low corner, cells per
@@ -386,16 +386,8 @@ fn kick_texel(p: vec2<f32>) -> i32 {
     }
     let cell = surface.ripple_cell;
     let n = i32(round(surface.ripple_side / cell));
-    let c = vec2<i32>(floor(p / cell));
-    let d = c - vec2<i32>(round(surface.ripple_window.xy / cell));
-    if (any(d < vec2<i32>(0)) || any(d >= vec2<i32>(n))) {
-        return -1;
-    }
-    var t = d;
-    if (RIPPLES != 1u) {
-        t = ((c % n) + n) % n;
-    }
-    return t.y * n + t.x;
+    let origin = vec2<i32>(round(surface.ripple_window.xy / cell));
+    return ripple_texel(p, cell, n, origin, RIPPLES == 1u);
 }
 
 // A spray parcel landing at p at `speed` m/s downwards (twin: RippleSim::land).
