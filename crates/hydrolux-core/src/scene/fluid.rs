@@ -553,6 +553,26 @@ impl Scene {
             .then(|| LandingSurface { level: 0.0, particle_volume: self.fluid.particle_volume() })
     }
 
+    /// Clock steps between restarts of the liquid's landings log: every
+    /// simulation that takes the landings (the interactive water's steps and
+    /// the white water's) must find each in the log at its step, so it
+    /// restarts only where both begin a step (their strides divide
+    /// [`CLOCK_HZ`](crate::scene::CLOCK_HZ), so this does too).
+    pub fn fluid_landing_stride(&self) -> u32 {
+        let water = self.ripples.clock_stride();
+        if !self.has_whitewater() {
+            return water;
+        }
+        let white = crate::scene::CLOCK_HZ / self.whitewater.rate.max(1);
+        let gcd = |mut a: u32, mut b: u32| {
+            while b != 0 {
+                (a, b) = (b, a % b);
+            }
+            a
+        };
+        water / gcd(water, white) * white
+    }
+
     /// The liquid at the start, over the interactive water if it lands in it.
     pub fn fluid_start(&self) -> Liquid {
         self.fluid.initial_over(&self.objects, self.fluid_landing())

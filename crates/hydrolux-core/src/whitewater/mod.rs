@@ -392,12 +392,15 @@ impl FoamField {
         FoamField { grid, amount: vec![0.0; n], deposits: vec![0; n] }
     }
 
-    /// Leave `foam` (F·m²) in the cell holding world (x, z) for the next step.
+    /// Leave `foam` (F·m²) in the cell holding world (x, z) for the next
+    /// step, at most a full cell's ([`FOAM_MAX`]).
     pub fn deposit(&mut self, x: f32, z: f32, foam: f32) {
         let c = self.grid.cell;
         let (i, j) = ((x / c).floor() as i32, (z / c).floor() as i32);
         if self.grid.contains(i, j) {
-            let units = (foam / (c * c) * DEPOSIT_SCALE).round() as u32;
+            // One deposit fills its cell at most (more runs off): the sum
+            // cannot wrap however many land in a cell in a step.
+            let units = ((foam / (c * c)).min(FOAM_MAX) * DEPOSIT_SCALE).round() as u32;
             let k = self.grid.index(i, j);
             self.deposits[k] = self.deposits[k].wrapping_add(units);
         }
@@ -677,6 +680,95 @@ pub fn drop_splash(d: &crate::coupling::Drop) -> Option<Splash> {
         foam: (10.0 * s).min(1.0),
         first: 0,
     })
+}
+
+/// Speed (m/s) under which liquid falling into the water entrains no air:
+/// the onset of air entrainment by plunging jets, about 1 m/s (Ervine,
+/// McKeogh & Elsawy 1980; Chanson 1997, "Air bubble entrainment in
+/// free-surface turbulent shear flows").
+pub const ENTRAINMENT_ONSET_SPEED: f32 = 1.0;
+/// Air a fast plunge carries under per volume of liquid, the ratio's
+/// limit: measured Q_air/Q_water of plunging jets are of order 0.1–1
+/// (Chanson 1997), growing with the impact speed above the onset.
+pub const ENTRAINMENT_RATIO: f32 = 0.5;
+/// Entrained air (m³) that one bubble particle born under a plunge stands
+/// for: a cloud of about a hundred millimetre bubbles, so that a garden
+/// fountain's plume (a few litres a second) shows a few thousand.
+pub const PLUNGE_AIR_PER_BUBBLE: f32 = 4.0e-7;
+/// Depth (m) the plume reaches per m/s of impact speed: about 0.2 m for a
+/// jet plunging at 4 m/s.
+pub const PLUME_DEPTH_PER_SPEED: f32 = 0.05;
+/// Most bubble particles one landing parcel makes.
+pub const PLUNGE_MAX_BUBBLES: u32 = 4;
+
+/// Air (m³) that `volume` m³ of liquid plunging at `down_speed` m/s
+/// carries under: β·V with β = [`ENTRAINMENT_RATIO`]·(1 − v_e/v)² above
+/// the onset speed v_e, nothing below it (as `entrained_air` in WGSL).
+pub fn entrained_air(volume: f32, down_speed: f32) -> f32 {
+    let v = if down_speed.is_finite() { down_speed.clamp(0.0, 60.0) } else { 0.0 };
+    if v <= ENTRAINMENT_ONSET_SPEED {
+        return 0.0;
+    }
+    let excess = 1.0 - ENTRAINMENT_ONSET_SPEED / v;
+    ENTRAINMENT_RATIO * excess * excess * volume
+}
+
+/// A parcel of the volumetric liquid falling into the water (issue #29),
+/// as the white water takes it from the liquid's landings log.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plunge {
+    pub x: f32,
+    pub z: f32,
+    /// Its downward speed as it crossed the level (m/s).
+    pub down_speed: f32,
+    /// Its volume (m³).
+    pub volume: f32,
+    /// The clock step it landed in.
+    pub clock_step: u32,
+}
+
+impl Plunge {
+    /// Foam (F·m²) it leaves where it lands: the air it carries under
+    /// surfaces around the plume as froth at once, as a bubble's air does
+    /// when it bursts ([`BURST_FOAM_PER_M3`]).
+    pub fn foam(&self) -> f32 {
+        entrained_air(self.volume, self.down_speed) * BURST_FOAM_PER_M3
+    }
+
+    /// The bubble particles it makes (each a cloud of
+    /// [`PLUNGE_AIR_PER_BUBBLE`] of air; a random rounding keeps the
+    /// mean), spread over its cell and down the plume: the same on the GPU
+    /// (`plunge` in `whitewater.wgsl`), their ids hashed from where and
+    /// when it landed (the log's order is the GPU's atomics').
+    pub fn bubbles(&self, step: u32) -> Vec<Particle> {
+        let id0 =
+            hash_u32(self.x.to_bits() ^ hash_u32(self.z.to_bits() ^ hash_u32(self.clock_step)));
+        let air = entrained_air(self.volume, self.down_speed) / PLUNGE_AIR_PER_BUBBLE;
+        let count = ((air + random(step, id0, 13)) as u32).min(PLUNGE_MAX_BUBBLES);
+        let depth = PLUME_DEPTH_PER_SPEED * self.down_speed.clamp(0.0, 60.0);
+        (0..count)
+            .map(|m| {
+                let id = hash_u32(id0 ^ m.wrapping_mul(0x9E37_79B9)) | 0x8000_0000;
+                let (r1, r2, r3) = (random(step, id, 1), random(step, id, 2), random(step, id, 3));
+                let r4 = random(step, id, 4);
+                let r = sample_bubble_radius(r3);
+                let volume = bubble_volume(r);
+                // A plume as wide as it is deep, about where it plunged.
+                Particle {
+                    position: [
+                        self.x + (r1 - 0.5) * depth,
+                        -0.01 - depth * r4,
+                        self.z + (r2 - 0.5) * depth,
+                    ],
+                    kind: BUBBLE,
+                    id,
+                    volume,
+                    radius: bubble_radius(volume),
+                    ..Default::default()
+                }
+            })
+            .collect()
+    }
 }
 
 mod particles;

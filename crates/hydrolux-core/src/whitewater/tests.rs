@@ -363,3 +363,49 @@ fn whitecap_cover_follows_monahan() {
         );
     }
 }
+
+#[test]
+fn plunging_liquid_entrains_air_above_the_onset_speed_and_makes_a_plume_of_it() {
+    // No air below the onset speed; β rises towards its limit above it.
+    assert_eq!(entrained_air(1.0, 0.5), 0.0);
+    assert_eq!(entrained_air(1.0, ENTRAINMENT_ONSET_SPEED), 0.0);
+    assert_eq!(entrained_air(1.0, f32::NAN), 0.0);
+    let beta = |v: f32| entrained_air(1.0, v);
+    assert!((beta(2.0) - 0.25 * ENTRAINMENT_RATIO).abs() < 1e-6);
+    assert!(
+        beta(3.0) > beta(2.0)
+            && beta(50.0) < ENTRAINMENT_RATIO
+            && beta(50.0) > 0.9 * ENTRAINMENT_RATIO
+    );
+    // Its froth is its air's, as a bursting bubble's.
+    let p = Plunge { x: 0.3, z: -0.2, down_speed: 3.0, volume: 2e-6, clock_step: 7 };
+    assert!((p.foam() - entrained_air(2e-6, 3.0) * BURST_FOAM_PER_M3).abs() < 1e-9);
+    // Many plunges make bubbles in the mean their air gives, each in the
+    // plume under where it fell, none twice.
+    let (mut made, mut wanted) = (0usize, 0.0f64);
+    let mut ids = std::collections::HashSet::new();
+    for k in 0..2000u32 {
+        let p = Plunge {
+            x: 0.001 * k as f32,
+            z: 0.5,
+            down_speed: 3.0,
+            volume: 2e-6,
+            clock_step: k / 10,
+        };
+        let depth = PLUME_DEPTH_PER_SPEED * 3.0;
+        let bubbles = p.bubbles(k / 6);
+        wanted += (entrained_air(p.volume, p.down_speed) / PLUNGE_AIR_PER_BUBBLE) as f64;
+        for b in &bubbles {
+            assert_eq!(b.kind, BUBBLE);
+            assert!(
+                (b.position[0] - p.x).abs() <= 0.5 * depth
+                    && (b.position[2] - p.z).abs() <= 0.5 * depth
+            );
+            assert!(b.position[1] < 0.0 && b.position[1] >= -0.01 - depth);
+            assert!(b.volume > 0 && (0.95e-4..=5.01e-3).contains(&b.radius), "{b:?}");
+            assert!(ids.insert(b.id), "one id per bubble");
+        }
+        made += bubbles.len();
+    }
+    assert!((made as f64 - wanted).abs() < 0.05 * wanted, "{made} bubbles, {wanted} wanted");
+}

@@ -2,7 +2,8 @@
 // a particle that falls under the water's mean level becomes that water.
 // The liquid's `advance` appends them to the log after its solve state
 // (liquid.wgsl `LiquidState`); the interactive water's `land_liquid`
-// (ripples.wgsl) takes each in the water step that covers its clock step.
+// (ripples.wgsl) takes each in the water step that covers its clock step,
+// the white water's `plunge` (whitewater.wgsl) in its own step.
 // Twin: hydrolux_core::fluid::Landing.
 //
 // The log's layout in the liquid's state buffer (bytes): the solve state
@@ -16,6 +17,14 @@ struct Landing {
     down_speed: f32,
     // The clock step it landed in.
     step: u32,
+}
+
+// The log as a reader binds the liquid's state buffer.
+struct LandingLog {
+    solve: array<u32, 8>,
+    dispatch: array<u32, 3>,
+    count: u32,
+    landings: array<Landing>,
 }
 
 // Threads per workgroup of the water's pass over the log.

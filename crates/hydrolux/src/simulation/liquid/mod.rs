@@ -226,9 +226,10 @@ pub struct Liquid {
     landing: Option<hydrolux_core::fluid::LandingSurface>,
 }
 
-/// Clock steps per step of the scene's interactive water (`ripples.rate`).
+/// Clock steps between restarts of the landings log: where the interactive
+/// water's and the white water's steps both begin.
 fn landing_stride(scene: &Scene) -> u64 {
-    scene.ripples.clock_stride() as u64
+    scene.fluid_landing_stride() as u64
 }
 
 impl Liquid {

@@ -81,12 +81,6 @@ struct BodyMove {
 // The liquid's landings log (liquid_landing.wgsl; its state buffer read
 // here past the solve state). Only `land_liquid` binds it, in a layout of
 // its own with bindings 0, 8 and 9 of group 0.
-struct LandingLog {
-    solve: array<u32, 8>,
-    dispatch: array<u32, 3>,
-    count: u32,
-    landings: array<Landing>,
-}
 @group(1) @binding(0) var<storage, read> liquid: LandingLog;
 
 

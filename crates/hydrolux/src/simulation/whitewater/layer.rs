@@ -25,6 +25,8 @@ impl crate::simulation::Simulation for Whitewater {
         published: &crate::simulation::Published,
     ) {
         self.bind_kicks(&shared.device, published.ripples.as_ref().map(|r| &r.kicks));
+        let landings = published.liquid.as_ref().and_then(|l| l.landings.as_ref());
+        self.bind_landings(&shared.device, landings);
     }
 
     fn publish(&self, published: &mut crate::simulation::Published) {

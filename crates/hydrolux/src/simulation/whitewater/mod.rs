@@ -61,11 +61,15 @@ uniform! { WhitewaterParams;
         pub emission_radius: f32,
         pub camera: [f32; 2],
         pub run: u32,
-        pub _pad0: u32,
+        pub landing_stride: u32,
         pub deposits_base: u32,
         pub gained_base: u32,
         pub heads_base: u32,
         pub bucket_mask: u32,
+        pub landing_volume: f32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+        pub _pad3: u32,
     }
 }
 
@@ -92,13 +96,22 @@ pub fn source() -> String {
         ("FOAM_MAX", w::FOAM_MAX),
         ("KICK_SCALE", w::KICK_SCALE),
         ("MOTION_FOOTPRINT_PER_DEPTH", w::MOTION_FOOTPRINT_PER_DEPTH),
+        ("ENTRAINMENT_ONSET_SPEED", w::ENTRAINMENT_ONSET_SPEED),
+        ("ENTRAINMENT_RATIO", w::ENTRAINMENT_RATIO),
+        ("PLUNGE_AIR_PER_BUBBLE", w::PLUNGE_AIR_PER_BUBBLE),
+        ("PLUME_DEPTH_PER_SPEED", w::PLUME_DEPTH_PER_SPEED),
     ]
     .iter()
     .map(|(name, v)| format!("const {name}: f32 = {v:e};\n"))
     .chain(
-        [("COUNT_FREE", COUNT_FREE), ("COUNT_EMITTED", COUNT_EMITTED), ("COUNT_LOST", COUNT_LOST)]
-            .iter()
-            .map(|(name, v)| format!("const {name}: u32 = {v}u;\n")),
+        [
+            ("COUNT_FREE", COUNT_FREE),
+            ("COUNT_EMITTED", COUNT_EMITTED),
+            ("COUNT_LOST", COUNT_LOST),
+            ("PLUNGE_MAX_BUBBLES", w::PLUNGE_MAX_BUBBLES as usize),
+        ]
+        .iter()
+        .map(|(name, v)| format!("const {name}: u32 = {v}u;\n")),
     )
     .collect();
     shaders::compose(&consts, include_str!("whitewater.wgsl"))
@@ -146,6 +159,7 @@ struct Pipelines {
     update: wgpu::ComputePipeline,
     foam_step: wgpu::ComputePipeline,
     emit: wgpu::ComputePipeline,
+    plunge: wgpu::ComputePipeline,
 }
 
 pub struct Whitewater {
@@ -191,6 +205,12 @@ pub struct Whitewater {
     kicks_layout: wgpu::BindGroupLayout,
     kicks_group: wgpu::BindGroup,
     no_kicks: wgpu::Buffer,
+    /// `plunge`'s group 1: the liquid's landings log, and the buffer
+    /// holding its indirect dispatch (`None`: no liquid lands here).
+    log_layout: wgpu::BindGroupLayout,
+    log: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    /// Volume (m³) of a landing particle of the liquid.
+    landing_volume: f32,
     pipelines: Pipelines,
     /// The cover's mips are behind its level 0.
     mips_due: bool,
@@ -315,6 +335,10 @@ impl Whitewater {
             entries: &[storage_entry(1, cs, false)],
         });
         let no_kicks = storage("no spray kicks", 16, none);
+        let log_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("whitewater liquid landings log"),
+            entries: &[storage_entry(15, cs, true)],
+        });
         let kicks_group = kicks_group(device, &kicks_layout, &no_kicks);
         let cover_view = cover.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -388,6 +412,14 @@ impl Whitewater {
             ),
             foam_step: pipeline("foam_step"),
             emit: pipeline("emit"),
+            plunge: compute_pipeline_with(
+                device,
+                "plunge",
+                &module,
+                "plunge",
+                &[&layout, &log_layout],
+                &constants,
+            ),
         };
         let sampled_cover = cover.create_view(&Default::default());
         let whitewater = Whitewater {
@@ -421,6 +453,9 @@ impl Whitewater {
             kicks_layout,
             kicks_group,
             no_kicks,
+            log_layout,
+            log: None,
+            landing_volume: scene.fluid_landing().map_or(0.0, |l| l.particle_volume as f32),
             pipelines,
             mips_due: true,
             cover_view: sampled_cover,
@@ -435,12 +470,29 @@ impl Whitewater {
         self.kicks_group = kicks_group(device, &self.kicks_layout, kicks.unwrap_or(&self.no_kicks));
     }
 
+    /// Take the liquid's landings from `log` (its state buffer; `None`: no
+    /// liquid lands here).
+    pub fn bind_landings(&mut self, device: &wgpu::Device, log: Option<&wgpu::Buffer>) {
+        self.log = log.map(|buffer| {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("whitewater liquid landings log"),
+                layout: &self.log_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 15,
+                    resource: buffer.as_entire_binding(),
+                }],
+            });
+            (buffer.clone(), group)
+        });
+    }
+
     /// Whether `scene` keeps this state.
     pub fn fits(&self, scene: &Scene) -> bool {
         scene.whitewater == self.scene.whitewater
             && scene.water == self.scene.water
             && scene.ocean == self.scene.ocean
             && scene.floor.depth == self.scene.floor.depth
+            && scene.fluid_landing() == self.scene.fluid_landing()
     }
 
     fn reset_buffers(&self, queue: &wgpu::Queue) {

@@ -108,11 +108,15 @@ impl Whitewater {
             emission_radius: EMISSION_RADIUS,
             camera: cam,
             run: self.run,
-            _pad0: 0,
+            landing_stride: self.stride as u32,
             deposits_base: COUNTERS,
             gained_base: COUNTERS + n * n,
             heads_base: COUNTERS + n * n + self.capacity,
             bucket_mask: self.table - 1,
+            landing_volume: self.landing_volume,
+            _pad1: 0,
+            _pad2: 0,
+            _pad3: 0,
         };
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&u));
         let group = &self.foam.current().group;
@@ -142,6 +146,12 @@ impl Whitewater {
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups_indirect(&self.args, 0);
             }
+        }
+        if let Some((log, log_group)) = &self.log {
+            pass.set_bind_group(1, log_group, &[]);
+            pass.set_pipeline(&p.plunge);
+            pass.dispatch_workgroups_indirect(log, crate::simulation::liquid::LANDING_DISPATCH_AT);
+            pass.set_bind_group(1, surface, &[]);
         }
         pass.set_pipeline(&p.foam_step);
         pass.dispatch_workgroups((n * n).div_ceil(64), 1, 1);

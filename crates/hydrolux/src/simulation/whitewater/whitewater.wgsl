@@ -4,10 +4,11 @@
 // entirely on the GPU (atomic counters, a dead-slot stack, indirect
 // dispatch). One step is `begin` (indirect arguments), `hash_clear`,
 // `hash_insert`, `merge_pick`, `merge_apply` (bubbles that touch merge),
-// `update` (integrate; what lands feeds the foam), `foam_step` (drift,
+// `update` (integrate; what lands feeds the foam), `plunge` (the volumetric
+// liquid falling into the water: froth and a plume of bubbles), `foam_step` (drift,
 // decay, sources; breaking crests emit particles), `emit` (the CPU's
 // splashes). Twin: hydrolux_core::whitewater, line by line.
-#import constants, surface, particle, ripple_texel
+#import constants, surface, particle, ripple_texel, liquid_landing
 
 struct WhitewaterParams {
     // The foam grid: world cell of the window's low corner, cells per
@@ -45,12 +46,19 @@ struct WhitewaterParams {
     // Camera (x, z); what runs (bit 0 fold source, bit 1 ripple source, bit 2 particles).
     camera: vec2<f32>,
     run: u32,
-    _pad0: u32,
+    // Clock steps per white-water step: `plunge` takes the landings whose
+    // clock step over this is `step`.
+    landing_stride: u32,
     // Bases in `atomics`: deposits, gained, hash heads; the hash's bucket mask.
     deposits_base: u32,
     gained_base: u32,
     heads_base: u32,
     bucket_mask: u32,
+    // Volume (m³) of one of the liquid's particles (0: no liquid lands here).
+    landing_volume: f32,
+    _pad1: u32,
+    _pad2: u32,
+    _pad3: u32,
 }
 
 struct Splash {
@@ -212,7 +220,9 @@ fn deposit(x: f32, z: f32, foam: f32) {
     if (!inside(i, j)) {
         return;
     }
-    let units = u32(round(foam / (c * c) * DEPOSIT_SCALE));
+    // One deposit fills its cell at most (more runs off): the fixed-point
+    // sum cannot wrap however many land in a cell in a step.
+    let units = u32(round(min(foam / (c * c), FOAM_MAX) * DEPOSIT_SCALE));
     atomicAdd(&atomics[params.deposits_base + storage_index(i, j)], units);
 }
 
@@ -317,6 +327,63 @@ fn emit_crest(k: u32, p: vec2<f32>, s: SurfaceSample, fold: f32) {
             q.radius = bubble_radius(q.volume);
             q.position.y -= 0.05 + 0.5 * r1 * r2;
         }
+        spawn(q);
+    }
+}
+
+// The volumetric liquid's landings (liquid_landing.wgsl), read by `plunge`
+// alone, which binds no surface: its group 1 is this log alone (a binding
+// past the surface's, which the other kernels bind as group 1), so the
+// stage holds eight storage buffers, WebGPU's default limit.
+@group(1) @binding(15) var<storage, read> liquid: LandingLog;
+
+// Air (m³) that `volume` of liquid plunging at `down_speed` carries under
+// (twin: hydrolux_core::whitewater::entrained_air).
+fn entrained_air(volume: f32, down_speed: f32) -> f32 {
+    let v = clamp(down_speed, 0.0, 60.0);
+    if (!(v > ENTRAINMENT_ONSET_SPEED)) {
+        return 0.0;
+    }
+    let excess = 1.0 - ENTRAINMENT_ONSET_SPEED / v;
+    return ENTRAINMENT_RATIO * excess * excess * volume;
+}
+
+// The liquid that landed in this step's clock steps: its entrained air
+// surfaces as froth where it fell and shows as a plume of bubbles under
+// it (twin: hydrolux_core::whitewater::Plunge). After `update`, so the
+// bubbles join the list it writes; before `foam_step`, which takes the
+// froth with the step's other deposits.
+@compute @workgroup_size(64)
+fn plunge(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let count = min(liquid.count, arrayLength(&liquid.landings));
+    if (gid.x >= count) {
+        return;
+    }
+    let l = liquid.landings[gid.x];
+    if (l.step / params.landing_stride != params.step) {
+        return;
+    }
+    let air = entrained_air(params.landing_volume, l.down_speed);
+    if (air <= 0.0) {
+        return;
+    }
+    deposit(l.position.x, l.position.y, air * BURST_FOAM_PER_M3);
+    if ((params.run & 4u) == 0u) {
+        return;
+    }
+    let step = params.step;
+    let id0 = hash_u32(bitcast<u32>(l.position.x) ^ hash_u32(bitcast<u32>(l.position.y) ^ hash_u32(l.step)));
+    let bubbles = min(u32(air / PLUNGE_AIR_PER_BUBBLE + random(step, id0, 13u)), PLUNGE_MAX_BUBBLES);
+    let depth = PLUME_DEPTH_PER_SPEED * clamp(l.down_speed, 0.0, 60.0);
+    for (var m = 0u; m < bubbles; m++) {
+        let id = hash_u32(id0 ^ (m * 0x9E3779B9u)) | 0x80000000u;
+        let r1 = random(step, id, 1u);
+        let r2 = random(step, id, 2u);
+        let r3 = random(step, id, 3u);
+        let r4 = random(step, id, 4u);
+        var q = Particle(vec3<f32>(l.position.x + (r1 - 0.5) * depth, -0.01 - depth * r4, l.position.y + (r2 - 0.5) * depth), 0.0, vec3<f32>(0.0), PARTICLE_BUBBLE, id, 0.0, 0u, 0u, vec3<f32>(0.0), 0u);
+        q.volume = bubble_volume(sample_bubble_radius(r3));
+        q.radius = bubble_radius(q.volume);
         spawn(q);
     }
 }
