@@ -283,6 +283,24 @@ pub fn kick_per_unit(spray_size: f32, cell: f64) -> f64 {
     kick_per_unit_of_volume(spray_parcel_volume(spray_size), cell)
 }
 
+/// Depth (m) the plume under a plunging liquid reaches per m/s of its
+/// impact speed: about 0.2 m for a jet plunging at 4 m/s. The liquid's
+/// momentum goes down into that plume (a submerged jet spreading as it
+/// goes), so the surface feels it over the plume's width, not the cell it
+/// crossed the level in; the white water's bubbles fill the same plume.
+pub const PLUME_DEPTH_PER_SPEED: f32 = 0.05;
+/// Most cells a plunge's impulse reaches on each side of its own.
+pub const PLUNGE_SPREAD_CELLS: i64 = 8;
+
+/// The share of a plunge's impulse that a cell of the interactive water
+/// takes before normalising (as `plunge_weight` in ripples.wgsl): its
+/// centre `r2` m² (squared) from where the liquid landed, in a plume
+/// `radius` m wide, (1 − r²/R²)², nothing beyond.
+pub fn plunge_weight(r2: f64, radius: f64) -> f64 {
+    let u = 1.0 - r2 / (radius * radius);
+    if u > 0.0 { u * u } else { 0.0 }
+}
+
 /// Δφ (m²/s) one kick unit gives a cell `cell` m wide when a unit stands
 /// for a parcel of `volume` m³ at 1/[`KICK_SCALE`] m/s (the liquid's
 /// particles, where no spray sets the unit).

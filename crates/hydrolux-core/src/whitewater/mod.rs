@@ -22,7 +22,8 @@
 //!   the foam.
 
 pub use crate::coupling::{
-    KICK_SCALE, SPRAY_LIQUID_FRACTION, kick_per_unit, kick_units, spray_parcel_volume,
+    KICK_SCALE, PLUME_DEPTH_PER_SPEED, SPRAY_LIQUID_FRACTION, kick_per_unit, kick_units,
+    spray_parcel_volume,
 };
 use crate::waves::SurfaceSample;
 use bytemuck::{Pod, Zeroable};
@@ -695,9 +696,6 @@ pub const ENTRAINMENT_RATIO: f32 = 0.5;
 /// for: a cloud of about a hundred millimetre bubbles, so that a garden
 /// fountain's plume (a few litres a second) shows a few thousand.
 pub const PLUNGE_AIR_PER_BUBBLE: f32 = 4.0e-7;
-/// Depth (m) the plume reaches per m/s of impact speed: about 0.2 m for a
-/// jet plunging at 4 m/s.
-pub const PLUME_DEPTH_PER_SPEED: f32 = 0.05;
 /// Most bubble particles one landing parcel makes.
 pub const PLUNGE_MAX_BUBBLES: u32 = 4;
 

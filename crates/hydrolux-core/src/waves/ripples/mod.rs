@@ -496,23 +496,48 @@ impl RippleSim {
 
     /// Liquid landing at world (x, z): `volume` m³ falling at `down_speed`
     /// m/s becomes this water (issue #29; `fluid::Landing`). Its momentum
-    /// ρ·V·v is an impulsive pressure over its cell, Δφ = −V·v/A (as for
-    /// spray, [`crate::coupling::kick_per_unit`]), in kick units of this
+    /// ρ·V·v is an impulsive pressure, Δφ = −V·v/A (as for spray,
+    /// [`crate::coupling::kick_per_unit`]), spread over the plume it drives
+    /// down ([`crate::coupling::plunge_weight`]: a jet's steady thrust on one
+    /// cell would hold a pit metres deep in these linear waves), in kick units of this
     /// water's `kick_per_unit` (0: it rings nothing); its volume joins the
     /// level between walls at the next step (open water hands it to the sea
     /// around, as it does the hulls'). The horizontal momentum is lost: the
     /// surface water is a potential flow of its heights. Outside the domain
     /// it is lost. Twin of `land_liquid` in `simulation/ripples/ripples.wgsl`.
     pub fn land_liquid(&mut self, x: f64, z: f64, down_speed: f64, volume: f64) {
-        let Some(t) = texel_of(&self.settings.grid, &self.window, x, z) else {
+        use crate::coupling::{PLUME_DEPTH_PER_SPEED, PLUNGE_SPREAD_CELLS, plunge_weight};
+        if texel_of(&self.settings.grid, &self.window, x, z).is_none() {
             return;
-        };
+        }
         let grid = self.settings.grid;
-        let area = grid.cell_size * grid.cell_size;
+        let cell = grid.cell_size;
+        let area = cell * cell;
         if self.kick_per_unit > 0.0 {
             let speed = if down_speed.is_finite() { down_speed.clamp(0.0, 60.0) } else { 0.0 };
-            let units = (volume * speed / area / self.kick_per_unit).round();
-            self.kicks[t] = self.kicks[t].wrapping_add(units as u32);
+            let units = volume * speed / area / self.kick_per_unit;
+            // Over the plume's width: the cells whose centres it covers, in
+            // the domain (their weights normalised there, so walls keep the
+            // whole impulse).
+            let radius = (PLUME_DEPTH_PER_SPEED as f64 * speed).max(cell);
+            let reach = ((radius / cell).ceil() as i64).min(PLUNGE_SPREAD_CELLS);
+            let (ci, cj) = ((x / cell).floor(), (z / cell).floor());
+            let mut taps = Vec::new();
+            let mut sum = 0.0;
+            for dj in -reach..=reach {
+                for di in -reach..=reach {
+                    let cx = (ci + di as f64 + 0.5) * cell;
+                    let cz = (cj + dj as f64 + 0.5) * cell;
+                    let w = plunge_weight((cx - x).powi(2) + (cz - z).powi(2), radius);
+                    if let Some(t) = texel_of(&grid, &self.window, cx, cz).filter(|_| w > 0.0) {
+                        taps.push((t, w));
+                        sum += w;
+                    }
+                }
+            }
+            for (t, w) in taps {
+                self.kicks[t] = self.kicks[t].wrapping_add((units * w / sum).round() as u32);
+            }
         }
         // Every image of the cell in the FFT grid holds the level's rise.
         let images = (grid.fft_size() / grid.cells).pow(2) as f64;

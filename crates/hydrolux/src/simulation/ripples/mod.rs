@@ -53,8 +53,9 @@ pub fn source() -> String {
         BREAKING_RELAX, BREAKING_SLOPE, HULL_GAP, PUSHED_UNITS_PER_M,
     };
     // Breaking's and the hulls' constants from the CPU twin's, not copied by hand.
+    use hydrolux_core::coupling::{PLUME_DEPTH_PER_SPEED, PLUNGE_SPREAD_CELLS};
     let consts = format!(
-        "const BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\nconst HULL_GAP: f32 = {HULL_GAP:?};\nconst PUSHED_UNITS_PER_M: f32 = {PUSHED_UNITS_PER_M:?};\nconst EDGES_WALLS: u32 = {}u;\n",
+        "const PLUME_DEPTH_PER_SPEED: f32 = {PLUME_DEPTH_PER_SPEED:?};\nconst PLUNGE_SPREAD_CELLS: i32 = {PLUNGE_SPREAD_CELLS};\nconst BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\nconst HULL_GAP: f32 = {HULL_GAP:?};\nconst PUSHED_UNITS_PER_M: f32 = {PUSHED_UNITS_PER_M:?};\nconst EDGES_WALLS: u32 = {}u;\n",
         edges_index(RippleBoundary::Walls)
     );
     shaders::compose(&consts, include_str!("ripples.wgsl"))

@@ -436,6 +436,13 @@ fn publish(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 
+// The share of a plunge's impulse a cell takes before normalising (twin:
+// hydrolux_core::coupling::plunge_weight).
+fn plunge_weight(r2: f32, radius: f32) -> f32 {
+    let u = 1.0 - r2 / (radius * radius);
+    return select(0.0, u * u, u > 0.0);
+}
+
 // Before `disturb`: the liquid that landed in this step's clock steps
 // becomes this water, its momentum a kick (Δφ = −V·v/A), its volume the
 // level's. Twin: RippleSim::land_liquid.
@@ -449,15 +456,41 @@ fn land_liquid(@builtin(global_invocation_id) id: vec3<u32>) {
     if (l.step / params.landing_stride != params.landing_step) {
         return;
     }
-    let t = ripple_texel(l.position, params.cell, i32(params.cells), params.window_origin, params.edges == EDGES_WALLS);
-    if (t < 0) {
+    let walls = params.edges == EDGES_WALLS;
+    let n = i32(params.cells);
+    let cell = params.cell;
+    if (ripple_texel(l.position, cell, n, params.window_origin, walls) < 0) {
         return;
     }
-    let area = params.cell * params.cell;
+    let area = cell * cell;
     let v = params.landing_volume;
     if (params.kick_per_unit > 0.0) {
+        // Over the plume's width: the cells whose centres it covers, in the
+        // domain, their weights normalised there.
         let speed = clamp(l.down_speed, 0.0, 60.0);
-        atomicAdd(&kicks[t], u32(round(v * speed / area / params.kick_per_unit)));
+        let units = v * speed / area / params.kick_per_unit;
+        let radius = max(PLUME_DEPTH_PER_SPEED * speed, cell);
+        let reach = min(i32(ceil(radius / cell)), PLUNGE_SPREAD_CELLS);
+        let c = floor(l.position / cell);
+        var sum = 0.0;
+        for (var sweep = 0; sweep < 2; sweep++) {
+            for (var dj = -reach; dj <= reach; dj++) {
+                for (var di = -reach; di <= reach; di++) {
+                    let centre = (c + vec2<f32>(f32(di), f32(dj)) + 0.5) * cell;
+                    let d = centre - l.position;
+                    let w = plunge_weight(dot(d, d), radius);
+                    let t = ripple_texel(centre, cell, n, params.window_origin, walls);
+                    if (w <= 0.0 || t < 0) {
+                        continue;
+                    }
+                    if (sweep == 0) {
+                        sum += w;
+                    } else {
+                        atomicAdd(&kicks[t], u32(round(units * w / sum)));
+                    }
+                }
+            }
+        }
     }
     atomicAdd(&pushed, i32(round(v / area * params.landing_images * PUSHED_UNITS_PER_M)));
 }
