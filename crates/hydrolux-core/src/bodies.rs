@@ -297,6 +297,36 @@ impl BodyWorld {
             .collect()
     }
 
+    /// Every moving body's pose, velocity and angular velocity (rad/s).
+    pub fn motions(&self) -> Vec<(Pose, DVec3, DVec3)> {
+        self.bodies
+            .iter()
+            .map(|b| {
+                let rb = &self.set[b.handle];
+                (self.pose_of(b), dv3(rb.linvel()), dv3(rb.angvel()))
+            })
+            .collect()
+    }
+
+    /// Give body `i` a virtual mass (kg) beyond its own, and as much
+    /// inertia (kg·m², about every axis), from the next step: rapier then
+    /// also weighs it, which the caller's loads must take back
+    /// (`fluid::coupled` stabilises the added mass of a light body so).
+    pub fn set_virtual_mass(&mut self, i: usize, mass: f64, inertia: f64) {
+        let Some(b) = self.bodies.get(i) else { return };
+        let props = rp::MassProperties::new(
+            rp::Vector::ZERO,
+            mass as f32,
+            rp::Vector::splat(inertia as f32),
+        );
+        self.set[b.handle].set_additional_mass_properties(props, true);
+    }
+
+    /// The step (s).
+    pub fn dt(&self) -> f64 {
+        self.params.dt as f64
+    }
+
     /// Body `i`'s kinetic energy, translation and rotation (J).
     pub fn kinetic_energy(&self, i: usize) -> f64 {
         self.bodies.get(i).map_or(0.0, |b| self.set[b.handle].kinetic_energy() as f64)
@@ -335,6 +365,13 @@ impl BodyWorld {
     /// One step: buoyancy and drag from the water surface each body is in,
     /// `water(body, x, z)`, then rapier's step (gravity, contacts).
     pub fn step(&mut self, water: &dyn Fn(usize, f64, f64) -> f64) {
+        self.step_with(water, &[]);
+    }
+
+    /// [`BodyWorld::step`] with more loads: per body (in order, those
+    /// given), a force (N) through its centre of mass and a torque (N·m),
+    /// such as the volumetric liquid's (`fluid::coupled`).
+    pub fn step_with(&mut self, water: &dyn Fn(usize, f64, f64) -> f64, loads: &[(DVec3, DVec3)]) {
         let g = crate::waves::dispersion::GRAVITY;
         for (i, b) in self.bodies.iter().enumerate() {
             let pose = self.pose_of(b);
@@ -348,6 +385,10 @@ impl BodyWorld {
             // last's (a torque left standing pumps energy into the body).
             rb.reset_forces(true);
             rb.reset_torques(true);
+            if let Some((force, torque)) = loads.get(i) {
+                rb.add_force(v3(*force), true);
+                rb.add_torque(v3(*torque), true);
+            }
             let sub = submerged(&b.shape, &pose, &|x, z| water(i, x, z));
             if sub.volume <= 0.0 {
                 continue;

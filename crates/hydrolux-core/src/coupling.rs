@@ -72,6 +72,31 @@ impl Shape {
         }
     }
 
+    /// Signed distance (m) from the shape's surface to `p` in its own
+    /// frame: negative inside (exact for the sphere and the box's and
+    /// cylinder's outsides, the usual bound inside them).
+    pub fn signed_distance(&self, p: DVec3) -> f64 {
+        match *self {
+            Shape::Sphere { radius } => p.length() - radius,
+            Shape::Box { half } => {
+                let q = p.abs() - half;
+                q.max(DVec3::ZERO).length() + q.max_element().min(0.0)
+            }
+            Shape::Cylinder { radius, half_height } => {
+                let q = glam::DVec2::new(p.x.hypot(p.z) - radius, p.y.abs() - half_height);
+                q.max(glam::DVec2::ZERO).length() + q.max_element().min(0.0)
+            }
+        }
+    }
+
+    /// The outward normal at `p` (own frame): the distance's gradient by
+    /// central differences, a step of a thousandth of the shape's size.
+    pub fn outward_normal(&self, p: DVec3) -> DVec3 {
+        let e = 1e-3 * self.bounding_radius();
+        let d = |o: DVec3| self.signed_distance(p + o) - self.signed_distance(p - o);
+        DVec3::new(d(DVec3::X * e), d(DVec3::Y * e), d(DVec3::Z * e)).normalize_or_zero()
+    }
+
     /// The code of the shape in the shaders (`PRIMITIVE_*`, generated into
     /// the renderer's WGSL from these constants) and its three size
     /// parameters.

@@ -87,6 +87,15 @@ pub struct Liquid {
     pub surface: Option<LandingSurface>,
     /// The landings since the caller last took them, in step order.
     pub landings: Vec<Landing>,
+    /// The moving bodies in the liquid, as the caller last placed them
+    /// (`solids`), and what the last step's pressure did to each.
+    pub bodies: Vec<super::LiquidBody>,
+    pub loads: Vec<super::BodyLoad>,
+    /// The cells solid without any body (walls and static objects), and
+    /// which body fills each cell (`solids::NO_BODY`: none); empty until
+    /// a body is first placed.
+    pub(crate) static_solid: Vec<bool>,
+    pub(crate) owner: Vec<u32>,
 }
 
 /// Where the liquid meets the surface water below it.
@@ -126,6 +135,10 @@ impl Liquid {
             last: None,
             surface: None,
             landings: Vec::new(),
+            bodies: Vec::new(),
+            loads: Vec::new(),
+            static_solid: Vec::new(),
+            owner: Vec::new(),
         }
     }
 
@@ -217,6 +230,7 @@ impl Liquid {
     /// One step of `dt` s (keep dt·|u|max under a cell: the caller's CFL).
     pub fn step(&mut self, dt: f64) {
         self.emit();
+        self.place_bodies();
         self.particles_to_grid();
         self.mark_cells();
         let old = self.grid.vel.clone();
@@ -227,6 +241,7 @@ impl Liquid {
         self.diffuse(dt);
         let s = self.settings;
         self.last = Some(project(&mut self.grid, dt, s.density, s.tolerance, s.max_iterations));
+        self.loads = self.body_loads();
         self.extrapolate();
         self.grid_to_particles(&old);
         self.advect(dt);
@@ -386,11 +401,18 @@ impl Liquid {
             let u = g.velocity(p);
             let mid = [0, 1, 2].map(|a| p[a] + 0.5 * dt * u[a]);
             let u = g.velocity(mid);
-            // Kept inside the closed sides; through an open one it leaves.
+            // Outside the bodies (a body's cells do not stop a particle,
+            // its exact surface does), and kept inside the closed sides;
+            // through an open one it leaves.
+            let moved = [0, 1, 2].map(|a| p[a] + dt * u[a]);
+            let mut v = self.velocities[n];
+            let moved = self.clear_of_bodies(moved, &mut v);
+            self.velocities[n] = v;
+            let g = &self.grid;
             let next = [0, 1, 2].map(|a| {
                 let lo = g.origin[a] + margin;
                 let hi = g.origin[a] + g.n[a] as f64 * g.h - margin;
-                let v = p[a] + dt * u[a];
+                let v = moved[a];
                 let v = if g.open[a][0] { v } else { v.max(lo) };
                 if g.open[a][1] { v } else { v.min(hi) }
             });
@@ -400,7 +422,9 @@ impl Liquid {
                 continue;
             }
             let [x, y, z] = self.cell_of(next);
-            if self.grid.cells[self.grid.cell(x, y, z)] != Cell::Solid {
+            let c = self.grid.cell(x, y, z);
+            let body_cell = self.owner.get(c).is_some_and(|o| *o != super::solids::NO_BODY);
+            if self.grid.cells[c] != Cell::Solid || body_cell {
                 self.positions[n] = next;
             }
             let p = self.positions[n];

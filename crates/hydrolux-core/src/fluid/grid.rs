@@ -26,6 +26,9 @@ pub struct MacGrid {
     /// Which of the domain's sides are open, per axis low and high: beyond
     /// an open side is air (p = 0), and particles crossing it leave.
     pub open: [[bool; 2]; 3],
+    /// Per cell, the velocity (m/s) of the solid filling it: 0 for the
+    /// walls and static objects, a moving body's at the cell's centre.
+    pub solid_velocity: Vec<[f64; 3]>,
 }
 
 impl MacGrid {
@@ -45,6 +48,7 @@ impl MacGrid {
             pressure: vec![0.0; count],
             cells: vec![Cell::Air; count],
             open: [[false; 2]; 3],
+            solid_velocity: vec![[0.0; 3]; count],
         }
     }
 
@@ -88,7 +92,7 @@ impl MacGrid {
     }
 
     /// Whether face (a; i, j, k) touches a solid (a wall or a solid cell):
-    /// its velocity is the solid's (0).
+    /// its velocity is the solid's ([`MacGrid::solid_face_velocity`]).
     pub fn face_solid(&self, a: usize, i: usize, j: usize, k: usize) -> bool {
         let mut lo = [i as i64, j as i64, k as i64];
         let hi = lo;
@@ -96,7 +100,26 @@ impl MacGrid {
         self.cell_at(lo) == Cell::Solid || self.cell_at(hi) == Cell::Solid
     }
 
-    /// Zero every face velocity that touches a solid (closed walls).
+    /// The velocity along `a` of the solid at face (a; i, j, k): a solid
+    /// cell's (the high side's if both are solid), 0 at a wall.
+    pub fn solid_face_velocity(&self, a: usize, i: usize, j: usize, k: usize) -> f64 {
+        let hi = [i, j, k];
+        if hi[a] < self.n[a] && self.cells[self.cell(i, j, k)] == Cell::Solid {
+            return self.solid_velocity[self.cell(i, j, k)][a];
+        }
+        if hi[a] > 0 {
+            let mut lo = hi;
+            lo[a] -= 1;
+            let c = self.cell(lo[0], lo[1], lo[2]);
+            if self.cells[c] == Cell::Solid {
+                return self.solid_velocity[c][a];
+            }
+        }
+        0.0
+    }
+
+    /// Give every face that touches a solid the solid's velocity (0 at the
+    /// closed walls and static objects; a moving body's where it is).
     pub fn enforce_walls(&mut self) {
         for a in 0..3 {
             let m = self.face_dims(a);
@@ -105,7 +128,7 @@ impl MacGrid {
                     for i in 0..m[0] {
                         if self.face_solid(a, i, j, k) {
                             let f = self.face(a, i, j, k);
-                            self.vel[a][f] = 0.0;
+                            self.vel[a][f] = self.solid_face_velocity(a, i, j, k);
                         }
                     }
                 }

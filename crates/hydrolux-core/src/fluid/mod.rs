@@ -4,13 +4,19 @@
 //! gradients (`pressure`). The reference the GPU simulation will be checked
 //! against, and itself checked against hydrostatics and volume.
 
+pub mod coupled;
 pub mod flip;
 pub mod grid;
 pub mod pressure;
+pub mod solids;
 
+pub use coupled::LiquidWithBodies;
 pub use flip::{Emitter, Landing, LandingSurface, Liquid, LiquidSettings};
 pub use grid::{Cell, MacGrid};
 pub use pressure::{Projection, project};
+pub use solids::{BodyLoad, LiquidBody};
 
+#[cfg(test)]
+mod solids_tests;
 #[cfg(test)]
 mod tests;
