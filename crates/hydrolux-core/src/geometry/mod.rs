@@ -4,6 +4,7 @@
 
 pub mod load;
 pub mod primitives;
+pub mod sdf;
 pub mod terrain;
 
 use glam::{Mat4, Vec2, Vec3};

@@ -6,6 +6,7 @@ use super::rules::{range, vec3_range};
 use super::{ObjectDesc, Primitive, Scene};
 use super::{SceneError, WORLD_EXTENT_M};
 use crate::fluid::{Cell, LandingSurface, Liquid, LiquidSettings, MacGrid};
+use crate::geometry::load::AssetError;
 use serde::{Deserialize, Serialize};
 
 /// Cells a domain may have at most (256³): the grid's buffers stay within
@@ -198,12 +199,23 @@ impl FluidDesc {
     /// [`FluidDesc::initial`] over the surface water `surface` (`None`:
     /// none below it), which takes what falls under its level.
     pub fn initial_over(&self, objects: &[ObjectDesc], surface: Option<LandingSurface>) -> Liquid {
+        self.initial_among(objects, &|_| false, surface)
+    }
+
+    /// [`FluidDesc::initial_over`] with more solids: the cells whose
+    /// centres `solid` holds (the ground, meshes: `Scene::fluid_start`).
+    pub fn initial_among(
+        &self,
+        objects: &[ObjectDesc],
+        solid: &dyn Fn(glam::Vec3) -> bool,
+        surface: Option<LandingSurface>,
+    ) -> Liquid {
         let (h, n) = self.grid_shape();
         let mut grid = MacGrid::new(n.map(|c| c as usize), h as f64, self.min.map(f64::from));
         grid.open = self.open_sides();
         let solids: Vec<(glam::Mat4, Primitive)> = objects
             .iter()
-            .filter(|o| is_fluid_solid(o))
+            .filter(|o| is_fluid_solid(o) && o.mesh.is_empty())
             .map(|o| (Scene::object_transform(o).inverse(), o.primitive))
             .collect();
         for k in 0..n[2] as usize {
@@ -211,9 +223,10 @@ impl FluidDesc {
                 for i in 0..n[0] as usize {
                     let centre = [i, j, k].map(|c| c as f32 + 0.5);
                     let world = glam::Vec3::from(self.min) + glam::Vec3::from(centre) * h;
-                    if solids
-                        .iter()
-                        .any(|(to_local, p)| inside(*p, to_local.transform_point3(world)))
+                    if solid(world)
+                        || solids
+                            .iter()
+                            .any(|(to_local, p)| inside(*p, to_local.transform_point3(world)))
                     {
                         let c = grid.cell(i, j, k);
                         grid.cells[c] = Cell::Solid;
@@ -522,14 +535,15 @@ impl FluidDesc {
     }
 }
 
-/// Whether an object is a solid of the liquid: a static (neither dynamic
-/// nor moving) box, sphere or cylinder primitive. Planes have no inside;
-/// meshes and moving bodies are not yet solids of the liquid.
+/// Whether an object is a static solid of the liquid: neither dynamic nor
+/// moving, and a box, sphere or cylinder primitive (exactly) or a closed
+/// mesh (by the sign of its signed distance: `Scene::fluid_start`). Planes
+/// have no inside.
 pub fn is_fluid_solid(o: &ObjectDesc) -> bool {
-    o.mesh.is_empty()
-        && !o.dynamic
+    !o.dynamic
         && o.velocity == [0.0; 3]
-        && matches!(o.primitive, Primitive::Box | Primitive::Sphere | Primitive::Cylinder)
+        && (!o.mesh.is_empty()
+            || matches!(o.primitive, Primitive::Box | Primitive::Sphere | Primitive::Cylinder))
 }
 
 /// Whether point `p`, in the unit primitive's own space (box of side 1,
@@ -574,7 +588,52 @@ impl Scene {
     }
 
     /// The liquid at the start, over the interactive water if it lands in it.
-    pub fn fluid_start(&self) -> Liquid {
-        self.fluid.initial_over(&self.objects, self.fluid_landing())
+    ///
+    /// Its solids: the static objects (primitives exactly, meshes by the
+    /// sign of their signed distance at the cell centres, a closed mesh's
+    /// winding number: `geometry::sdf`) and the ground (the floor or the
+    /// terrain: the cells under it). A mesh that reaches into the domain
+    /// must be closed, or there is no inside to fill: an error names it.
+    pub fn fluid_start(&self) -> Result<Liquid, AssetError> {
+        use crate::geometry::sdf::{Triangles, open_edges};
+        let ground = if self.fluid.enabled() { self.ground_heightfield()? } else { None };
+        let (lo, hi) = (
+            glam::DVec3::from(self.fluid.min.map(f64::from)),
+            glam::DVec3::from(self.fluid.max.map(f64::from)),
+        );
+        let mut meshes = Vec::new();
+        for o in self.objects.iter().filter(|o| is_fluid_solid(o) && !o.mesh.is_empty()) {
+            if !self.fluid.enabled() {
+                break;
+            }
+            let mesh = match o.mesh.strip_prefix("builtin:") {
+                Some(name) => crate::geometry::load::builtin_mesh(name)?,
+                None => crate::geometry::load::load_mesh(&self.resolve_path(&o.mesh))?,
+            };
+            let triangles = Triangles::of(&mesh, &Scene::object_transform(o));
+            let (a, b) = triangles.bounds();
+            if a.cmpgt(hi).any() || b.cmplt(lo).any() {
+                continue;
+            }
+            let open = open_edges(&mesh);
+            if open > 0 {
+                return Err(AssetError {
+                    what: "mesh",
+                    path: o.mesh.clone(),
+                    reason: format!(
+                        "it has {open} open edges, and a solid of the liquid (it reaches into fluid.min..fluid.max) must be a closed mesh"
+                    ),
+                });
+            }
+            meshes.push((triangles, a, b));
+        }
+        let solid = |p: glam::Vec3| {
+            let q = p.as_dvec3();
+            ground.as_ref().is_some_and(|g| p.y < g.height(p.x, p.z))
+                || meshes.iter().any(|(t, a, b)| {
+                    q.cmpge(*a).all() && q.cmple(*b).all() && t.winding_number(q).abs() > 0.5
+                })
+        };
+        Ok(self.fluid.initial_among(&self.objects, &solid, self.fluid_landing()))
     }
 }

@@ -54,7 +54,7 @@ fn a_collapsing_column_follows_its_cpu_twin() {
         let mut r = renderer(&ctx, &s);
         r.simulate(&s.camera(), (16, 16), 0.1);
         let gpu = r.read_liquid().expect("a liquid");
-        let mut twin = s.fluid.initial(&s.objects);
+        let mut twin = s.fluid_start().expect("the liquid starts");
         assert_eq!(
             twin.grid.cells.iter().filter(|c| **c == hydrolux::core::fluid::Cell::Solid).count(),
             if obstacle { 2 * 4 * 4 } else { 0 }
@@ -76,7 +76,7 @@ fn a_collapsing_column_follows_its_cpu_twin() {
             "obstacle {obstacle}, ν {viscosity}, open {open}: a particle is {apart} m from the twin's"
         );
         // It moved: the column is falling and spreading.
-        let start = s.fluid.initial(&s.objects);
+        let start = s.fluid_start().expect("the liquid starts");
         let now: Vec<[f32; 3]> = twin.positions.iter().map(|p| p.map(|c| c as f32)).collect();
         let moved = max_distance(&now, &start.positions);
         assert!(moved > 0.01, "fastest particle moved {moved} m");
@@ -120,7 +120,7 @@ fn a_jet_into_a_drain_follows_its_cpu_twin() {
     let mut r = renderer(&ctx, &s);
     r.simulate(&s.camera(), (16, 16), 0.25);
     let gpu = r.read_liquid().expect("a liquid");
-    let mut twin = s.fluid.initial(&s.objects);
+    let mut twin = s.fluid_start().expect("the liquid starts");
     let steps = 30;
     let block = twin.alive_count();
     for _ in 0..steps {
@@ -237,7 +237,7 @@ fn a_block_falling_into_the_pool_becomes_its_water() {
         landing.particle_volume,
         settings.grid.cell_size,
     );
-    let mut liquid = s.fluid_start();
+    let mut liquid = s.fluid_start().expect("the liquid starts");
     let particles = liquid.alive_count();
     let stride = (120 / s.ripples.rate) as u64;
     let clock_steps = (t * 120.0).round() as u64;
@@ -308,7 +308,7 @@ fn a_block_plunging_into_the_pool_leaves_froth_and_a_plume_of_bubbles() {
     let rate = s.whitewater.rate;
     let foam_step = FoamStep { dt: 1.0 / rate as f32, life: s.foam_life(), drift: [0.0, 0.0] };
     let stride = (120 / rate) as u64;
-    let mut liquid = s.fluid_start();
+    let mut liquid = s.fluid_start().expect("the liquid starts");
     let (mut expected, mut twin_bubbles, mut fastest, mut step) = (0.0f64, 0usize, 0.0f32, 0);
     let mut pending = Vec::new();
     for c in 0..(t * 120.0).round() as u64 {

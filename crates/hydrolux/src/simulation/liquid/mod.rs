@@ -202,6 +202,8 @@ pub struct Liquid {
     desc: FluidDesc,
     /// The scene's objects that are its solids (an edit to them remakes it).
     solid_objects: Vec<hydrolux_core::scene::ObjectDesc>,
+    /// The ground, a solid where it reaches into the domain.
+    floor: hydrolux_core::scene::FloorDesc,
     uniforms: LiquidUniforms,
     /// The particles at the start (a reset writes them back).
     initial: Vec<LiquidParticle>,
@@ -240,7 +242,7 @@ impl Liquid {
             return Ok(None);
         }
         let device = &shared.device;
-        let start = scene.fluid_start();
+        let start = scene.fluid_start()?;
         // Per cell: 1 where a static object fills it (after the faces'
         // known flags in the same buffer).
         let solids: Vec<u32> = start
@@ -435,6 +437,7 @@ impl Liquid {
                 .filter(|o| hydrolux_core::scene::is_fluid_solid(o))
                 .cloned()
                 .collect(),
+            floor: scene.floor.clone(),
             uniforms,
             initial,
             particles,
@@ -560,6 +563,7 @@ impl crate::simulation::Simulation for Liquid {
         };
         scene.fluid == self.desc
             && solids(scene) == self.solid_objects
+            && scene.floor == self.floor
             && scene.fluid_landing() == self.landing
             && landing_stride(scene) == self.landing_stride
     }
