@@ -191,15 +191,20 @@ impl MacGrid {
             base[b] = i0;
             frac[b] = if m[b] > 1 { x - i0 as f64 } else { 0.0 };
         }
+        // The corner one step up each axis (none along an axis one face
+        // long), as strides into the face array.
+        let stride = [1, m[0], m[0] * m[1]];
+        let up = [0, 1, 2].map(|b| if m[b] > 1 { stride[b] } else { 0 });
+        let first = base[0] + base[1] * stride[1] + base[2] * stride[2];
+        let w = [0, 1, 2].map(|b| [1.0 - frac[b], frac[b]]);
         let mut idx = [0usize; 8];
-        let mut w = [0.0f64; 8];
+        let mut weights = [0.0f64; 8];
         for c in 0..8 {
             let d = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
-            let at = [0, 1, 2].map(|b| (base[b] + d[b]).min(m[b] - 1));
-            idx[c] = self.face(a, at[0], at[1], at[2]);
-            w[c] = (0..3).map(|b| if d[b] == 1 { frac[b] } else { 1.0 - frac[b] }).product();
+            idx[c] = first + d[0] * up[0] + d[1] * up[1] + d[2] * up[2];
+            weights[c] = w[0][d[0]] * w[1][d[1]] * w[2][d[2]];
         }
-        (idx, w)
+        (idx, weights)
     }
 
     /// The velocity at world point `p`.

@@ -10,7 +10,7 @@ const RHO: f64 = 1000.0;
 
 /// A closed tank of `n` cells of `h` from `origin`, holding nothing yet.
 fn tank(n: [usize; 3], h: f64, origin: [f64; 3]) -> Liquid {
-    let settings = LiquidSettings { tolerance: 1e-5, ..Default::default() };
+    let settings = LiquidSettings { tolerance: 1e-3, ..Default::default() };
     Liquid::new(MacGrid::new(n, h, origin), settings)
 }
 
@@ -90,12 +90,12 @@ fn cap_depth(radius: f64, volume: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-#[test]
-fn a_dropped_ball_floats_as_deep_as_archimedes_says() {
-    // Balls of half and of a fifth of water's density dropped onto a tank
-    // of water: each comes to rest with the cap under the water that
-    // weighs what it does, without blowing up (the fifth-density ball's
-    // added mass is 2.5 times its own: explicitly coupled, it would). The
+/// A ball of `density` dropped onto a tank of water.
+fn drop_ball(density: f32) {
+    // A ball dropped onto a tank of water comes to rest with the cap under the water that
+    // weighs what it does, without blowing up (a ball of a fifth of water's
+    // density has an added mass 2.5 times its own: explicitly coupled, it
+    // would). The
     // water's level is its particles' volume plus the cap's over the
     // tank's floor. The pressure's free surface sits half a cell above the
     // particles' top (p = 0 at the air cells' centres, no ghost fluid) and
@@ -104,7 +104,7 @@ fn a_dropped_ball_floats_as_deep_as_archimedes_says() {
     // its radius 3.2 cells.
     let (h, dt, radius) = (0.025, 1.0 / 240.0, 0.08);
     let size = [0.4, 0.4, 0.4];
-    for density in [500.0f32, 200.0] {
+    {
         let mut liquid = tank([16, 16, 16], h, [0.0, -0.4, 0.0]);
         liquid.fill_box([0.0, -0.4, 0.0], [0.4, -0.2, 0.4], 2);
         let particles = liquid.alive_count() as f64;
@@ -134,6 +134,16 @@ fn a_dropped_ball_floats_as_deep_as_archimedes_says() {
         assert!(swing < 0.5 * h, "density {density}: still bobbing ±{swing:.4} m");
         assert!(v.length() < 0.1, "density {density}: still moving at {v:?}");
     }
+}
+
+#[test]
+fn a_dropped_ball_of_half_waters_density_floats_as_deep_as_archimedes_says() {
+    drop_ball(500.0);
+}
+
+#[test]
+fn a_dropped_ball_of_a_fifth_of_waters_density_floats_as_deep_as_archimedes_says() {
+    drop_ball(200.0);
 }
 
 #[test]
