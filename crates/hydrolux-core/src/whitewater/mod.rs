@@ -733,6 +733,21 @@ impl Plunge {
         entrained_air(self.volume, self.down_speed) * BURST_FOAM_PER_M3
     }
 
+    /// Where its froth surfaces (x, z, m): the entrained air rises through
+    /// the plume and spreads as it reaches the surface, so each plunge's
+    /// froth lands at a random distance up to the plume's depth (uniform in
+    /// radius: the froth thins as 1/r from a white centre to nothing at
+    /// the plume's reach, not a disc with a hard rim). The same on the GPU
+    /// (`plunge`), from the same hash as its bubbles.
+    pub fn froth_at(&self, step: u32) -> [f32; 2] {
+        let id0 =
+            hash_u32(self.x.to_bits() ^ hash_u32(self.z.to_bits() ^ hash_u32(self.clock_step)));
+        let reach = PLUME_DEPTH_PER_SPEED * self.down_speed.clamp(0.0, 60.0);
+        let r = reach * random(step, id0, 21);
+        let angle = std::f32::consts::TAU * random(step, id0, 22);
+        [self.x + r * angle.cos(), self.z + r * angle.sin()]
+    }
+
     /// The bubble particles it makes (each a cloud of
     /// [`PLUNGE_AIR_PER_BUBBLE`] of air; a random rounding keeps the
     /// mean), spread over its cell and down the plume: the same on the GPU

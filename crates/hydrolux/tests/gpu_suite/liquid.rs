@@ -277,10 +277,10 @@ fn a_block_falling_into_the_pool_becomes_its_water() {
 /// of its clock steps: `Plunge`, `FoamField`): the bubbles born within 15%
 /// of the twin's expected count (each landing rounds its share at random),
 /// every one under the block's footprint and within the plume's depth; the
-/// froth where the twin puts it (in all but 5% of its cells, its total
-/// within 5%; the steep rings add their own foam around it). Measured: 368
-/// bubbles of 373 expected, froth 32.0 against 31.6. The same foam bits
-/// and the same bubbles when 0.3 s is reached in seven frames.
+/// froth over the plunge's reach as the twin spreads it (its total within
+/// −5%/+20%, the steep rings adding their own; its mean distance from the
+/// centre within 10%). The same foam bits and the
+/// same bubbles when 0.3 s is reached in seven frames.
 #[test]
 fn a_block_plunging_into_the_pool_leaves_froth_and_a_plume_of_bubbles() {
     use hydrolux::core::whitewater::{
@@ -324,7 +324,8 @@ fn a_block_plunging_into_the_pool_leaves_froth_and_a_plume_of_bubbles() {
                     clock_step: l.step as u32,
                 };
                 fastest = fastest.max(plunge.down_speed);
-                foam.deposit(plunge.x, plunge.z, plunge.foam());
+                let [x, z] = plunge.froth_at(step);
+                foam.deposit(x, z, plunge.foam());
                 expected += (entrained_air(plunge.volume, plunge.down_speed)
                     / PLUNGE_AIR_PER_BUBBLE) as f64;
                 twin_bubbles += plunge.bubbles(step).len();
@@ -357,24 +358,34 @@ fn a_block_plunging_into_the_pool_leaves_froth_and_a_plume_of_bubbles() {
     let n = foam.grid.cells as i32;
     let twin: Vec<f32> =
         (0..n * n).map(|k| foam.at(foam.grid.low[0] + k % n, foam.grid.low[1] + k / n)).collect();
-    let total = |f: &[f32]| f.iter().map(|&v| v as f64).sum::<f64>();
-    let (gt, ct) = (total(&gpu_foam.amount), total(&twin));
-    let under: f64 =
-        gpu_foam.amount.iter().zip(&twin).filter(|(_, c)| **c > 0.0).map(|(g, _)| *g as f64).sum();
-    eprintln!("foam: GPU {gt} ({under} where the twin has froth), twin {ct}");
+    // Each landing's froth surfaces at a random spot in its plume's reach,
+    // hashed from where it landed, so the twins' froth agrees in amount
+    // and spread, not cell by cell (the GPU's landings are the twin's to
+    // a millimetre, not to the bit). Over the plunge's reach (the block's
+    // half-diagonal and the plume's depth) the two totals and their mean
+    // distances from the centre agree (measured 0.101 against 0.098 m).
+    let reach = (0.05f64 * std::f64::consts::SQRT_2 + depth as f64 + 0.02) as f32;
+    let moments = |f: &[f32]| {
+        let (mut total, mut moment) = (0.0f64, 0.0f64);
+        for (k, &v) in f.iter().enumerate() {
+            let (i, j) = ((k as i32 % n) as f32, (k as i32 / n) as f32);
+            let x = gpu_foam.origin[0] + (i + 0.5) * gpu_foam.cell_size;
+            let z = gpu_foam.origin[1] + (j + 0.5) * gpu_foam.cell_size;
+            let r = x.hypot(z);
+            if r < reach {
+                total += v as f64;
+                moment += (v * r) as f64;
+            }
+        }
+        (total, moment / total.max(1e-12))
+    };
+    let (gt, gr) = moments(&gpu_foam.amount);
+    let (ct, cr) = moments(&twin);
+    eprintln!("froth within {reach:.3} m: GPU {gt:.1} at {gr:.4} m, twin {ct:.1} at {cr:.4} m");
     assert!(ct > 1.0, "the plunge left froth ({ct})");
-    // Where the twin has froth the GPU has it too (the rings' own foam only
-    // adds), but in a cell or two a particle of the other twin fell into.
-    let froth: Vec<(f32, f32)> = gpu_foam
-        .amount
-        .iter()
-        .zip(&twin)
-        .filter(|(_, c)| **c > 0.0)
-        .map(|(g, c)| (*g, *c))
-        .collect();
-    let short = froth.iter().filter(|(g, c)| *g < c - 0.02).count();
-    assert!(short * 20 <= froth.len(), "{short} of {} froth cells short on the GPU", froth.len());
-    assert!((under - ct).abs() < 0.05 * ct, "froth: GPU {under}, twin {ct}");
+    // The rings' own foam adds to the GPU's (measured 139.9 against 128.3).
+    assert!(gt > 0.95 * ct && gt < 1.2 * ct, "froth: GPU {gt}, twin {ct}");
+    assert!((gr - cr).abs() < 0.1 * cr, "froth's mean distance: GPU {gr} m, twin {cr} m");
     let mut frames = renderer(&ctx, &s);
     for f in 1..=7 {
         frames.simulate(&s.camera(), (16, 16), t * f as f64 / 7.0);

@@ -367,14 +367,18 @@ fn plunge(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (air <= 0.0) {
         return;
     }
-    deposit(l.position.x, l.position.y, air * BURST_FOAM_PER_M3);
+    let step = params.step;
+    let id0 = hash_u32(bitcast<u32>(l.position.x) ^ hash_u32(bitcast<u32>(l.position.y) ^ hash_u32(l.step)));
+    // The froth surfaces up to the plume's depth away, uniform in radius
+    // (hydrolux-core `Plunge::froth_at`).
+    let depth = PLUME_DEPTH_PER_SPEED * clamp(l.down_speed, 0.0, 60.0);
+    let r = depth * random(step, id0, 21u);
+    let angle = 6.2831855 * random(step, id0, 22u);
+    deposit(l.position.x + r * cos(angle), l.position.y + r * sin(angle), air * BURST_FOAM_PER_M3);
     if ((params.run & 4u) == 0u) {
         return;
     }
-    let step = params.step;
-    let id0 = hash_u32(bitcast<u32>(l.position.x) ^ hash_u32(bitcast<u32>(l.position.y) ^ hash_u32(l.step)));
     let bubbles = min(u32(air / PLUNGE_AIR_PER_BUBBLE + random(step, id0, 13u)), PLUNGE_MAX_BUBBLES);
-    let depth = PLUME_DEPTH_PER_SPEED * clamp(l.down_speed, 0.0, 60.0);
     for (var m = 0u; m < bubbles; m++) {
         let id = hash_u32(id0 ^ (m * 0x9E3779B9u)) | 0x80000000u;
         let r1 = random(step, id, 1u);
