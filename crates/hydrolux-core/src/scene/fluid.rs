@@ -596,20 +596,17 @@ impl Scene {
     /// must be closed, or there is no inside to fill: an error names it.
     pub fn fluid_start(&self) -> Result<Liquid, AssetError> {
         use crate::geometry::sdf::{Triangles, open_edges};
-        let ground = if self.fluid.enabled() { self.ground_heightfield()? } else { None };
+        if !self.fluid.enabled() {
+            return Ok(self.fluid.initial_over(&self.objects, None));
+        }
+        let ground = self.ground_heightfield()?;
         let (lo, hi) = (
             glam::DVec3::from(self.fluid.min.map(f64::from)),
             glam::DVec3::from(self.fluid.max.map(f64::from)),
         );
         let mut meshes = Vec::new();
         for o in self.objects.iter().filter(|o| is_fluid_solid(o) && !o.mesh.is_empty()) {
-            if !self.fluid.enabled() {
-                break;
-            }
-            let mesh = match o.mesh.strip_prefix("builtin:") {
-                Some(name) => crate::geometry::load::builtin_mesh(name)?,
-                None => crate::geometry::load::load_mesh(&self.resolve_path(&o.mesh))?,
-            };
+            let mesh = self.object_mesh_file(o)?;
             let triangles = Triangles::of(&mesh, &Scene::object_transform(o));
             let (a, b) = triangles.bounds();
             if a.cmpgt(hi).any() || b.cmplt(lo).any() {

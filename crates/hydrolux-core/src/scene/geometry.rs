@@ -125,6 +125,18 @@ impl Scene {
         Ok(None)
     }
 
+    /// The mesh an object names (`mesh`): a built-in (`builtin:NAME`) or a
+    /// file beside the scene.
+    pub fn object_mesh_file(
+        &self,
+        o: &super::ObjectDesc,
+    ) -> Result<crate::geometry::Mesh, AssetError> {
+        match o.mesh.strip_prefix("builtin:") {
+            Some(name) => builtin_mesh(name),
+            None => load_mesh(&self.resolve_path(&o.mesh)),
+        }
+    }
+
     /// Load and build every mesh of the scene (reads mesh and image files).
     pub fn build_geometry(&self) -> Result<Vec<SceneObject>, AssetError> {
         let mut out = Vec::new();
@@ -166,10 +178,8 @@ impl Scene {
                     Primitive::Cylinder => primitives::cylinder(64),
                     Primitive::Plane => primitives::plane(),
                 }
-            } else if let Some(name) = o.mesh.strip_prefix("builtin:") {
-                builtin_mesh(name)?
             } else {
-                load_mesh(&self.resolve_path(&o.mesh))?
+                self.object_mesh_file(o)?
             };
             let transform = Scene::object_transform(o);
             let shadow_bounds = mesh.bounds(&transform);
