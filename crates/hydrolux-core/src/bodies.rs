@@ -36,6 +36,9 @@ pub struct BodyDesc {
     pub dynamic: bool,
     /// kg/m³
     pub density: f32,
+    /// Another world moves it (the volumetric liquid's, for a body in its
+    /// domain): this one leaves it out.
+    pub elsewhere: bool,
 }
 
 impl BodyDesc {
@@ -201,7 +204,7 @@ impl BodyWorld {
     /// The world `desc` describes (`None` if nothing moves), stepping `dt`
     /// s at a time.
     pub fn new(desc: &BodiesDesc, dt: f64) -> Option<Self> {
-        if !desc.objects.iter().any(BodyDesc::moving) {
+        if !desc.objects.iter().any(|o| o.moving() && !o.elsewhere) {
             return None;
         }
         let mut set = rp::RigidBodySet::new();
@@ -214,6 +217,9 @@ impl BodyWorld {
         }
         let mut bodies = Vec::new();
         for (i, o) in desc.objects.iter().enumerate() {
+            if o.elsewhere {
+                continue;
+            }
             let (_, rotation, position) = o.transform.to_scale_rotation_translation();
             let pose = rp::Pose::from_parts(position.to_array().into(), rotation_of(rotation));
             let shape = o.shape;

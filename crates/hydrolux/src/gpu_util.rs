@@ -346,12 +346,23 @@ impl AsyncReadback {
         queue: &wgpu::Queue,
         source: &wgpu::Buffer,
     ) -> bool {
+        self.request_from(device, queue, source, 0)
+    }
+
+    /// [`AsyncReadback::request`] of `source`'s bytes from `offset` on.
+    pub fn request_from(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        source: &wgpu::Buffer,
+        offset: u64,
+    ) -> bool {
         use std::sync::atomic::Ordering;
         if self.in_flight() {
             return false;
         }
         let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(source, 0, &self.staging, 0, self.size);
+        encoder.copy_buffer_to_buffer(source, offset, &self.staging, 0, self.size);
         queue.submit([encoder.finish()]);
         self.state.store(1, Ordering::Release);
         let state = self.state.clone();

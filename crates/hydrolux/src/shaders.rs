@@ -35,6 +35,7 @@ const MODULES: &[(&str, &str)] = &[
     ("caustic_params", include_str!("passes/caustics/params.wgsl")),
     ("particle", include_str!("simulation/whitewater/particle.wgsl")),
     ("liquid_landing", include_str!("simulation/liquid/landing.wgsl")),
+    ("liquid_bodies", include_str!("simulation/liquid/bodies.wgsl")),
     ("ripple_texel", include_str!("simulation/ripples/texel.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
     ("traced", include_str!("passes/raytrace/traced.wgsl")),

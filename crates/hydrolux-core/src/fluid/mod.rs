@@ -10,7 +10,7 @@ pub mod grid;
 pub mod pressure;
 pub mod solids;
 
-pub use coupled::LiquidWithBodies;
+pub use coupled::{LiquidBodies, LiquidWithBodies};
 pub use flip::{Emitter, Landing, LandingSurface, Liquid, LiquidSettings};
 pub use grid::{Cell, MacGrid};
 pub use pressure::{Projection, project};

@@ -56,6 +56,7 @@ fn world_in_tank(bodies: Vec<BodyDesc>, dt: f64, size: [f64; 3]) -> BodyWorld {
         velocity: [0.0; 3],
         dynamic: false,
         density: 1000.0,
+        elsewhere: false,
     };
     let [x, y, z] = size;
     let mut objects = vec![
@@ -76,6 +77,7 @@ fn ball(centre: DVec3, radius: f64, density: f32) -> BodyDesc {
         velocity: [0.0; 3],
         dynamic: true,
         density,
+        elsewhere: false,
     }
 }
 
@@ -110,11 +112,11 @@ fn drop_ball(density: f32) {
         let particles = liquid.alive_count() as f64;
         let start = DVec3::new(0.2, -0.2 + radius + 0.02, 0.2);
         let world = world_in_tank(vec![ball(start, radius, density)], dt, size);
-        let mut both = LiquidWithBodies::new(liquid, world);
+        let mut both = LiquidWithBodies::new(liquid, world, 1);
         let mut heights = Vec::new();
         for step in 0..480 {
             both.step();
-            let (pose, ..) = both.world.motions()[0];
+            let (pose, ..) = both.world().motions()[0];
             assert!(pose.position.is_finite(), "density {density}: the ball flew off at {step}");
             if step >= 360 {
                 heights.push(pose.position.y);
@@ -126,7 +128,7 @@ fn drop_ball(density: f32) {
         let cap = volume * density as f64 / RHO;
         let level = -0.4 + (particles * h.powi(3) / 8.0 + cap) / (size[0] * size[2]);
         let expected = level - cap_depth(radius, cap) + radius;
-        let (_, v, _) = both.world.motions()[0];
+        let (_, v, _) = both.world().motions()[0];
         assert!(
             mean - expected > 0.0 && mean - expected < h,
             "density {density}: the ball rests at {mean:.4} m, Archimedes {expected:.4} m (level {level:.4})"
@@ -165,15 +167,16 @@ fn a_collapsing_column_knocks_over_a_box_standing_in_its_way() {
         velocity: [0.0; 3],
         dynamic: true,
         density: 500.0,
+        elsewhere: false,
     };
     let world = world_in_tank(vec![box_body], dt, size);
-    let mut both = LiquidWithBodies::new(liquid, world);
+    let mut both = LiquidWithBodies::new(liquid, world, 1);
     let mut tilt = 0.0f64;
     let mut tipped_at = None;
     let mut furthest = standing.x;
     for step in 0..360 {
         both.step();
-        let (pose, ..) = both.world.motions()[0];
+        let (pose, ..) = both.world().motions()[0];
         let up = pose.rotation * DVec3::Y;
         tilt = up.y.clamp(-1.0, 1.0).acos().to_degrees();
         furthest = furthest.max(pose.position.x);
@@ -186,7 +189,7 @@ fn a_collapsing_column_knocks_over_a_box_standing_in_its_way() {
             pose.position
         );
     }
-    let (pose, ..) = both.world.motions()[0];
+    let (pose, ..) = both.world().motions()[0];
     eprintln!(
         "tipped at {tipped_at:?}, final tilt {tilt:.0}°, at {:?}, furthest x {furthest:.3}",
         pose.position

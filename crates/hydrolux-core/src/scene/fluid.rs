@@ -24,6 +24,8 @@ pub const FLUID_MEMORY_S: f64 = 600.0;
 /// Nozzles and drains a liquid may have (the GPU's fixed tables).
 pub const MAX_FLUID_NOZZLES: usize = 4;
 pub const MAX_FLUID_DRAINS: usize = 4;
+/// Moving bodies a liquid may hold (the GPU's fixed table).
+pub const MAX_LIQUID_BODIES: usize = 8;
 
 /// How the liquid is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -558,6 +560,78 @@ fn inside(primitive: Primitive, p: glam::Vec3) -> bool {
 }
 
 impl Scene {
+    /// Whether object `o` is a body of the liquid: it moves (dynamic, or
+    /// kinematic with a velocity), has an exact shape and starts with its
+    /// centre in the liquid's domain. The liquid's world moves it, under
+    /// the liquid's pressure (`fluid::coupled`); every other moving body
+    /// floats on the surface water (`Scene::surface_bodies`).
+    pub fn in_liquid(&self, o: &ObjectDesc) -> bool {
+        let moving = o.dynamic || o.velocity.iter().any(|&v| v != 0.0);
+        let inside =
+            (0..3).all(|a| (self.fluid.min[a]..=self.fluid.max[a]).contains(&o.position[a]));
+        self.fluid.enabled() && moving && inside && crate::coupling::Shape::of(o).is_some()
+    }
+
+    /// The body world of the surface water: every moving body but the
+    /// liquid's.
+    pub fn surface_bodies(&self) -> crate::bodies::BodiesDesc {
+        let mut desc = self.bodies();
+        for (d, o) in desc.objects.iter_mut().zip(&self.objects) {
+            d.elsewhere = self.in_liquid(o);
+        }
+        desc
+    }
+
+    /// The body world of the liquid (`None` when no body starts in it): its
+    /// bodies, every static object, the floor, and the domain's closed
+    /// sides as walls a metre thick round it (the liquid's walls are the
+    /// bodies' too). A body's index in it is its order among the liquid's.
+    pub fn liquid_bodies(&self) -> Option<crate::bodies::BodiesDesc> {
+        if !self.objects.iter().any(|o| self.in_liquid(o)) {
+            return None;
+        }
+        let mut desc = self.bodies();
+        for (d, o) in desc.objects.iter_mut().zip(&self.objects) {
+            d.elsewhere = d.moving() && !self.in_liquid(o);
+        }
+        let (lo, hi) = (glam::Vec3::from(self.fluid.min), glam::Vec3::from(self.fluid.max));
+        let (size, centre) = (hi - lo, 0.5 * (lo + hi));
+        let open = self.fluid.open_sides();
+        for a in 0..3 {
+            for (side, far) in [(0, lo[a] - 0.5), (1, hi[a] + 0.5)] {
+                if open[a][side] {
+                    continue;
+                }
+                let mut scale = size + glam::Vec3::splat(2.0);
+                scale[a] = 1.0;
+                let mut position = centre;
+                position[a] = far;
+                desc.objects.push(crate::bodies::BodyDesc {
+                    transform: glam::Mat4::from_translation(position),
+                    shape: Some(crate::coupling::Shape::Box { half: 0.5 * scale.as_dvec3() }),
+                    scale: scale.to_array(),
+                    velocity: [0.0; 3],
+                    dynamic: false,
+                    density: 1000.0,
+                    elsewhere: false,
+                });
+            }
+        }
+        Some(desc)
+    }
+
+    /// The liquid and its bodies at the start, stepped together on the
+    /// clock (the CPU twin of the GPU liquid's coupling; `None` without a
+    /// body in it).
+    pub fn fluid_with_bodies(&self) -> Result<Option<crate::fluid::LiquidWithBodies>, AssetError> {
+        let Some(desc) = self.liquid_bodies() else { return Ok(None) };
+        let liquid = self.fluid_start()?;
+        let substeps = self.fluid.substeps.max(1) as usize;
+        let dt = self.fluid.step_seconds() * substeps as f64;
+        let Some(world) = crate::bodies::BodyWorld::new(&desc, dt) else { return Ok(None) };
+        Ok(Some(crate::fluid::LiquidWithBodies::new(liquid, world, substeps)))
+    }
+
     /// Where the liquid meets the interactive water (issue #29): a liquid
     /// domain that reaches below the water's mean level (y = 0) over
     /// interactive water (`water.dynamic`) hands it what falls under it.

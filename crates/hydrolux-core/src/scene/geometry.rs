@@ -198,7 +198,8 @@ impl Scene {
 
 /// A primitive object as a rigid body's shape (`bodies`, `coupling`).
 impl super::Scene {
-    /// The scene's floor and objects as the body world takes them.
+    /// The scene's floor and objects as a body world takes them, every
+    /// moving one (`surface_bodies` and `liquid_bodies` share them out).
     pub fn bodies(&self) -> crate::bodies::BodiesDesc {
         crate::bodies::BodiesDesc {
             floor_depth: self.floor.depth,
@@ -212,6 +213,7 @@ impl super::Scene {
                     velocity: o.velocity,
                     dynamic: o.dynamic,
                     density: o.density,
+                    elsewhere: false,
                 })
                 .collect(),
         }

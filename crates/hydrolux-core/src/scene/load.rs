@@ -4,7 +4,9 @@
 
 use super::material::validate_material;
 use super::rules::{range, vec3_range};
-use super::{BUILTIN_SCENES, MAX_OBJECTS, Scene, SceneError, WORLD_EXTENT_M, WaterModel};
+use super::{
+    BUILTIN_SCENES, MAX_LIQUID_BODIES, MAX_OBJECTS, Scene, SceneError, WORLD_EXTENT_M, WaterModel,
+};
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -609,6 +611,16 @@ impl Scene {
                     allowed: "moving objects are sphere (equal scale), box or cylinder (equal x and z scale) primitives".into(),
                 });
             }
+        }
+        let in_liquid = self.objects.iter().filter(|o| self.in_liquid(o)).count();
+        if in_liquid > MAX_LIQUID_BODIES {
+            return Err(SceneError::OutOfRange {
+                key: "objects".into(),
+                value: format!("{in_liquid} moving objects in fluid.min..fluid.max"),
+                allowed: format!(
+                    "at most {MAX_LIQUID_BODIES} moving objects start in the liquid's domain"
+                ),
+            });
         }
         Ok(())
     }

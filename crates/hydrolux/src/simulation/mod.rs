@@ -304,8 +304,23 @@ impl Simulations {
     }
 
     /// Offer a caller's input to each in order; whether one took it.
+    /// A body's index (in [`Simulations::bodies`] order) is its index in
+    /// the simulation that keeps it less those kept before.
     pub fn input(&mut self, input: Input) -> bool {
-        self.each_mut().into_iter().any(|s| s.input(&input))
+        let mut before = 0;
+        self.each_mut().into_iter().any(|s| {
+            let kept = s.bodies().len();
+            let own = match input {
+                Input::Pull(i, _) | Input::Place(i, _) if !(before..before + kept).contains(&i) => {
+                    before += kept;
+                    return false;
+                }
+                Input::Pull(i, target) => Input::Pull(i - before, target),
+                Input::Place(i, position) => Input::Place(i - before, position),
+                other => other,
+            };
+            s.input(&own)
+        })
     }
 
     /// Dump `name`, if a simulation declares it.

@@ -3,18 +3,19 @@
 // Simulation for Computer Graphics* ch. 5). The CPU twin is
 // hydrolux_core::fluid (flip.rs, pressure.rs), kernel for kernel:
 //
-//   clear → splat (particles to faces, fixed-point atomics: the sums do not
+//   place_bodies (the moving bodies' cells) → clear → splat (particles to faces, fixed-point atomics: the sums do not
 //   depend on the order particles arrive in) → faces (weighted means, the
 //   old copy, gravity, closed walls) → solve_begin / reduce_begin → the
 //   conjugate-gradient loop (apply with the new direction, update, and
 //   reduce_beta: three dispatches, the first two indirect and emptied once
 //   converged) →
-//   gradient → extrapolate (two rounds) → advance (FLIP/PIC blend, midpoint
-//   advection).
+//   body_loads (the pressure's force and torque on each body) → gradient →
+//   extrapolate (two rounds) → advance (FLIP/PIC blend, midpoint advection,
+//   particles kept outside the bodies).
 //
 // Every reduction sums in a fixed order (a tree in each workgroup, then one
 // workgroup over the partials), so a step gives the same bits every time.
-#import liquid_landing
+#import liquid_landing, liquid_bodies
 
 struct LiquidParams {
     // Cells per axis and in all; faces per axis and in all.
@@ -122,12 +123,13 @@ const MAX_SPEED: f32 = 100.0;
 @group(0) @binding(2) var<storage, read_write> accum: array<atomic<i32>>;
 // Per face: the velocity, the splatted (old) velocity, a spare copy.
 @group(0) @binding(3) var<storage, read_write> faces: array<f32>;
-// Per face: known (extrapolation), twice; then per cell: 1 where a static
-// object fills it (solid); then per cell its flags for the solve (below).
+// Per face: known (extrapolation), twice; then per cell what fills it (0
+// nothing, 1 a static object or the ground, 2 + b moving body b: solid);
+// then per cell its flags for the solve (below).
 @group(0) @binding(4) var<storage, read_write> known: array<u32>;
 // Per cell: p, r, z, s, q, t (s's second copy); then per cell workgroup
 // a dot product's and two maxima's partials (the update's), then per cell
-// workgroup the apply's s·q.
+// workgroup the apply's s·q; then per body its load (`body_loads`).
 @group(0) @binding(5) var<storage, read_write> solve: array<f32>;
 @group(0) @binding(6) var<storage, read> sources: Sources;
 // The solve's state, then the landings' log (liquid_landing.wgsl).
@@ -138,6 +140,8 @@ struct LiquidState {
     landings: array<Landing>,
 }
 @group(0) @binding(7) var<storage, read_write> state: LiquidState;
+// The moving bodies where rapier has them this clock step.
+@group(0) @binding(8) var<uniform> bodies: LiquidBodies;
 // The conjugate-gradient kernels' indirect arguments (the reductions write them).
 @group(1) @binding(0) var<storage, read_write> args: array<u32>;
 
@@ -193,6 +197,38 @@ fn is_solid(c: vec3<i32>) -> bool {
         return !beyond_open(c);
     }
     return known[2u * params.face_count + cell_index(vec3<u32>(c))] != 0u;
+}
+
+// What fills cell c (inside the domain): 0 nothing, 1 a static solid, 2 + b
+// moving body b.
+fn filler(c: vec3<i32>) -> u32 {
+    return known[2u * params.face_count + cell_index(vec3<u32>(c))];
+}
+
+fn cell_centre(c: vec3<i32>) -> vec3<f32> {
+    return params.origin + (vec3<f32>(c) + 0.5) * params.h;
+}
+
+// The velocity of the solid filling cell c (0 but for a moving body's).
+fn solid_velocity(c: vec3<i32>) -> vec3<f32> {
+    if (!inside(c) || filler(c) < 2u) {
+        return vec3<f32>(0.0);
+    }
+    return body_velocity_at(bodies.bodies[filler(c) - 2u], cell_centre(c));
+}
+
+// A solid face's velocity: its solid cell's along the face's axis
+// (MacGrid::solid_face_velocity).
+fn solid_face_velocity(face: vec4<u32>) -> f32 {
+    let hi = vec3<i32>(face.xyz);
+    if (inside(hi) && is_solid(hi)) {
+        return solid_velocity(hi)[face.w];
+    }
+    let lo = low_cell(face);
+    if (inside(lo) && is_solid(lo)) {
+        return solid_velocity(lo)[face.w];
+    }
+    return 0.0;
 }
 
 fn is_liquid(c: vec3<i32>) -> bool {
@@ -296,6 +332,29 @@ fn emit(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     }
 }
 
+// Each cell a moving body's centre lies in is that body's (the first's, in
+// order); static solids stay (twin: Liquid::place_bodies).
+@compute @workgroup_size(256)
+fn place_bodies(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = linear(wid, nwg, lid);
+    if (i >= params.cell_count) {
+        return;
+    }
+    let at = 2u * params.face_count + i;
+    if (known[at] == 1u) {
+        return;
+    }
+    let centre = cell_centre(vec3<i32>(cell_coords(i)));
+    var fill = 0u;
+    for (var b = 0u; b < bodies.count; b++) {
+        if (body_distance(bodies.bodies[b], centre) <= 0.0) {
+            fill = 2u + b;
+            break;
+        }
+    }
+    known[at] = fill;
+}
+
 @compute @workgroup_size(256)
 fn clear(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = linear(wid, nwg, lid);
@@ -343,7 +402,7 @@ fn faces_from_particles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_work
     faces[params.face_count + g] = v;
     v += params.gravity[face.w] * params.dt;
     if (face_solid(face)) {
-        v = 0.0;
+        v = solid_face_velocity(face);
     }
     faces[g] = v;
 }
@@ -766,6 +825,102 @@ fn pressure(c: vec3<i32>) -> f32 {
     return at(P, cell_index(vec3<u32>(c)));
 }
 
+// Per body: force (3), torque (3), its cells' faces to other cells, and
+// those to liquid.
+const LOAD_VALUES: u32 = 8u;
+var<workgroup> load_part: array<array<f32, LOAD_VALUES>, WG>;
+
+// Where the body loads start in `solve`.
+fn loads_at() -> u32 {
+    return 6u * params.cell_count + 4u * params.cell_groups;
+}
+
+// One workgroup per body: over every face between the body's cells and a
+// liquid cell, the liquid's pressure carried linearly to the face (from
+// that cell and the one beyond, so a hydrostatic pressure is exact there)
+// times h², pushing the body away from the liquid; summed into a force and
+// a torque about its centre, in a fixed order, and their share of the
+// clock step (1/substeps) added to the body's load (the host clears it
+// each clock step). Twin: Liquid::body_loads.
+@compute @workgroup_size(256)
+fn body_loads(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let b = wid.x;
+    let body = bodies.bodies[b];
+    let n = vec3<i32>(params.cells);
+    let low = clamp(vec3<i32>(floor((body.position - body.reach - params.origin) / params.h)), vec3<i32>(0), n);
+    let high = clamp(vec3<i32>(ceil((body.position + body.reach - params.origin) / params.h)) + 1, vec3<i32>(0), n);
+    let span = vec3<u32>(max(high - low, vec3<i32>(0)));
+    let total = span.x * span.y * span.z;
+    var acc: array<f32, LOAD_VALUES>;
+    let area = params.h * params.h;
+    for (var k = lid; k < total; k += WG) {
+        let c = low + vec3<i32>(vec3<u32>(k % span.x, (k / span.x) % span.y, k / (span.x * span.y)));
+        if (filler(c) != 2u + b) {
+            continue;
+        }
+        let centre = cell_centre(c);
+        for (var side = 0u; side < 6u; side++) {
+            let a = side / 2u;
+            let step = select(1, -1, side % 2u == 0u);
+            var q = c;
+            q[a] += step;
+            if (!inside(q) || filler(q) == 2u + b) {
+                continue;
+            }
+            acc[6] += 1.0;
+            if (!is_liquid(q)) {
+                continue;
+            }
+            acc[7] += 1.0;
+            let p = pressure(q);
+            var beyond = q;
+            beyond[a] += step;
+            var p_beyond = p;
+            if (!inside(beyond)) {
+                let bit = select(1u, 2u, step > 0) << (2u * a);
+                if ((params.open_sides & bit) != 0u) {
+                    p_beyond = 0.0;
+                }
+            } else if (!is_solid(beyond)) {
+                p_beyond = pressure(beyond);
+            }
+            let p_face = p + 0.5 * (p - p_beyond);
+            var normal = vec3<f32>(0.0);
+            normal[a] = -f32(step);
+            let force = p_face * area * normal;
+            let torque = cross(centre - normal * (0.5 * params.h) - body.position, force);
+            acc[0] += force.x;
+            acc[1] += force.y;
+            acc[2] += force.z;
+            acc[3] += torque.x;
+            acc[4] += torque.y;
+            acc[5] += torque.z;
+        }
+    }
+    load_part[lid] = acc;
+    workgroupBarrier();
+    for (var stride = WG / 2u; stride > 0u; stride /= 2u) {
+        if (lid < stride) {
+            for (var v = 0u; v < LOAD_VALUES; v++) {
+                load_part[lid][v] += load_part[lid + stride][v];
+            }
+        }
+        workgroupBarrier();
+    }
+    if (lid == 0u) {
+        let share = 1.0 / f32(params.substeps);
+        let out = loads_at() + b * LOAD_VALUES;
+        for (var v = 0u; v < 6u; v++) {
+            solve[out + v] += load_part[0][v] * share;
+        }
+        // The wetted share of its faces.
+        let faces = load_part[0][6];
+        if (faces > 0.0) {
+            solve[out + 6u] += load_part[0][7] / faces * share;
+        }
+    }
+}
+
 // Subtract the pressure's gradient from faces between a liquid cell and a
 // liquid or air one; mark which faces the liquid knows.
 @compute @workgroup_size(256)
@@ -836,9 +991,9 @@ fn extend_between(g: u32, src: u32, dst: u32, known_src: u32, known_dst: u32) {
             k = 1u;
         }
     }
-    // The second round ends with the walls closed.
+    // The second round ends with the solids' faces moving with them.
     if (dst == 0u && face_solid(face)) {
-        v = 0.0;
+        v = solid_face_velocity(face);
     }
     faces[dst * fc + g] = v;
     known[known_dst * fc + g] = k;
@@ -858,14 +1013,32 @@ fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
     let now = velocity_at(p, 0u);
     let then = velocity_at(p, params.face_count);
     let flip = params.flip;
-    particles[i].velocity = flip * (v + now - then) + (1.0 - flip) * now;
+    var velocity = flip * (v + now - then) + (1.0 - flip) * now;
     let mid = p + 0.5 * params.dt * now;
     let u = velocity_at(mid, 0u);
     let margin = 1e-3 * params.h;
     let lo = params.origin + vec3<f32>(margin);
     let hi = params.origin + vec3<f32>(params.cells) * params.h - vec3<f32>(margin);
-    // Kept inside the closed sides; through an open one it leaves.
+    // Outside the bodies (a body's cells do not stop a particle, its exact
+    // surface does: one inside goes to a twentieth of a cell outside and
+    // loses its velocity into the body; twin: Liquid::clear_of_bodies), and
+    // kept inside the closed sides; through an open one it leaves.
     var next = p + params.dt * u;
+    let clearance = 0.05 * params.h;
+    for (var b = 0u; b < bodies.count; b++) {
+        let body = bodies.bodies[b];
+        let d = body_distance(body, next);
+        if (d >= clearance) {
+            continue;
+        }
+        let n = body_normal(body, next);
+        next += (clearance - d) * n;
+        let into = dot(velocity - body_velocity_at(body, next), n);
+        if (into < 0.0) {
+            velocity -= into * n;
+        }
+    }
+    particles[i].velocity = velocity;
     for (var a = 0u; a < 3u; a++) {
         if ((params.open_sides & (1u << (2u * a))) == 0u) {
             next[a] = max(next[a], lo[a]);
@@ -880,7 +1053,7 @@ fn advance(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
         return;
     }
     let cell = clamp(vec3<i32>(floor((next - params.origin) / params.h)), vec3<i32>(0), vec3<i32>(params.cells) - vec3<i32>(1));
-    if (!is_solid(cell)) {
+    if (!is_solid(cell) || filler(cell) >= 2u) {
         particles[i].position = next;
     }
     let at = particles[i].position;

@@ -12,9 +12,14 @@
 //! The solve's loop is recorded `fluid.iterations` times as indirect
 //! dispatches that its reductions empty once the residual is met.
 //!
+//! The moving bodies that start in its domain are its own (`bodies.rs`):
+//! rapier moves them on the CPU under the pressure the GPU reads back each
+//! clock step, and the liquid flows round them.
+//!
 //! It publishes its particles (`published.rs`), which `draw.rs` (the
 //! `liquid` technique) draws as shaded spheres.
 
+pub(crate) mod bodies;
 pub mod draw;
 pub mod readback;
 
@@ -196,6 +201,8 @@ struct Pipelines {
     extrapolate_back: wgpu::ComputePipeline,
     advance: wgpu::ComputePipeline,
     landing_dispatch: wgpu::ComputePipeline,
+    place_bodies: wgpu::ComputePipeline,
+    body_loads: wgpu::ComputePipeline,
 }
 
 pub struct Liquid {
@@ -226,6 +233,48 @@ pub struct Liquid {
     /// Clock steps a step of the interactive water it lands in spans.
     landing_stride: u64,
     landing: Option<hydrolux_core::fluid::LandingSurface>,
+    /// The moving bodies in it, and where the GPU reads them.
+    bodies: Option<bodies::GpuBodies>,
+    bodies_buffer: wgpu::Buffer,
+    /// Their world as the scene describes it (an edit to it remakes it).
+    bodies_desc: Option<hydrolux_core::bodies::BodiesDesc>,
+}
+
+impl Liquid {
+    /// Follow `clock_steps` with bodies in the liquid: each clock step on
+    /// its own submission, the bodies' poses up before it and their loads
+    /// back after it, then rapier's step (`bodies.rs`).
+    fn follow_with_bodies(&mut self, shared: &Shared, clock_steps: u32) {
+        let substeps = self.desc.substeps.max(1) as u64;
+        let loads_at = self.loads_at();
+        for s in 0..clock_steps {
+            let Some(b) = &self.bodies else { return };
+            shared.queue.write_buffer(&self.bodies_buffer, 0, bytemuck::bytes_of(&b.record()));
+            let mut encoder = shared.device.create_command_encoder(&Default::default());
+            if s == 0
+                && self.uniforms.landing == 1
+                && self.clock_steps.is_multiple_of(self.landing_stride)
+            {
+                encoder.clear_buffer(&self.state, LANDING_COUNT_AT, Some(4));
+            }
+            encoder.clear_buffer(&self.solve, loads_at, Some(bodies::LOADS_BYTES));
+            self.record_steps(&mut encoder, substeps, None);
+            if s + 1 == clock_steps && self.uniforms.landing == 1 {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("liquid landings"),
+                    timestamp_writes: None,
+                });
+                pass.set_bind_group(0, &self.group, &[]);
+                pass.set_pipeline(&self.pipelines.landing_dispatch);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+            shared.queue.submit([encoder.finish()]);
+            if let Some(b) = &mut self.bodies {
+                b.step(&shared.device, &shared.queue, &self.solve, loads_at);
+            }
+            self.clock_steps += 1;
+        }
+    }
 }
 
 /// Clock steps between restarts of the landings log: where the interactive
@@ -294,7 +343,7 @@ impl Liquid {
             ("splat sums (fluid.resolution)", (2 * face_count + cell_count) as u64 * 4),
             (
                 "pressure solve (fluid.resolution)",
-                (6 * cell_count as u64 + 4 * cell_groups as u64) * 4,
+                (6 * cell_count as u64 + 4 * cell_groups as u64) * 4 + bodies::LOADS_BYTES,
             ),
             (
                 "landings in the interactive water (fluid.budget)",
@@ -352,10 +401,12 @@ impl Liquid {
             none,
         );
         let solve = storage(
-            "liquid solve and partial sums",
-            (6 * cell_count as u64 + 4 * cell_groups as u64) * 4,
+            "liquid solve, partial sums and body loads",
+            (6 * cell_count as u64 + 4 * cell_groups as u64) * 4 + bodies::LOADS_BYTES,
             none,
         );
+        let liquid_bodies = bodies::GpuBodies::new(device, scene, start.settings.density);
+        let bodies_buffer = uniform_buffer(device, "liquid bodies", &bodies::BodiesRecord::empty());
         let sources = {
             let bytes = sources_bytes(&start);
             let buffer = storage("liquid sources", bytes.len() as u64, none);
@@ -380,6 +431,7 @@ impl Liquid {
                 storage_entry(5, cs, false),
                 storage_entry(6, cs, true),
                 storage_entry(7, cs, false),
+                uniform_entry(8, cs),
             ],
         });
         let args_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -401,6 +453,7 @@ impl Liquid {
                 entry(5, &solve),
                 entry(6, &sources),
                 entry(7, &state),
+                entry(8, &bodies_buffer),
             ],
         });
         let args_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -428,6 +481,8 @@ impl Liquid {
             extrapolate_back: plain("extrapolate_back"),
             advance: plain("advance"),
             landing_dispatch: plain("landing_dispatch"),
+            place_bodies: plain("place_bodies"),
+            body_loads: plain("body_loads"),
         };
         let liquid = Liquid {
             desc: desc.clone(),
@@ -455,6 +510,9 @@ impl Liquid {
             emit_points,
             landing_stride: landing_stride(scene),
             landing,
+            bodies: liquid_bodies,
+            bodies_buffer,
+            bodies_desc: scene.liquid_bodies(),
         };
         liquid.write_start(&shared.queue);
         Ok(Some(liquid))
@@ -468,6 +526,11 @@ impl Liquid {
         }
         let solids_at = 2 * self.uniforms.face_count as u64 * 4;
         queue.write_buffer(&self.known, solids_at, bytemuck::cast_slice(&self.solids));
+    }
+
+    /// Where the bodies' loads start in the solve buffer (bytes).
+    fn loads_at(&self) -> u64 {
+        (6 * self.uniforms.cell_count as u64 + 4 * self.uniforms.cell_groups as u64) * 4
     }
 
     /// Particles simulated.
@@ -513,11 +576,15 @@ impl Liquid {
             pass.set_bind_group(1, &self.args_group, &[]);
             pass
         };
+        let body_count = self.bodies.as_ref().map_or(0, |b| b.count());
         for _ in 0..steps {
             {
                 let mut pass = begin(encoder, "liquid to grid", timer.as_deref_mut());
                 if self.emit_points > 0 {
                     run(&mut pass, &p.emit, groups(self.emit_points));
+                }
+                if body_count > 0 {
+                    run(&mut pass, &p.place_bodies, cells);
                 }
                 run(&mut pass, &p.clear, clear);
                 run(&mut pass, &p.splat, particles);
@@ -540,6 +607,9 @@ impl Liquid {
                 }
             }
             let mut pass = begin(encoder, "liquid to particles", timer.as_deref_mut());
+            if body_count > 0 {
+                run(&mut pass, &p.body_loads, (body_count, 1));
+            }
             run(&mut pass, &p.gradient, faces);
             run(&mut pass, &p.extrapolate_out, faces);
             run(&mut pass, &p.extrapolate_back, faces);
@@ -566,6 +636,7 @@ impl crate::simulation::Simulation for Liquid {
             && scene.floor == self.floor
             && scene.fluid_landing() == self.landing
             && landing_stride(scene) == self.landing_stride
+            && scene.liquid_bodies() == self.bodies_desc
     }
 
     /// The liquid starts from its sources at the clock's origin.
@@ -589,6 +660,24 @@ impl crate::simulation::Simulation for Liquid {
     fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
         self.write_start(queue);
         self.clock_steps = from;
+        if let Some(b) = &mut self.bodies {
+            b.reset();
+        }
+    }
+
+    fn bodies(&self) -> Vec<hydrolux_core::bodies::BodyState> {
+        self.bodies.as_ref().map_or(Vec::new(), |b| b.states())
+    }
+
+    fn input(&mut self, input: &crate::simulation::Input) -> bool {
+        use crate::simulation::Input;
+        let Some(b) = &mut self.bodies else { return false };
+        match *input {
+            Input::Pull(i, target) => b.bodies.world.pull(i, target, 0.1),
+            Input::Place(i, position) => b.bodies.world.place(i, position),
+            _ => return false,
+        }
+        true
     }
 
     /// Where it lands in the interactive water, its run is submitted at
@@ -601,6 +690,10 @@ impl crate::simulation::Simulation for Liquid {
         encoder: &mut wgpu::CommandEncoder,
         clock_steps: u32,
     ) {
+        if self.bodies.is_some() {
+            self.follow_with_bodies(ctx.shared, clock_steps);
+            return;
+        }
         let steps = clock_steps as u64 * self.desc.substeps as u64;
         if self.uniforms.landing == 0 {
             self.record_steps(encoder, steps, None);
@@ -660,6 +753,16 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
                 std::mem::size_of::<EmitterRecord>(),
             ),
             crate::uniforms::Layout::sized("Drain", source(), std::mem::size_of::<DrainRecord>()),
+            crate::uniforms::Layout::sized(
+                "LiquidBody",
+                source(),
+                std::mem::size_of::<bodies::BodyRecord>(),
+            ),
+            crate::uniforms::Layout::sized(
+                "LiquidBodies",
+                source(),
+                std::mem::size_of::<bodies::BodiesRecord>(),
+            ),
             crate::uniforms::Layout::sized(
                 "Landing",
                 source(),

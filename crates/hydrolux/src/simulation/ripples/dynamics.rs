@@ -90,7 +90,7 @@ impl Dynamics {
     /// The scene's stateful water and bodies (`None` if nothing moves).
     pub fn new(queue: &wgpu::Queue, scene: &Scene, ripples: Option<RipplePass>) -> Option<Self> {
         let dt = 1.0 / scene.ripples.rate.max(1) as f64;
-        let bodies = BodyWorld::new(&scene.bodies(), dt);
+        let bodies = BodyWorld::new(&scene.surface_bodies(), dt);
         if ripples.is_none() && bodies.is_none() {
             return None;
         }
@@ -156,6 +156,7 @@ impl Dynamics {
         };
         water
             && scene.objects == self.scene.objects
+            && scene.surface_bodies() == self.scene.surface_bodies()
             && scene.ripples.rate == self.scene.ripples.rate
     }
 
@@ -168,7 +169,7 @@ impl Dynamics {
             r.reset(queue);
         }
         if self.bodies.is_some() {
-            self.bodies = BodyWorld::new(&self.scene.bodies(), self.dt);
+            self.bodies = BodyWorld::new(&self.scene.surface_bodies(), self.dt);
             if let Some(w) = &mut self.bodies {
                 w.advance_kinematic(from as f64 / CLOCK_HZ as f64);
             }
