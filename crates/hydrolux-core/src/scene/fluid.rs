@@ -584,8 +584,12 @@ impl Scene {
 
     /// The body world of the liquid (`None` when no body starts in it): its
     /// bodies, every static object, the floor, and the domain's closed
-    /// sides as walls a metre thick round it (the liquid's walls are the
-    /// bodies' too). A body's index in it is its order among the liquid's.
+    /// sides as walls a metre thick, a cell inside them. A body a wall
+    /// stops thus keeps a cell of liquid between them: a block lying on
+    /// the tank's floor has liquid under it that presses it up, as water
+    /// seeps under a real one (flush with the wall, no liquid cell would
+    /// be under it, and it would never lift off). A body's index in it is
+    /// its order among the liquid's.
     pub fn liquid_bodies(&self) -> Option<crate::bodies::BodiesDesc> {
         if !self.objects.iter().any(|o| self.in_liquid(o)) {
             return None;
@@ -597,8 +601,9 @@ impl Scene {
         let (lo, hi) = (glam::Vec3::from(self.fluid.min), glam::Vec3::from(self.fluid.max));
         let (size, centre) = (hi - lo, 0.5 * (lo + hi));
         let open = self.fluid.open_sides();
+        let h = self.fluid.grid_shape().0;
         for a in 0..3 {
-            for (side, far) in [(0, lo[a] - 0.5), (1, hi[a] + 0.5)] {
+            for (side, far) in [(0, lo[a] + h - 0.5), (1, hi[a] - h + 0.5)] {
                 if open[a][side] {
                     continue;
                 }

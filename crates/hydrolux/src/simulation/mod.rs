@@ -329,6 +329,10 @@ impl Simulations {
         name: &str,
         ctx: &crate::technique::DumpContext,
     ) -> Option<Result<crate::info::DumpData, String>> {
+        if name == "bodies" {
+            let json = ripples::readback::bodies_json(&self.bodies(), ctx.scene, ctx.time);
+            return Some(Ok(crate::info::DumpData::Json(json)));
+        }
         self.each().into_iter().find_map(|s| s.dump(name, ctx))
     }
 

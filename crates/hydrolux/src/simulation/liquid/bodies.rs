@@ -57,6 +57,8 @@ pub(crate) struct GpuBodies {
     pub bodies: LiquidBodies,
     /// Their world at the start (a reset builds it again).
     desc: BodiesDesc,
+    /// Each one's object's scale (its transform is scale × pose).
+    scales: Vec<[f32; 3]>,
     /// Each body's load over the last clock step the GPU reported.
     pub loads: Vec<BodyLoad>,
     readback: AsyncReadback,
@@ -71,7 +73,9 @@ impl GpuBodies {
         let desc = scene.liquid_bodies()?;
         let world = BodyWorld::new(&desc, Self::dt(scene))?;
         let count = world.bodies.len();
+        let scales = world.bodies.iter().map(|b| scene.objects[b.object].scale).collect();
         Some(GpuBodies {
+            scales,
             bodies: LiquidBodies::new(world),
             desc,
             loads: vec![BodyLoad::default(); count],
@@ -145,6 +149,18 @@ impl GpuBodies {
         self.loads.iter_mut().for_each(|l| *l = BodyLoad::default());
         // A copy still on its way (a browser's) is of the old run's loads.
         self.discard = self.readback.in_flight();
+    }
+
+    /// Each one's object and its world transform now.
+    pub fn transforms(&self) -> Vec<(usize, glam::Mat4)> {
+        let world = &self.bodies.world;
+        world
+            .bodies
+            .iter()
+            .zip(world.poses())
+            .zip(&self.scales)
+            .map(|((b, pose), scale)| (b.object, pose.matrix(*scale)))
+            .collect()
     }
 
     /// Their states; `submerged` is the wetted share of the volume.

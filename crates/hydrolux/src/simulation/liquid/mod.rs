@@ -651,6 +651,9 @@ impl crate::simulation::Simulation for Liquid {
             radius: self.particle_radius(),
             landings: (self.uniforms.landing == 1).then(|| self.state.clone()),
         });
+        if let Some(b) = &self.bodies {
+            published.bodies.extend(b.transforms());
+        }
     }
 
     fn pace(&self) -> crate::simulation::Pace {

@@ -422,7 +422,7 @@ impl crate::simulation::Simulation for Dynamics {
                 window: [lo[0], lo[1], lo[0] + side, lo[1] + side],
             });
         }
-        published.bodies = self.transforms();
+        published.bodies.extend(self.transforms());
     }
 
     fn pace(&self) -> crate::simulation::Pace {

@@ -24,6 +24,32 @@ pub(crate) const DUMPS: &[DumpKind] = &[
     DumpKind { name: "bodies", shape: DumpShape::Json, missing: no_bodies },
 ];
 
+/// The moving bodies as JSON (the `bodies` dump, of every simulation's
+/// bodies: `Simulations::dump`): time, then per body its object, position,
+/// orientation (quaternion x, y, z, w), velocities and submerged volume.
+pub(crate) fn bodies_json(
+    states: &[hydrolux_core::bodies::BodyState],
+    scene: &Scene,
+    time: f64,
+) -> String {
+    let bodies: Vec<serde_json::Value> = states
+        .iter()
+        .map(|b| {
+            serde_json::json!({
+                "object": b.object,
+                "name": scene.objects[b.object].name,
+                "position": b.pose.position.to_array(),
+                "orientation": b.pose.rotation.to_array(),
+                "velocity": b.velocity.to_array(),
+                "angular_velocity": b.angular_velocity.to_array(),
+                "submerged_volume": b.submerged,
+            })
+        })
+        .collect();
+    let doc = serde_json::json!({ "time": time, "bodies": bodies });
+    serde_json::to_string_pretty(&doc).expect("JSON of numbers and strings") + "\n"
+}
+
 impl Dynamics {
     fn field(&self, device: &wgpu::Device, queue: &wgpu::Queue, time: f64) -> Option<RippleField> {
         let r = self.ripples.as_ref()?;
@@ -35,28 +61,6 @@ impl Dynamics {
             heights: r.read_heights(device, queue),
             time,
         })
-    }
-
-    /// The moving bodies as JSON: time, then per body its object, position,
-    /// orientation (quaternion x, y, z, w), velocities and submerged volume.
-    fn bodies_json(&self, scene: &Scene, time: f64) -> String {
-        let bodies: Vec<serde_json::Value> = self
-            .states()
-            .iter()
-            .map(|b| {
-                serde_json::json!({
-                    "object": b.object,
-                    "name": scene.objects[b.object].name,
-                    "position": b.pose.position.to_array(),
-                    "orientation": b.pose.rotation.to_array(),
-                    "velocity": b.velocity.to_array(),
-                    "angular_velocity": b.angular_velocity.to_array(),
-                    "submerged_volume": b.submerged,
-                })
-            })
-            .collect();
-        let doc = serde_json::json!({ "time": time, "bodies": bodies });
-        serde_json::to_string_pretty(&doc).expect("JSON of numbers and strings") + "\n"
     }
 
     pub(crate) fn dump(&self, name: &str, ctx: &DumpContext) -> Option<Result<DumpData, String>> {
@@ -81,7 +85,6 @@ impl Dynamics {
                     })
                 }
             }),
-            "bodies" => Some(Ok(DumpData::Json(self.bodies_json(ctx.scene, ctx.time)))),
             _ => None,
         }
     }
