@@ -93,6 +93,11 @@ impl SceneEditor {
         if dynamic {
             open.push("ripples");
         }
+        // A scene with the volumetric liquid: its domain, grid and sources.
+        let fluid = self.table.get("fluid").and_then(|f| f.get("sources"));
+        if fluid.and_then(Value::as_array).is_some_and(|s| !s.is_empty()) {
+            open.push("fluid");
+        }
         open
     }
 
@@ -297,6 +302,14 @@ fn edit_value(ui: &mut Ui, id: &str, path: &str, key: &str, value: &mut Value) -
 mod tests {
     use super::*;
     use hydrolux_core::scene::{Choice, DebugView};
+
+    #[test]
+    fn the_liquid_s_section_opens_where_a_scene_has_one() {
+        let open = |name: &str| SceneEditor::new(&Scene::load(name, &[]).unwrap()).open_sections();
+        assert!(open("dam_break").contains(&"fluid"));
+        assert!(open("pour").contains(&"fluid"));
+        assert!(!open("pool").contains(&"fluid"));
+    }
 
     #[test]
     fn every_builtin_scene_comes_back_unchanged_from_the_editor() {

@@ -336,3 +336,28 @@ fn the_ground_is_a_solid_the_liquid_rests_on() {
     let lowest = liquid.live_positions().map(|p| p[1]).fold(f64::INFINITY, f64::min);
     assert!(lowest > -0.1 && lowest < -0.1 + h, "the lowest particle is at {lowest} m");
 }
+
+#[test]
+fn a_moving_body_that_starts_in_the_domain_is_the_liquid_s() {
+    // dam_break's pine block: the liquid's world moves it (with the
+    // domain's six closed sides as walls), the surface water's has none.
+    let s = crate::scene::Scene::load("dam_break", &[]).expect("built-in");
+    let block = s.objects.iter().position(|o| o.dynamic).expect("a moving block");
+    assert!(s.in_liquid(&s.objects[block]));
+    assert!(BodyWorld::new(&s.surface_bodies(), 1.0 / 120.0).is_none());
+    let desc = s.liquid_bodies().expect("the liquid has a body");
+    assert_eq!(desc.objects.len(), s.objects.len() + 6);
+    let world = BodyWorld::new(&desc, 1.0 / 120.0).expect("it moves");
+    assert_eq!(world.bodies.len(), 1);
+    assert_eq!(world.bodies[0].object, block);
+    // Moved out of the domain, it floats on the surface water instead.
+    let mut outside = s.clone();
+    outside.objects[block].position = [2.0, 0.1, 0.0];
+    assert!(outside.liquid_bodies().is_none());
+    assert!(BodyWorld::new(&outside.surface_bodies(), 1.0 / 120.0).is_some());
+    // At most eight start in it (the GPU's table).
+    let mut many = s.clone();
+    many.objects.extend(std::iter::repeat_n(s.objects[block].clone(), 8));
+    let err = many.validate().unwrap_err().to_string();
+    assert!(err.contains("at most 8 moving objects"), "{err}");
+}
