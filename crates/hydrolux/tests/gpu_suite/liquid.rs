@@ -186,6 +186,26 @@ fn the_liquid_is_the_same_whatever_frames_reach_a_time() {
     let once = run(1);
     assert_eq!(once, run(10));
     assert_eq!(once, run(1));
+    // With a ball in it (rapier steps on the CPU between the clock steps,
+    // under the loads read back): the ball and the liquid alike.
+    let mut s = s.clone();
+    s.objects = vec![hydrolux::core::scene::ObjectDesc {
+        primitive: hydrolux::core::scene::Primitive::Sphere,
+        position: [0.2, 0.06, 0.05],
+        scale: [0.06; 3],
+        dynamic: true,
+        density: 300.0,
+        ..Default::default()
+    }];
+    let run = |frames: usize| {
+        let mut r = renderer(&ctx, &s);
+        for f in 1..=frames {
+            r.simulate(&s.camera(), (16, 16), 0.1 * f as f64 / frames as f64);
+        }
+        (r.read_liquid().expect("a liquid").particles, r.bodies()[0].pose)
+    };
+    let once = run(1);
+    assert_eq!(once, run(10));
 }
 
 /// A block of liquid over the interactive water's pool (walls, 32 cells of
