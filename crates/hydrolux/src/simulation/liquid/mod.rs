@@ -241,6 +241,17 @@ pub struct Liquid {
 }
 
 impl Liquid {
+    /// After a run of steps: the interactive water's dispatch over the log.
+    fn record_landing_dispatch(&self, encoder: &mut wgpu::CommandEncoder) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("liquid landings"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.set_pipeline(&self.pipelines.landing_dispatch);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+
     /// Follow `clock_steps` with bodies in the liquid: each clock step on
     /// its own submission, the bodies' poses up before it and their loads
     /// back after it, then rapier's step (`bodies.rs`).
@@ -260,13 +271,7 @@ impl Liquid {
             encoder.clear_buffer(&self.solve, loads_at, Some(bodies::LOADS_BYTES));
             self.record_steps(&mut encoder, substeps, None);
             if s + 1 == clock_steps && self.uniforms.landing == 1 {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("liquid landings"),
-                    timestamp_writes: None,
-                });
-                pass.set_bind_group(0, &self.group, &[]);
-                pass.set_pipeline(&self.pipelines.landing_dispatch);
-                pass.dispatch_workgroups(1, 1, 1);
+                self.record_landing_dispatch(&mut encoder);
             }
             shared.queue.submit([encoder.finish()]);
             if let Some(b) = &mut self.bodies {
@@ -711,15 +716,7 @@ impl crate::simulation::Simulation for Liquid {
             own.clear_buffer(&self.state, LANDING_COUNT_AT, Some(4));
         }
         self.record_steps(&mut own, steps, None);
-        {
-            let mut pass = own.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("liquid landings"),
-                timestamp_writes: None,
-            });
-            pass.set_bind_group(0, &self.group, &[]);
-            pass.set_pipeline(&self.pipelines.landing_dispatch);
-            pass.dispatch_workgroups(1, 1, 1);
-        }
+        self.record_landing_dispatch(&mut own);
         shared.queue.submit([own.finish()]);
         self.clock_steps += clock_steps as u64;
     }
