@@ -2,7 +2,8 @@
 // centred at the origin in their own frame: code PRIMITIVE_SPHERE (radius
 // size.x), PRIMITIVE_BOX (half-sizes size) or anything else a cylinder
 // along y (radius size.x, half-height size.y). Twin: hydrolux-core
-// bodies::body_column (the same intervals).
+// bodies::body_column (the same intervals). Also their signed distance,
+// and the rotation into and out of a body's frame.
 
 #import modes
 
@@ -79,4 +80,24 @@ fn primitive_normal(code: u32, size: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
         return vec3<f32>(0.0, sign(p.y), 0.0);
     }
     return normalize(vec3<f32>(p.x, 0.0, p.z));
+}
+
+// v rotated by the unit quaternion q (x, y, z, w).
+fn quat_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
+    let t = 2.0 * cross(q.xyz, v);
+    return v + q.w * t + cross(q.xyz, t);
+}
+
+// Signed distance (m) from the primitive's surface to p in its own frame
+// (Shape::signed_distance).
+fn shape_distance(code: u32, size: vec3<f32>, p: vec3<f32>) -> f32 {
+    if (code == PRIMITIVE_SPHERE) {
+        return length(p) - size.x;
+    }
+    if (code == PRIMITIVE_BOX) {
+        let q = abs(p) - size;
+        return length(max(q, vec3<f32>(0.0))) + min(max(q.x, max(q.y, q.z)), 0.0);
+    }
+    let q = vec2<f32>(length(p.xz) - size.x, abs(p.y) - size.y);
+    return length(max(q, vec2<f32>(0.0))) + min(max(q.x, q.y), 0.0);
 }

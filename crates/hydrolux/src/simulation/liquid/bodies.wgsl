@@ -1,7 +1,7 @@
 // The moving bodies in the volumetric liquid (issue #29, two-way coupling;
 // seed 003 §2.4): where rapier has them this clock step, written by the
 // host before the step. Twin: hydrolux_core::fluid::solids (LiquidBody).
-#import modes
+#import ray_primitive
 
 const MAX_LIQUID_BODIES: u32 = 8u;
 
@@ -30,27 +30,8 @@ struct LiquidBodies {
     bodies: array<LiquidBody, MAX_LIQUID_BODIES>,
 }
 
-fn body_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
-    let t = 2.0 * cross(q.xyz, v);
-    return v + q.w * t + cross(q.xyz, t);
-}
-
-// Signed distance (m) from a shape's surface to `p` in its own frame
-// (Shape::signed_distance).
-fn shape_distance(code: u32, size: vec3<f32>, p: vec3<f32>) -> f32 {
-    if (code == PRIMITIVE_SPHERE) {
-        return length(p) - size.x;
-    }
-    if (code == PRIMITIVE_BOX) {
-        let q = abs(p) - size;
-        return length(max(q, vec3<f32>(0.0))) + min(max(q.x, max(q.y, q.z)), 0.0);
-    }
-    let q = vec2<f32>(length(p.xz) - size.x, abs(p.y) - size.y);
-    return length(max(q, vec2<f32>(0.0))) + min(max(q.x, q.y), 0.0);
-}
-
 fn body_local(b: LiquidBody, x: vec3<f32>) -> vec3<f32> {
-    return body_rotate(vec4<f32>(-b.rotation.xyz, b.rotation.w), x - b.position);
+    return quat_rotate(vec4<f32>(-b.rotation.xyz, b.rotation.w), x - b.position);
 }
 
 // Signed distance (m) from body b's surface to world point x.
@@ -73,7 +54,7 @@ fn body_normal(b: LiquidBody, x: vec3<f32>) -> vec3<f32> {
     if (len == 0.0) {
         return vec3<f32>(0.0);
     }
-    return body_rotate(b.rotation, g / len);
+    return quat_rotate(b.rotation, g / len);
 }
 
 // Body b's velocity at world point x: v + ω × r.

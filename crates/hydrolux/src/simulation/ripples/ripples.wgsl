@@ -84,11 +84,6 @@ struct BodyMove {
 @group(1) @binding(0) var<storage, read> liquid: LandingLog;
 
 
-fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
-    let t = 2.0 * cross(q.xyz, v);
-    return v + q.w * t + cross(q.xyz, t);
-}
-
 // The vertical extent (y0, y1) of a body over the column at world (x, z);
 // y0 > y1 when the column misses it. Twin: bodies::body_column.
 fn body_column(shape: vec4<f32>, position: vec3<f32>, rotation: vec4<f32>, xz: vec2<f32>) -> vec2<f32> {
@@ -101,8 +96,8 @@ fn body_column(shape: vec4<f32>, position: vec3<f32>, rotation: vec4<f32>, xz: v
     }
     let top = position.y + reach + 1.0;
     let inv = vec4<f32>(-rotation.xyz, rotation.w);
-    let o = rotate(inv, vec3<f32>(xz.x, top, xz.y) - position);
-    let d = rotate(inv, vec3<f32>(0.0, -1.0, 0.0));
+    let o = quat_rotate(inv, vec3<f32>(xz.x, top, xz.y) - position);
+    let d = quat_rotate(inv, vec3<f32>(0.0, -1.0, 0.0));
     let t = ray_primitive(code, shape.xyz, o, d);
     if (t.x > t.y) {
         return vec2<f32>(1.0, -1.0);
