@@ -9,6 +9,7 @@ pub mod flip;
 pub mod grid;
 pub mod pressure;
 pub mod solids;
+pub mod surface;
 
 pub use coupled::{LiquidBodies, LiquidWithBodies};
 pub use flip::{Emitter, Landing, LandingSurface, Liquid, LiquidSettings};
