@@ -203,12 +203,16 @@ impl Techniques {
     pub fn world(
         &self,
         shared: &Shared,
+        scene: &hydrolux_core::scene::Scene,
         surface: &crate::simulation::published::SurfaceState,
         sky: SkyParams,
     ) -> World {
         World {
             shadow_bounds: shared.geometry.shadow_bounds,
-            refractive_bounds: shared.geometry.refractive_bounds,
+            refractive_bounds: crate::passes::water_object::refractive_bounds(
+                &shared.geometry,
+                scene,
+            ),
             has_geometry: shared.geometry.triangle_count > 0,
             vertical_reach: surface.vertical_reach,
             cull_margin: surface.bounds_margin,

@@ -259,7 +259,7 @@ impl Renderer {
         }
         // The frame reads what the simulations published (theirs again after it).
         let published = &std::mem::take(&mut self.simulations.published);
-        let world = self.techniques.world(shared, published.surface(), self.sky_params());
+        let world = self.techniques.world(shared, scene, published.surface(), self.sky_params());
         let mut plan = FramePlan::new(scene, &world, input.0, input.1, input.2);
         plan.simulation = advance;
         if output.is_some() {
@@ -335,7 +335,11 @@ impl Renderer {
             reflection_resolution: self.scene.render.reflection_resolution,
             reflection_margin: self.scene.render.fov_margin,
             godray_resolution: self.scene.godrays.resolution,
-            refractive_objects: self.shared.geometry.refractive_bounds.is_some(),
+            refractive_objects: crate::passes::water_object::refractive_bounds(
+                &self.shared.geometry,
+                &self.scene,
+            )
+            .is_some(),
         }
     }
 

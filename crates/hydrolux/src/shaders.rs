@@ -34,6 +34,7 @@ const MODULES: &[(&str, &str)] = &[
     ("geometry_common", include_str!("meshes/geometry_common.wgsl")),
     ("caustic_params", include_str!("passes/caustics/params.wgsl")),
     ("particle", include_str!("simulation/whitewater/particle.wgsl")),
+    ("liquid_particle", include_str!("simulation/liquid/particle.wgsl")),
     ("liquid_landing", include_str!("simulation/liquid/landing.wgsl")),
     ("liquid_bodies", include_str!("simulation/liquid/bodies.wgsl")),
     ("ripple_texel", include_str!("simulation/ripples/texel.wgsl")),

@@ -141,10 +141,8 @@ fn share_a_face(a: usize, b: usize) -> bool {
     let faces = |e: usize| {
         let (lower, axis) = cube_edge(e);
         let mut out = [(9, 9); 2];
-        let mut n = 0;
-        for f in (0..3).filter(|&f| f != axis) {
+        for (n, f) in (0..3).filter(|&f| f != axis).enumerate() {
             out[n] = (f, lower >> f & 1);
-            n += 1;
         }
         out
     };

@@ -21,6 +21,10 @@ pub const OPEN_SIDES: [&str; 6] = ["-x", "+x", "-y", "+y", "-z", "+z"];
 /// sources at the clock's origin (`clock.rs`).
 pub const FLUID_MEMORY_S: f64 = 600.0;
 
+/// Marching cubes' cells along the domain's longest side at most: the
+/// vertex map (three u32 per node) stays within what every device binds.
+pub const MAX_SURFACE_RESOLUTION: u32 = 160;
+
 /// Nozzles and drains a liquid may have (the GPU's fixed tables).
 pub const MAX_FLUID_NOZZLES: usize = 4;
 pub const MAX_FLUID_DRAINS: usize = 4;
@@ -33,6 +37,9 @@ pub const MAX_LIQUID_BODIES: usize = 8;
 pub enum FluidSurface {
     /// Each particle a shaded sphere.
     Points,
+    /// A mesh by marching cubes over the particles' density
+    /// (`fluid::surface`), shaded as clear water.
+    MarchingCubes,
     /// Not drawn (simulated, dumped and benchmarked only).
     None,
 }
@@ -126,8 +133,11 @@ pub struct FluidDesc {
     /// The domain's open sides ("-x", "+x", "-y", "+y", "-z", "+z"): beyond
     /// them is air, and the liquid leaves through them; the rest are walls.
     pub open: Vec<String>,
-    /// How it is drawn: "points" or "none".
+    /// How it is drawn: "marching_cubes" (the default), "points" or "none".
     pub surface: FluidSurface,
+    /// Marching cubes' cells along the domain's longest side (8 to
+    /// [`MAX_SURFACE_RESOLUTION`]), independent of the simulation's grid.
+    pub surface_resolution: u32,
     /// Where the liquid starts; no sources, no liquid.
     pub sources: Vec<FluidSource>,
 }
@@ -147,7 +157,8 @@ impl Default for FluidDesc {
             iterations: 200,
             budget: 1 << 20,
             open: Vec::new(),
-            surface: FluidSurface::Points,
+            surface: FluidSurface::MarchingCubes,
+            surface_resolution: 96,
             sources: Vec::new(),
         }
     }
@@ -346,6 +357,15 @@ impl FluidDesc {
                 allowed: format!(
                     "gives {}×{}×{} = {cells} cells over the domain; at most {MAX_FLUID_CELLS} (256³)",
                     n[0], n[1], n[2]
+                ),
+            });
+        }
+        if !(8..=MAX_SURFACE_RESOLUTION).contains(&f.surface_resolution) {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.surface_resolution".into(),
+                value: f.surface_resolution.to_string(),
+                allowed: format!(
+                    "must be 8 to {MAX_SURFACE_RESOLUTION} cells along the domain's longest side"
                 ),
             });
         }
@@ -560,6 +580,17 @@ fn inside(primitive: Primitive, p: glam::Vec3) -> bool {
 }
 
 impl Scene {
+    /// The box the liquid's surface mesh lies in, when it is drawn as one
+    /// (the domain and a cell of its surface grid around it).
+    pub fn liquid_mesh_bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+        let f = &self.fluid;
+        if !f.enabled() || f.surface != FluidSurface::MarchingCubes {
+            return None;
+        }
+        let grid = crate::fluid::surface::SurfaceGrid::over(f.min, f.max, f.surface_resolution);
+        Some((f.min.map(|v| v - grid.h), f.max.map(|v| v + grid.h)))
+    }
+
     /// Whether object `o` is a body of the liquid: it moves (dynamic, or
     /// kinematic with a velocity), has an exact shape and starts with its
     /// centre in the liquid's domain. The liquid's world moves it, under

@@ -428,6 +428,61 @@ impl GeometryPass {
         &self.object_layout
     }
 
+    /// The bind group of an untextured object drawn where it is (identity
+    /// model) with `ior` (> 0: clear, drawn by water_object): for meshes
+    /// made on the GPU, such as the liquid's surface.
+    pub fn plain_object_group(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        ior: f32,
+    ) -> wgpu::BindGroup {
+        let identity = glam::Mat4::IDENTITY;
+        let u = ObjectUniforms {
+            model: identity.to_cols_array_2d(),
+            normal_matrix: [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]],
+            albedo: [1.0; 3],
+            uv_scale: 1.0,
+            pattern_color: [1.0; 3],
+            tile_size: 1.0,
+            pattern: 0,
+            ior,
+            _pad0: 0,
+            _pad1: 0,
+        };
+        let buffer = uniform_buffer(device, label, &u);
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &self.object_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&self.white),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
+            ],
+        })
+    }
+
+    /// Draw the liquid's surface mesh (made on the GPU, its count too) with
+    /// the caller's pipeline, as [`Self::draw_objects`] draws an object.
+    pub fn draw_liquid(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        view: &ViewSlot,
+        mesh: &crate::simulation::published::LiquidMesh,
+    ) {
+        pass.set_bind_group(1, &view.group, &[]);
+        pass.set_bind_group(2, &mesh.group, &[]);
+        pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed_indirect(&mesh.args, 0);
+    }
+
     /// Draw `which` objects with the caller's pipeline (groups 1 and 2 are
     /// the view and each object; the caller sets group 0 and any after 2).
     pub fn draw_objects(

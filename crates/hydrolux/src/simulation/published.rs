@@ -82,6 +82,20 @@ pub(crate) struct LiquidState {
     /// Where it lands in the interactive water: the buffer whose log the
     /// water takes (liquid/landing.wgsl; `None`: it lands in none).
     pub landings: Option<wgpu::Buffer>,
+    /// Its surface as a mesh (`fluid.surface = "marching_cubes"`).
+    pub mesh: Option<LiquidMesh>,
+}
+
+/// The liquid's surface mesh, made on the GPU (liquid/surface.rs): drawn
+/// indexed and indirect, with the meshes' vertex layout.
+#[derive(Clone)]
+pub(crate) struct LiquidMesh {
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    /// The indexed indirect draw's arguments at offset 0.
+    pub args: wgpu::Buffer,
+    /// Its object bind group (identity, the water's index of refraction).
+    pub group: wgpu::BindGroup,
 }
 
 #[derive(Clone, Default)]

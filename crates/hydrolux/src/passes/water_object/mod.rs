@@ -24,6 +24,7 @@ use crate::meshes::{
     self as meshes, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,
 };
 use crate::shaders;
+use crate::simulation::published::LiquidMesh;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
 
@@ -399,6 +400,7 @@ impl WaterObjectPass {
         geometry: &SceneGeometry,
         view: &ViewSlot,
         light: &ObjectLight,
+        liquid: Option<&LiquidMesh>,
         mut timer: Option<&mut GpuTimer>,
     ) {
         let faces = |encoder: &mut wgpu::CommandEncoder,
@@ -441,6 +443,9 @@ impl WaterObjectPass {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, frame_only, &[]);
             geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+            if let Some(mesh) = liquid {
+                geometry_pass.draw_liquid(&mut pass, view, mesh);
+            }
         };
         // Empty texels: front beyond the far plane (2), back before the near one (−1).
         faces(
@@ -506,6 +511,7 @@ impl WaterObjectPass {
         view: &ViewSlot,
         targets: &ObjectTargets,
         (hdr, hdr_view): (&wgpu::Texture, &wgpu::TextureView),
+        liquid: Option<&LiquidMesh>,
         timer: Option<&mut GpuTimer>,
     ) {
         encoder.copy_texture_to_texture(
@@ -540,6 +546,9 @@ impl WaterObjectPass {
             pass.set_pipeline(&self.camera_back);
             pass.set_bind_group(0, globals, &[]);
             geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+            if let Some(mesh) = liquid {
+                geometry_pass.draw_liquid(&mut pass, view, mesh);
+            }
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("water object front"),
@@ -565,6 +574,9 @@ impl WaterObjectPass {
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(3, &targets.inputs, &[]);
         geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+        if let Some(mesh) = liquid {
+            geometry_pass.draw_liquid(&mut pass, view, mesh);
+        }
     }
 }
 
@@ -599,10 +611,27 @@ pub(crate) struct WaterObjects {
     pub current: bool,
 }
 
+/// The box holding everything drawn as clear water: the refractive
+/// objects and the liquid's surface mesh.
+pub fn refractive_bounds(
+    geometry: &SceneGeometry,
+    scene: &hydrolux_core::scene::Scene,
+) -> Option<(glam::Vec3, glam::Vec3)> {
+    let liquid = scene.liquid_mesh_bounds().map(|(lo, hi)| (lo.into(), hi.into()));
+    match (geometry.refractive_bounds, liquid) {
+        (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
+        (a, b) => a.or(b),
+    }
+}
+
 impl WaterObjects {
     /// Light-view texels per side for `scene` (1 without refractive objects).
     pub fn resolution(geometry: &SceneGeometry, scene: &hydrolux_core::scene::Scene) -> u32 {
-        if geometry.refractive_bounds.is_some() { scene.godrays.object_resolution } else { 1 }
+        if refractive_bounds(geometry, scene).is_some() {
+            scene.godrays.object_resolution
+        } else {
+            1
+        }
     }
 }
 
@@ -653,6 +682,10 @@ impl Technique for WaterObjects {
         timer: Option<&mut GpuTimer>,
     ) {
         let shared = frame.shared;
+        let liquid = frame.published.liquid.as_ref().and_then(|l| l.mesh.as_ref());
+        // The fluid view draws the particles instead.
+        let liquid =
+            liquid.filter(|_| !crate::simulation::liquid::draw::drawn_as_points(frame.scene));
         match stage {
             Stage::Light if frame.plan.object_light.is_some_and(|o| o.due) => {
                 self.pass.record_light(
@@ -662,9 +695,11 @@ impl Technique for WaterObjects {
                     &shared.geometry,
                     &shared.views.object_light,
                     &self.light,
+                    liquid,
                     timer,
                 );
-                self.current = true;
+                // The liquid's mesh changes every frame; the objects do not.
+                self.current = liquid.is_none();
             }
             Stage::Composite => {
                 let targets = frame.targets();
@@ -677,6 +712,7 @@ impl Technique for WaterObjects {
                         &shared.views.main,
                         object_targets,
                         (&targets.hdr, &targets.hdr_view),
+                        liquid,
                         timer,
                     );
                 }

@@ -31,6 +31,13 @@ pub fn source() -> String {
 /// Speed (m/s) the fluid view draws red: a fall of 0.45 m.
 const SPEED_SCALE: f32 = 3.0;
 
+/// Whether the liquid is drawn as points: when asked, and in the fluid view
+/// (speed as colour, per particle) whatever its surface.
+pub(crate) fn drawn_as_points(scene: &Scene) -> bool {
+    scene.fluid.surface == FluidSurface::Points
+        || scene.render.view == hydrolux_core::scene::DebugView::Fluid
+}
+
 #[derive(Default)]
 pub(crate) struct LiquidPoints {
     draw: Option<PointsDraw>,
@@ -112,7 +119,7 @@ impl Technique for LiquidPoints {
 
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
         let Some(liquid) = &frame.published.liquid else { return };
-        if frame.scene.fluid.surface != FluidSurface::Points {
+        if !drawn_as_points(frame.scene) {
             return;
         }
         let draw = self.draw.get_or_insert_with(|| PointsDraw::new(frame.shared));
@@ -127,7 +134,7 @@ impl Technique for LiquidPoints {
     }
 
     fn draw(&self, stage: Stage, pass: &mut wgpu::RenderPass<'_>, frame: &FrameContext) {
-        if stage != Stage::Main || frame.scene.fluid.surface != FluidSurface::Points {
+        if stage != Stage::Main || !drawn_as_points(frame.scene) {
             return;
         }
         let (Some(liquid), Some(draw)) = (&frame.published.liquid, &self.draw) else { return };

@@ -15,7 +15,7 @@
 //
 // Every reduction sums in a fixed order (a tree in each workgroup, then one
 // workgroup over the partials), so a step gives the same bits every time.
-#import liquid_landing, liquid_bodies
+#import liquid_landing, liquid_bodies, liquid_particle
 
 struct LiquidParams {
     // Cells per axis and in all; faces per axis and in all.
@@ -50,14 +50,6 @@ struct LiquidParams {
     substeps: u32,
 }
 
-struct LiquidParticle {
-    position: vec3<f32>,
-    // 1 while the slot holds liquid (a nozzle's slots wait empty; a drain
-    // empties them).
-    alive: u32,
-    velocity: vec3<f32>,
-    _pad1: f32,
-}
 
 // A nozzle (hydrolux_core::fluid::Emitter): each step in first_step ..
 // end_step it writes its `points` mouth positions, moving at `velocity`,

@@ -22,6 +22,7 @@
 pub(crate) mod bodies;
 pub mod draw;
 pub mod readback;
+pub mod surface;
 
 use crate::error::RenderError;
 use crate::gpu_util::*;
@@ -238,6 +239,8 @@ pub struct Liquid {
     bodies_buffer: wgpu::Buffer,
     /// Their world as the scene describes it (an edit to it remakes it).
     bodies_desc: Option<hydrolux_core::bodies::BodiesDesc>,
+    /// Its surface mesh, when drawn as one.
+    pub(crate) surface: Option<surface::LiquidSurface>,
 }
 
 impl Liquid {
@@ -489,7 +492,7 @@ impl Liquid {
             place_bodies: plain("place_bodies"),
             body_loads: plain("body_loads"),
         };
-        let liquid = Liquid {
+        let mut liquid = Liquid {
             desc: desc.clone(),
             solid_objects: scene
                 .objects
@@ -518,7 +521,18 @@ impl Liquid {
             bodies: liquid_bodies,
             bodies_buffer,
             bodies_desc: scene.liquid_bodies(),
+            surface: None,
         };
+        if desc.surface == hydrolux_core::scene::FluidSurface::MarchingCubes {
+            let spacing = liquid.uniforms.h / desc.particles_per_axis() as f32;
+            liquid.surface = Some(surface::LiquidSurface::new(
+                shared,
+                scene,
+                &liquid.particles,
+                liquid.particle_count(),
+                spacing,
+            ));
+        }
         liquid.write_start(&shared.queue);
         Ok(Some(liquid))
     }
@@ -655,6 +669,7 @@ impl crate::simulation::Simulation for Liquid {
             count: self.particle_count(),
             radius: self.particle_radius(),
             landings: (self.uniforms.landing == 1).then(|| self.state.clone()),
+            mesh: self.surface.as_ref().map(|s| s.mesh()),
         });
         if let Some(b) = &self.bodies {
             published.bodies.extend(b.transforms());
@@ -663,6 +678,19 @@ impl crate::simulation::Simulation for Liquid {
 
     fn pace(&self) -> crate::simulation::Pace {
         crate::simulation::Pace::Follows
+    }
+
+    /// The surface mesh of the particles at the frame's time.
+    fn record_frame(
+        &mut self,
+        _shared: &Shared,
+        encoder: &mut wgpu::CommandEncoder,
+        _plan: &crate::plan::FramePlan,
+        timer: Option<&mut crate::timing::GpuTimer>,
+    ) {
+        if let Some(s) = &self.surface {
+            s.record(encoder, timer);
+        }
     }
 
     fn reset(&mut self, queue: &wgpu::Queue, from: u64) {
@@ -733,9 +761,10 @@ impl crate::simulation::Simulation for Liquid {
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "liquid",
     dumps: readback::DUMPS,
-    shaders: || vec![("liquid".into(), source())],
+    shaders: || vec![("liquid".into(), source()), ("liquid surface".into(), surface::source())],
     uniforms: || {
         vec![
+            crate::uniforms::Layout::of::<surface::SurfaceUniforms>(surface::source()),
             crate::uniforms::Layout::of::<LiquidUniforms>(source()),
             crate::uniforms::Layout::sized(
                 "LiquidParticle",

@@ -6,7 +6,7 @@
 // water's index), what lies beyond it refracted through the ball and
 // absorbed along its chord by the water's medium, its own in-scattered
 // light, and the sun's shadow. `--view fluid` colours each by its speed.
-#import constants, frame, modes, sky_bindings, medium, optics, lighting, fog, shadow_space, shadow_lookup
+#import liquid_particle, constants, frame, modes, sky_bindings, medium, optics, lighting, fog, shadow_space, shadow_lookup
 
 struct PointsParams {
     radius: f32,
@@ -16,12 +16,6 @@ struct PointsParams {
     _pad0: u32,
 }
 
-struct LiquidParticle {
-    position: vec3<f32>,
-    alive: u32,
-    velocity: vec3<f32>,
-    _pad1: f32,
-}
 
 // A storage buffer, not a uniform one: Mesa's lavapipe inlines a small
 // uniform buffer's values into the shaders that branch on them and keeps a

@@ -246,3 +246,59 @@ impl Renderer {
         Some(bench)
     }
 }
+
+/// The liquid's surface mesh as the GPU made it for the last frame.
+#[derive(Clone, Debug)]
+pub struct LiquidSurfaceReadback {
+    /// The grid it was meshed on.
+    pub grid: hydrolux_core::fluid::surface::SurfaceGrid,
+    /// Its triangles (the vertices in the order the GPU took them).
+    pub mesh: hydrolux_core::fluid::surface::SurfaceMesh,
+    /// Vertices the level crossed, and the buffer's room for them.
+    pub vertices_taken: u32,
+    pub vertex_capacity: u32,
+}
+
+impl Renderer {
+    /// The liquid's surface mesh after the last frame (`None` without a
+    /// liquid meshed by `fluid.surface = "marching_cubes"`).
+    pub fn read_liquid_surface(&self) -> Option<LiquidSurfaceReadback> {
+        let s = self.simulations.liquid.as_ref()?.surface.as_ref()?;
+        let (device, queue) = (self.device(), self.queue());
+        let counters: Vec<u32> = bytemuck::cast_slice(&read_buffer(
+            device,
+            queue,
+            &s.counters,
+            super::surface::COUNTERS_BYTES,
+        ))
+        .to_vec();
+        let (index_count, taken) = (counters[0], counters[5]);
+        let kept = taken.min(s.uniforms.vertex_capacity);
+        let floats: Vec<f32> = bytemuck::cast_slice(&read_buffer(
+            device,
+            queue,
+            &s.vertices,
+            (kept as u64 * super::surface::VERTEX_BYTES).max(4),
+        ))
+        .to_vec();
+        let indices: Vec<u32> = bytemuck::cast_slice(&read_buffer(
+            device,
+            queue,
+            &s.indices,
+            (index_count as u64 * 4).max(4),
+        ))[..index_count as usize]
+            .to_vec();
+        let vertices = floats.chunks_exact(8);
+        let mesh = hydrolux_core::fluid::surface::SurfaceMesh {
+            positions: vertices.clone().map(|v| [v[0], v[1], v[2]]).collect(),
+            normals: vertices.map(|v| [v[3], v[4], v[5]]).collect(),
+            indices,
+        };
+        Some(LiquidSurfaceReadback {
+            grid: s.grid,
+            mesh,
+            vertices_taken: taken,
+            vertex_capacity: s.uniforms.vertex_capacity,
+        })
+    }
+}

@@ -1,0 +1,222 @@
+//! The liquid's surface as a mesh (`fluid.surface = "marching_cubes"`;
+//! seed 003 §3.1): marching cubes over the particles' density on a grid of
+//! its own resolution (`fluid.surface_resolution`), made on the GPU each
+//! frame at the frame's time (`surface.wgsl`) and drawn with an indexed
+//! indirect draw, so nothing is read back. The CPU twin is
+//! `hydrolux_core::fluid::surface`; the mesh is published with the liquid
+//! and drawn as clear water by the `water_objects` technique.
+
+use crate::gpu_util::*;
+use crate::shaders;
+use crate::simulation::published::LiquidMesh;
+use crate::technique::Shared;
+use crate::uniforms::uniform;
+use hydrolux_core::fluid::surface::{self as mc, SurfaceGrid};
+use hydrolux_core::scene::Scene;
+
+uniform! { SurfaceParams;
+    /// WGSL `SurfaceParams` (simulation/liquid/surface.wgsl).
+    pub(crate) struct SurfaceUniforms {
+        pub origin: [f32; 3],
+        pub h: f32,
+        pub nodes: [u32; 3],
+        pub node_count: u32,
+        pub reach: f32,
+        pub scale: f32,
+        pub iso: f32,
+        pub fixed_point: f32,
+        pub particle_count: u32,
+        pub vertex_capacity: u32,
+        pub index_capacity: u32,
+        pub row: u32,
+    }
+}
+
+pub fn source() -> String {
+    shaders::compose("", include_str!("surface.wgsl"))
+}
+
+/// Threads per workgroup (`WG` in surface.wgsl), and workgroups per row of
+/// a two-dimensional dispatch.
+const WG: u32 = 64;
+const ROW: u32 = 32768;
+/// Bytes of the counters: the indexed indirect draw's five u32, then the
+/// vertices taken.
+pub const COUNTERS_BYTES: u64 = 24;
+/// Bytes of a vertex (the meshes' layout: position, normal, uv).
+pub const VERTEX_BYTES: u64 = 32;
+
+fn groups(n: u32) -> (u32, u32) {
+    let g = n.div_ceil(WG).max(1);
+    if g <= ROW { (g, 1) } else { (ROW, g.div_ceil(ROW)) }
+}
+
+pub(crate) struct LiquidSurface {
+    pub grid: SurfaceGrid,
+    pub uniforms: SurfaceUniforms,
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub counters: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    clear: wgpu::ComputePipeline,
+    splat: wgpu::ComputePipeline,
+    emit_vertices: wgpu::ComputePipeline,
+    emit_triangles: wgpu::ComputePipeline,
+    finish: wgpu::ComputePipeline,
+    /// The mesh as an object (identity, the water's index) for the draws.
+    object_group: wgpu::BindGroup,
+}
+
+impl LiquidSurface {
+    /// The surface of `scene`'s liquid, whose `particle_count` particles
+    /// `spacing` (m) apart at rest are in `particles`.
+    pub fn new(
+        shared: &Shared,
+        scene: &Scene,
+        particles: &wgpu::Buffer,
+        particle_count: u32,
+        spacing: f32,
+    ) -> Self {
+        let device = &shared.device;
+        let desc = &scene.fluid;
+        let grid = SurfaceGrid::over(desc.min, desc.max, desc.surface_resolution);
+        let node_count = grid.node_count() as u32;
+        // About one vertex per two nodes is far more than a liquid's
+        // surface takes (its area over the cell's); triangles are about
+        // twice the vertices.
+        let vertex_capacity = (node_count / 2).clamp(1 << 16, 1 << 20);
+        let index_capacity = vertex_capacity * 6;
+        let uniforms = SurfaceUniforms {
+            origin: grid.origin,
+            h: grid.h,
+            nodes: grid.nodes,
+            node_count,
+            reach: mc::KERNEL_SUPPORT_SPACINGS * spacing,
+            scale: mc::kernel_scale(),
+            iso: mc::ISO_LEVEL,
+            fixed_point: mc::DENSITY_FIXED_POINT,
+            particle_count,
+            vertex_capacity,
+            index_capacity,
+            row: ROW * WG,
+        };
+        let params = uniform_buffer(device, "liquid surface", &uniforms);
+        let none = wgpu::BufferUsages::empty();
+        let field = storage_buffer(device, "liquid density", node_count as u64 * 4, none);
+        let edge_vertex =
+            storage_buffer(device, "liquid edge vertices", node_count as u64 * 12, none);
+        let vertices = storage_buffer(
+            device,
+            "liquid surface vertices",
+            vertex_capacity as u64 * VERTEX_BYTES,
+            wgpu::BufferUsages::VERTEX,
+        );
+        let indices = storage_buffer(
+            device,
+            "liquid surface indices",
+            index_capacity as u64 * 4,
+            wgpu::BufferUsages::INDEX,
+        );
+        let counters = storage_buffer(
+            device,
+            "liquid surface counters",
+            COUNTERS_BYTES,
+            wgpu::BufferUsages::INDIRECT,
+        );
+        let table = {
+            use wgpu::util::DeviceExt;
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("marching cubes cases"),
+                contents: bytemuck::cast_slice(&mc::case_table().packed()),
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let cs = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("liquid surface"),
+            entries: &[
+                uniform_entry(0, cs),
+                storage_entry(1, cs, true),
+                storage_entry(2, cs, false),
+                storage_entry(3, cs, false),
+                storage_entry(4, cs, false),
+                storage_entry(5, cs, false),
+                storage_entry(6, cs, false),
+                storage_entry(7, cs, true),
+            ],
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("liquid surface"),
+            layout: &layout,
+            entries: &[
+                &params,
+                particles,
+                &field,
+                &edge_vertex,
+                &vertices,
+                &indices,
+                &counters,
+                &table,
+            ]
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect::<Vec<_>>(),
+        });
+        let module = shader(device, "liquid surface", &source());
+        let p = |entry| compute_pipeline(device, entry, &module, entry, &[&layout]);
+        let ior = scene.water.ior;
+        LiquidSurface {
+            grid,
+            uniforms,
+            clear: p("clear"),
+            splat: p("splat"),
+            emit_vertices: p("emit_vertices"),
+            emit_triangles: p("emit_triangles"),
+            finish: p("finish"),
+            vertices,
+            indices,
+            counters,
+            group,
+            object_group: shared.meshes.plain_object_group(device, "liquid surface", ior),
+        }
+    }
+
+    /// Mesh the particles as they are when `encoder` runs.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: Option<&mut crate::timing::GpuTimer>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("liquid surface"),
+            timestamp_writes: timer.and_then(|t| t.compute_writes("liquid surface")),
+        });
+        pass.set_bind_group(0, &self.group, &[]);
+        let nodes = groups(self.uniforms.node_count);
+        let particles = groups(self.uniforms.particle_count);
+        for (pipeline, (x, y)) in [
+            (&self.clear, nodes),
+            (&self.splat, particles),
+            (&self.emit_vertices, nodes),
+            (&self.emit_triangles, nodes),
+            (&self.finish, (1, 1)),
+        ] {
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+    }
+
+    /// What the draws need.
+    pub fn mesh(&self) -> LiquidMesh {
+        LiquidMesh {
+            vertices: self.vertices.clone(),
+            indices: self.indices.clone(),
+            args: self.counters.clone(),
+            group: self.object_group.clone(),
+        }
+    }
+}
