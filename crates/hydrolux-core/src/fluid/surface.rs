@@ -282,6 +282,39 @@ pub fn splat(grid: &SurfaceGrid, particles: &[[f32; 3]], spacing: f32) -> Vec<u3
     sum
 }
 
+/// `passes` rounds of the binomial filter (¼, ½, ¼) along x, then y, then z
+/// over the fixed-point density (`fluid.surface_smoothing`): it takes out
+/// the particles' jitter, which would show as bumps the size of a
+/// spacing, and leaves a linear field — a flat surface — where it was. In
+/// integers, rounded half up, so that the GPU gets the same bits. Beyond
+/// the grid's edge the field is taken as zero.
+pub fn smooth(grid: &SurfaceGrid, fixed: &mut [u32], passes: u32) {
+    let n = grid.nodes.map(|v| v as usize);
+    let stride = [1, n[0], n[0] * n[1]];
+    let mut out = vec![0u32; fixed.len()];
+    for _ in 0..passes {
+        for axis in 0..3 {
+            for k in 0..n[2] {
+                for j in 0..n[1] {
+                    for i in 0..n[0] {
+                        let at = grid.index(i, j, k);
+                        let c = [i, j, k][axis];
+                        let lo = if c > 0 { fixed[at - stride[axis]] } else { 0 };
+                        let hi = if c + 1 < n[axis] { fixed[at + stride[axis]] } else { 0 };
+                        out[at] = filtered(lo, fixed[at], hi);
+                    }
+                }
+            }
+            fixed.copy_from_slice(&out);
+        }
+    }
+}
+
+/// One tap of the binomial filter in fixed point (`surface.wgsl` the same).
+pub fn filtered(lo: u32, mid: u32, hi: u32) -> u32 {
+    ((lo as u64 + 2 * mid as u64 + hi as u64 + 2) / 4) as u32
+}
+
 /// The fixed-point sums as densities.
 pub fn density(fixed: &[u32]) -> Vec<f32> {
     fixed.iter().map(|&v| v as f32 / DENSITY_FIXED_POINT).collect()
@@ -547,6 +580,60 @@ mod tests {
             let v = mesh.volume();
             assert!(v > 0.3 * inside && v < 1.7 * inside, "trial {trial}: {v} vs {inside}");
         }
+    }
+
+    #[test]
+    fn smoothing_takes_out_the_jitter_and_keeps_the_volume() {
+        // A jittered block of particles 1 cm apart: smoothed, its top is
+        // flatter and its volume about the same.
+        let s = 0.01f32;
+        let mut rng = SplitMix64::new(3);
+        let mut particles = Vec::new();
+        for k in 0..16 {
+            for j in 0..12 {
+                for i in 0..20 {
+                    let mut jitter = || 0.3 * s * (rng.unit() as f32 - 0.5);
+                    let p = [i, j, k].map(|c| (c as f32 + 0.5) * s);
+                    particles.push([p[0] + jitter(), p[1] + jitter(), p[2] + jitter()]);
+                }
+            }
+        }
+        // Surface cells a spacing wide, as the scenes mesh.
+        let grid = SurfaceGrid::over([0.0; 3], [0.2, 0.12, 0.16], 20);
+        let fixed = splat(&grid, &particles, s);
+        let top_spread = |fixed: &[u32]| {
+            let mesh = marching_cubes(&grid, &density(fixed), ISO_LEVEL);
+            let top: Vec<f32> = mesh
+                .positions
+                .iter()
+                .filter(|p| p[0] > 0.05 && p[0] < 0.15 && p[2] > 0.05 && p[2] < 0.11 && p[1] > 0.1)
+                .map(|p| p[1])
+                .collect();
+            assert!(top.len() > 20);
+            let mean = top.iter().sum::<f32>() / top.len() as f32;
+            let spread = (top.iter().map(|y| (y - mean) * (y - mean)).sum::<f32>()
+                / top.len() as f32)
+                .sqrt();
+            (spread, mesh.volume())
+        };
+        let (rough, v0) = top_spread(&fixed);
+        let mut smoothed = fixed.clone();
+        smooth(&grid, &mut smoothed, 2);
+        let (smooth_spread, v1) = top_spread(&smoothed);
+        // The top's roughness (rms) halves.
+        assert!(smooth_spread < 0.5 * rough, "{smooth_spread} vs {rough}");
+        eprintln!("roughness {rough} → {smooth_spread} m, volume {v0} → {v1} m³");
+        // Its edges and corners round a little more: a block 12 spacings
+        // high keeps its volume to 5% (measured 4%).
+        assert!((v1 / v0 - 1.0).abs() < 0.05, "{v1} vs {v0}");
+        // A linear ramp is left as it is (away from the edges).
+        let nx = grid.nodes[0] as usize;
+        let mut ramp: Vec<u32> =
+            (0..grid.node_count()).map(|n| 1000 + 10 * (n % nx) as u32).collect();
+        let before = ramp.clone();
+        smooth(&grid, &mut ramp, 1);
+        let at = grid.index(3, 5, 5);
+        assert!(ramp[at].abs_diff(before[at]) <= 1);
     }
 
     #[test]

@@ -138,6 +138,10 @@ pub struct FluidDesc {
     /// Marching cubes' cells along the domain's longest side (8 to
     /// [`MAX_SURFACE_RESOLUTION`]), independent of the simulation's grid.
     pub surface_resolution: u32,
+    /// Rounds of a binomial filter over the density before it is meshed,
+    /// 0 to 8 (`fluid::surface::smooth`): the particles' jitter smoothed
+    /// out of the surface.
+    pub surface_smoothing: u32,
     /// Where the liquid starts; no sources, no liquid.
     pub sources: Vec<FluidSource>,
 }
@@ -159,6 +163,7 @@ impl Default for FluidDesc {
             open: Vec::new(),
             surface: FluidSurface::MarchingCubes,
             surface_resolution: 96,
+            surface_smoothing: 1,
             sources: Vec::new(),
         }
     }
@@ -367,6 +372,13 @@ impl FluidDesc {
                 allowed: format!(
                     "must be 8 to {MAX_SURFACE_RESOLUTION} cells along the domain's longest side"
                 ),
+            });
+        }
+        if f.surface_smoothing > 8 {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.surface_smoothing".into(),
+                value: f.surface_smoothing.to_string(),
+                allowed: "must be 0 to 8 rounds of the filter".into(),
             });
         }
         if ![1, 8, 27, 64].contains(&f.particles_per_cell) {

@@ -8,6 +8,14 @@
 // so that the undersides reflections show are not black.
 const GROUND_ALBEDO: f32 = 0.15;
 
+// Radiance of that grey world below the horizon: what a ray that leaves
+// downwards without a lookup sees.
+fn below_horizon_radiance() -> vec3<f32> {
+    let l = frame.light.sun_dir;
+    let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
+    return GROUND_ALBEDO * e_down / PI;
+}
+
 // Irradiance on a surface of normal n in the air: the sun (times
 // `sun_factor`: its visibility and what else bends light onto the point,
 // per channel),

@@ -6,7 +6,7 @@
 // — in at the front face, out at the back face found by the thickness the
 // back-face pass measured — attenuated by the water inside, then through
 // the fog.
-#import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common
+#import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common, lighting
 
 @group(3) @binding(0) var behind_tex: texture_2d<f32>;
 @group(3) @binding(1) var scene_depth: texture_2d<f32>;
@@ -47,12 +47,14 @@ fn texel_at(uv: vec2<f32>, size: vec2<f32>) -> vec2<i32> {
     return vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
 }
 
-// The sky cube towards `dir`; a degenerate direction (zero, NaN) reads
-// straight up instead (Mesa's lavapipe crashes on a NaN cube lookup).
+// The sky cube towards `dir`, or the grey ground below the horizon; a
+// degenerate direction (zero, NaN) reads straight up instead (Mesa's
+// lavapipe crashes on a NaN cube lookup).
 fn sky_towards(dir: vec3<f32>) -> vec3<f32> {
     let d = clamp(dir, vec3<f32>(-1.0), vec3<f32>(1.0));
     let ok = dot(d, d) > 1e-8;
-    return textureSampleLevel(sky_cube, sky_sampler, select(vec3<f32>(0.0, 1.0, 0.0), d, ok), 0.0).rgb * exposure();
+    let sky = textureSampleLevel(sky_cube, sky_sampler, select(vec3<f32>(0.0, 1.0, 0.0), d, ok), 0.0).rgb * exposure();
+    return select(sky, below_horizon_radiance(), ok & (d.y < 0.0));
 }
 
 @fragment
@@ -72,7 +74,16 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let reflected = sky_towards(reflect(v, n0));
     let t1 = refract(v, n0, 1.0 / ior);
     let size = vec2<f32>(textureDimensions(back_tex));
-    let thickness = max(textureLoad(back_tex, px, 0).w - distance(in.world, eye), 0.005);
+    // The opaque scene under this pixel: the light inside cannot have come
+    // from beyond it (a thin sheet of liquid on a floor has back faces
+    // under the floor).
+    let z_here = textureLoad(scene_depth, px, 0).r;
+    let uv_here = (in.clip.xy + 0.5) / size;
+    let h_here = frame.view.inv_view_proj
+        * vec4<f32>(2.0 * uv_here.x - 1.0, 1.0 - 2.0 * uv_here.y, max(z_here, 1e-7), 1.0);
+    let to_scene = select(1e9, distance(h_here.xyz / h_here.w, eye), z_here > 0.0);
+    let front = distance(in.world, eye);
+    let thickness = clamp(textureLoad(back_tex, px, 0).w - front, 0.005, max(to_scene - front, 0.005));
     let p1 = in.world + t1 * thickness;
     let at_exit = screen_uv(p1);
     let exit_texel = texel_at(at_exit.xy, size);
@@ -82,6 +93,10 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let here = textureLoad(back_tex, px, 0);
     var n1 = select(here.xyz, b.xyz, (at_exit.z > 0.5) & (b.w > 0.0));
     n1 = select(n0, normalize(n1), dot(n1, n1) > 0.25);
+    // A record the ray cannot leave through (its outward normal against the
+    // ray: another layer's face, where a thin sheet or a second body lies
+    // behind): leave as through a slab, parallel to the way in.
+    n1 = select(n1, -n0, dot(t1, n1) <= 0.0);
     let refracted_out = refract(t1, -n1, ior);
     let tir = dot(refracted_out, refracted_out) < 0.5;
     // Totally reflected at the back: follow the reflected ray instead.
@@ -96,7 +111,10 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let q = screen_uv(p1 + t2 * gap);
     let zq = textureLoad(scene_depth, texel_at(q.xy, size), 0).r;
     let seen = textureSampleLevel(behind_tex, sky_sampler, clamp(q.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
-    let behind = select(sky_towards(t2), seen, (at_exit.z > 0.5) & (z > 0.0) & (q.z > 0.5) & (zq > 0.0));
+    // Where the lookup fails: the sky that way, or, over the opaque scene,
+    // what lies straight behind this pixel.
+    let fallback = select(sky_towards(t2), textureLoad(behind_tex, px, 0).rgb, z_here > 0.0);
+    let behind = select(fallback, seen, (at_exit.z > 0.5) & (z > 0.0) & (q.z > 0.5) & (zq > 0.0));
     let inside = exp(-frame.water.absorption * thickness);
     let color = r0 * reflected + (1.0 - r0) * (1.0 - r1) * inside * behind;
     let shaded = clamp(through_fog(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0));

@@ -104,7 +104,7 @@ fn fs_main(in: VertexOut) -> FragmentOut {
     let visibility = sun_visibility(hit, n);
     // The sky and the sun's disc mirrored (its radiance: illuminance over
     // the disc's solid angle).
-    var mirror = textureSampleLevel(sky_cube, sky_sampler, reflected, 0.0).rgb;
+    var mirror = textureSampleLevel(sky_cube, sky_sampler, reflected, 0.0).rgb * exposure();
     if (dot(reflected, frame.light.sun_dir) > frame.light.cos_sun_radius) {
         mirror += frame.light.sun_illuminance * frame.light.inv_sun_solid_angle * visibility;
     }
@@ -119,11 +119,9 @@ fn fs_main(in: VertexOut) -> FragmentOut {
     if (dot(out_dir, out_dir) < 0.5) {
         out_dir = reflect(inside, -exit_n);
     }
-    var beyond = textureSampleLevel(sky_cube, sky_sampler, out_dir, 2.0).rgb;
+    var beyond = textureSampleLevel(sky_cube, sky_sampler, out_dir, 2.0).rgb * exposure();
     if (out_dir.y < 0.0) {
-        let l = frame.light.sun_dir;
-        let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
-        beyond = GROUND_ALBEDO * e_down / PI;
+        beyond = below_horizon_radiance();
     }
     let through = beyond * transmittance(chord);
     // Light the water itself scatters towards the eye along the chord.

@@ -60,6 +60,11 @@ pub(crate) struct LiquidSurface {
     group: wgpu::BindGroup,
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
+    smooth: [wgpu::ComputePipeline; 3],
+    /// Rounds of smoothing (`fluid.surface_smoothing`).
+    smoothing: u32,
+    field: wgpu::Buffer,
+    smoothed: wgpu::Buffer,
     emit_vertices: wgpu::ComputePipeline,
     emit_triangles: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
@@ -103,6 +108,8 @@ impl LiquidSurface {
         let params = uniform_buffer(device, "liquid surface", &uniforms);
         let none = wgpu::BufferUsages::empty();
         let field = storage_buffer(device, "liquid density", node_count as u64 * 4, none);
+        let smoothed =
+            storage_buffer(device, "liquid density smoothed", node_count as u64 * 4, none);
         let edge_vertex =
             storage_buffer(device, "liquid edge vertices", node_count as u64 * 12, none);
         let vertices = storage_buffer(
@@ -143,6 +150,7 @@ impl LiquidSurface {
                 storage_entry(5, cs, false),
                 storage_entry(6, cs, false),
                 storage_entry(7, cs, true),
+                storage_entry(8, cs, false),
             ],
         });
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -157,6 +165,7 @@ impl LiquidSurface {
                 &indices,
                 &counters,
                 &table,
+                &smoothed,
             ]
             .iter()
             .enumerate()
@@ -174,6 +183,10 @@ impl LiquidSurface {
             uniforms,
             clear: p("clear"),
             splat: p("splat"),
+            smooth: [p("smooth_x"), p("smooth_y"), p("smooth_z")],
+            smoothing: desc.surface_smoothing,
+            field,
+            smoothed,
             emit_vertices: p("emit_vertices"),
             emit_triangles: p("emit_triangles"),
             finish: p("finish"),
@@ -191,23 +204,44 @@ impl LiquidSurface {
         encoder: &mut wgpu::CommandEncoder,
         timer: Option<&mut crate::timing::GpuTimer>,
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("liquid surface"),
-            timestamp_writes: timer.and_then(|t| t.compute_writes("liquid surface")),
-        });
-        pass.set_bind_group(0, &self.group, &[]);
         let nodes = groups(self.uniforms.node_count);
         let particles = groups(self.uniforms.particle_count);
-        for (pipeline, (x, y)) in [
-            (&self.clear, nodes),
-            (&self.splat, particles),
-            (&self.emit_vertices, nodes),
-            (&self.emit_triangles, nodes),
-            (&self.finish, (1, 1)),
-        ] {
-            pass.set_pipeline(pipeline);
-            pass.dispatch_workgroups(x, y, 1);
+        let run = |encoder: &mut wgpu::CommandEncoder,
+                   timer: Option<&mut crate::timing::GpuTimer>,
+                   label: &'static str,
+                   work: &[(&wgpu::ComputePipeline, (u32, u32))]| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: timer.and_then(|t| t.compute_writes(label)),
+            });
+            pass.set_bind_group(0, &self.group, &[]);
+            for &(pipeline, (x, y)) in work {
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+        };
+        let mut timer = timer;
+        run(
+            encoder,
+            timer.as_deref_mut(),
+            "liquid density",
+            &[(&self.clear, nodes), (&self.splat, particles)],
+        );
+        // Each axis's round reads the field whole, so it goes back over the
+        // field between dispatches.
+        let bytes = self.uniforms.node_count as u64 * 4;
+        for _ in 0..self.smoothing {
+            for axis in &self.smooth {
+                run(encoder, None, "liquid density smoothing", &[(axis, nodes)]);
+                encoder.copy_buffer_to_buffer(&self.smoothed, 0, &self.field, 0, bytes);
+            }
         }
+        run(
+            encoder,
+            timer,
+            "liquid surface",
+            &[(&self.emit_vertices, nodes), (&self.emit_triangles, nodes), (&self.finish, (1, 1))],
+        );
     }
 
     /// What the draws need.

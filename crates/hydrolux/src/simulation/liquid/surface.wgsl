@@ -1,7 +1,8 @@
 // The liquid's surface by marching cubes on the GPU (seed 003 §3.1; the
 // CPU twin is hydrolux_core::fluid::surface, step for step), with no read
 // back: clear → splat (each particle's kernel added to the nodes in fixed
-// point, so the sum does not depend on the particles' order) → vertices
+// point, so the sum does not depend on the particles' order) → smooth
+// (`fluid.surface_smoothing` rounds of a binomial filter per axis) → vertices
 // (one per grid edge the level crosses, eq. 18, its normal from the field's
 // central differences, eq. 19–20) → triangles (each cell's case from the
 // derived table, indices into the edges' shared vertices) → finish (the
@@ -48,6 +49,8 @@ struct Counters {
 @group(0) @binding(6) var<storage, read_write> counters: Counters;
 // Per case: its triangle count, then three cube edges per triangle.
 @group(0) @binding(7) var<storage, read> cases: array<u32>;
+// A smoothing round's output (copied back over the field after each axis).
+@group(0) @binding(8) var<storage, read_write> smoothed: array<u32>;
 
 const WG: u32 = 64u;
 const MAX_CASE_TRIANGLES: u32 = 5u;
@@ -115,6 +118,46 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
+}
+
+// The binomial filter (¼, ½, ¼) along `axis` in fixed point, zero beyond
+// the grid (the twin's `smooth` and `filtered`).
+fn smooth_along(i: u32, axis: u32) {
+    if (i >= params.node_count) {
+        return;
+    }
+    let p = node_of(i);
+    var lo = 0u;
+    var hi = 0u;
+    if (p[axis] > 0u) {
+        var q = p;
+        q[axis] -= 1u;
+        lo = atomicLoad(&field[node_index(q)]);
+    }
+    if (p[axis] + 1u < params.nodes[axis]) {
+        var q = p;
+        q[axis] += 1u;
+        hi = atomicLoad(&field[node_index(q)]);
+    }
+    let mid = atomicLoad(&field[i]);
+    // (lo + 2·mid + hi + 2) / 4 without overflowing 32 bits.
+    let sum_low = (lo & 3u) + 2u * (mid & 3u) + (hi & 3u) + 2u;
+    smoothed[i] = (lo >> 2u) + 2u * (mid >> 2u) + (hi >> 2u) + sum_low / 4u;
+}
+
+@compute @workgroup_size(64)
+fn smooth_x(@builtin(global_invocation_id) id: vec3<u32>) {
+    smooth_along(thread(id), 0u);
+}
+
+@compute @workgroup_size(64)
+fn smooth_y(@builtin(global_invocation_id) id: vec3<u32>) {
+    smooth_along(thread(id), 1u);
+}
+
+@compute @workgroup_size(64)
+fn smooth_z(@builtin(global_invocation_id) id: vec3<u32>) {
+    smooth_along(thread(id), 2u);
 }
 
 // ∇ of the field at a node, by central differences (one-sided at the
