@@ -202,6 +202,10 @@ fn fluid_dumps_hold_the_particles_and_the_cells() {
             "fluid=f.npy",
             "--dump",
             "fluid_grid=g.npy",
+            "--set",
+            "fluid.surface_resolution=32",
+            "--dump",
+            "fluid_mesh=m.npy",
             "--out",
             "d.png",
         ],
@@ -221,4 +225,24 @@ fn fluid_dumps_hold_the_particles_and_the_cells() {
     let deepest = cells.chunks(3).map(|c| c[1]).fold(0.0f32, f32::max);
     // Below a 0.5 m column ρ·g·h ≈ 4.9 kPa; a collapsing one less.
     assert!(deepest > 1000.0 && deepest < 5500.0, "pressure {deepest} Pa");
+    // The surface the frame drew: a row per triangle, closed around the
+    // column's 672 particles of (3.75 cm)³ (by the divergence theorem; the
+    // coarse grid and the smoothing round its edges).
+    let (header, triangles) = read("m.npy");
+    assert!(header.contains(", 9)"), "{header}");
+    assert!(triangles.len() > 100 * 9 && triangles.iter().all(|v| v.is_finite()));
+    let volume: f64 = triangles
+        .chunks(9)
+        .map(|t| {
+            let [a, b, c] = [0, 3, 6].map(|i| [t[i], t[i + 1], t[i + 2]].map(f64::from));
+            let cross =
+                [b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2], b[0] * c[1] - b[1] * c[0]];
+            (a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2]) / 6.0
+        })
+        .sum();
+    let particles = 672.0 * 0.0375f64.powi(3);
+    assert!(
+        (volume / particles - 1.0).abs() < 0.25,
+        "encloses {volume} m³, particles {particles} m³"
+    );
 }

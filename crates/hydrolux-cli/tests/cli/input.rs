@@ -225,6 +225,22 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
                 "--scene",
                 "dam_break",
                 "--set",
+                "fluid.surface=points",
+                "--dump",
+                "fluid_mesh=m.npy",
+            ],
+            "the liquid's surface is not meshed (it needs fluid.surface = \"marching_cubes\")",
+        ),
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.surface_resolution=1000"],
+            "`fluid.surface_resolution` = 1000 is out of range: must be 8 to 160",
+        ),
+        (
+            &[
+                "render",
+                "--scene",
+                "dam_break",
+                "--set",
                 "fluid.resolution=400",
                 "--set",
                 "fluid.budget=16000000",

@@ -16,7 +16,16 @@ fn no_liquid(scene: &Scene) -> Option<&'static str> {
 pub(crate) const DUMPS: &[DumpKind] = &[
     DumpKind { name: "fluid", shape: DumpShape::List, missing: no_liquid },
     DumpKind { name: "fluid_grid", shape: DumpShape::Grid, missing: no_liquid },
+    DumpKind { name: "fluid_mesh", shape: DumpShape::List, missing: no_mesh },
 ];
+
+fn no_mesh(scene: &Scene) -> Option<&'static str> {
+    no_liquid(scene).or_else(|| {
+        scene.liquid_mesh_bounds().is_none().then_some(
+            "the liquid's surface is not meshed (it needs fluid.surface = \"marching_cubes\")",
+        )
+    })
+}
 
 /// The liquid as the GPU holds it after a step.
 #[derive(Clone, Debug, PartialEq)]
@@ -111,6 +120,7 @@ impl Liquid {
 
     pub(crate) fn dump(&self, name: &str, ctx: &DumpContext) -> Option<Result<DumpData, String>> {
         match name {
+            "fluid_mesh" => Some(self.dump_mesh(ctx)),
             "fluid" => {
                 let r = self.read(ctx.device, ctx.queue);
                 let data = r
@@ -263,8 +273,18 @@ impl Renderer {
     /// The liquid's surface mesh after the last frame (`None` without a
     /// liquid meshed by `fluid.surface = "marching_cubes"`).
     pub fn read_liquid_surface(&self) -> Option<LiquidSurfaceReadback> {
-        let s = self.simulations.liquid.as_ref()?.surface.as_ref()?;
-        let (device, queue) = (self.device(), self.queue());
+        let l = self.simulations.liquid.as_ref()?;
+        l.read_surface(self.device(), self.queue())
+    }
+}
+
+impl Liquid {
+    fn read_surface(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Option<LiquidSurfaceReadback> {
+        let s = self.surface.as_ref()?;
         let counters: Vec<u32> = bytemuck::cast_slice(&read_buffer(
             device,
             queue,
@@ -300,5 +320,35 @@ impl Renderer {
             vertices_taken: taken,
             vertex_capacity: s.uniforms.vertex_capacity,
         })
+    }
+
+    /// The `fluid_mesh` dump: a row per triangle, its corners' positions.
+    fn dump_mesh(&self, ctx: &DumpContext) -> Result<DumpData, String> {
+        let r = self.read_surface(ctx.device, ctx.queue).ok_or_else(|| {
+            "the liquid's surface is not meshed (set fluid.surface = \"marching_cubes\")"
+                .to_string()
+        })?;
+        let rows = r.mesh.indices.len() / 3;
+        let data = r.mesh.triangles().flat_map(|t| t.into_iter().flatten()).collect();
+        let g = &r.grid;
+        let note = format!(
+            "{rows} triangles at t = {t:.4} s, meshed on {nx}×{ny}×{nz} nodes {h} m apart; columns: three corners' x y z (m), counter-clockwise seen from outside; area {area:.5} m², volume {volume:.6} m³{full}",
+            t = ctx.time,
+            nx = g.nodes[0],
+            ny = g.nodes[1],
+            nz = g.nodes[2],
+            h = g.h,
+            area = r.mesh.area(),
+            volume = r.mesh.volume(),
+            full = if r.vertices_taken > r.vertex_capacity {
+                format!(
+                    "; the vertex buffer was full ({} of {})",
+                    r.vertex_capacity, r.vertices_taken
+                )
+            } else {
+                String::new()
+            },
+        );
+        Ok(DumpData::Floats { columns: 9, rows, channels: 1, data, note: Some(note) })
     }
 }
