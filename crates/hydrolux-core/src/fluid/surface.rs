@@ -582,6 +582,16 @@ mod tests {
         }
     }
 
+    /// The heights of the vertices on the top face of the test blocks
+    /// (20 × 12 × 16 cm), away from its edges.
+    fn top_heights(mesh: &SurfaceMesh) -> Vec<f32> {
+        mesh.positions
+            .iter()
+            .filter(|p| p[0] > 0.05 && p[0] < 0.15 && p[2] > 0.05 && p[2] < 0.11 && p[1] > 0.1)
+            .map(|p| p[1])
+            .collect()
+    }
+
     #[test]
     fn smoothing_takes_out_the_jitter_and_keeps_the_volume() {
         // A jittered block of particles 1 cm apart: smoothed, its top is
@@ -603,12 +613,7 @@ mod tests {
         let fixed = splat(&grid, &particles, s);
         let top_spread = |fixed: &[u32]| {
             let mesh = marching_cubes(&grid, &density(fixed), ISO_LEVEL);
-            let top: Vec<f32> = mesh
-                .positions
-                .iter()
-                .filter(|p| p[0] > 0.05 && p[0] < 0.15 && p[2] > 0.05 && p[2] < 0.11 && p[1] > 0.1)
-                .map(|p| p[1])
-                .collect();
+            let top = top_heights(&mesh);
             assert!(top.len() > 20);
             let mean = top.iter().sum::<f32>() / top.len() as f32;
             let spread = (top.iter().map(|y| (y - mean) * (y - mean)).sum::<f32>()
@@ -659,12 +664,7 @@ mod tests {
         // The kernel rounds the edges and corners a little.
         assert!((mesh.volume() / volume - 1.0).abs() < 0.05, "{} vs {volume}", mesh.volume());
         // The top face is within a tenth of a spacing of y = 12 cm.
-        let top: Vec<f32> = mesh
-            .positions
-            .iter()
-            .filter(|p| p[0] > 0.05 && p[0] < 0.15 && p[2] > 0.05 && p[2] < 0.11 && p[1] > 0.1)
-            .map(|p| p[1])
-            .collect();
+        let top = top_heights(&mesh);
         assert!(!top.is_empty());
         for y in top {
             assert!((y - 0.12).abs() < 0.1 * s, "{y}");

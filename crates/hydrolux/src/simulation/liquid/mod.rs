@@ -175,11 +175,16 @@ pub fn source() -> String {
 /// Threads per workgroup of every kernel (`WG` in liquid.wgsl).
 const WG: u32 = 256;
 /// Workgroups per row of a two-dimensional dispatch (under the 65535 limit).
-const ROW: u32 = 32768;
+pub(crate) const ROW: u32 = 32768;
 
 /// Workgroups for `n` items, as (x, y).
 fn groups(n: u32) -> (u32, u32) {
-    let g = n.div_ceil(WG).max(1);
+    groups_of(n, WG)
+}
+
+/// Workgroups of `size` threads for `n` items, as (x, y): rows of `ROW`.
+pub(crate) fn groups_of(n: u32, size: u32) -> (u32, u32) {
+    let g = n.div_ceil(size).max(1);
     if g <= ROW { (g, 1) } else { (ROW, g.div_ceil(ROW)) }
 }
 

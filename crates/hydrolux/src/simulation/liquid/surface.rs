@@ -36,10 +36,10 @@ pub fn source() -> String {
     shaders::compose("", include_str!("surface.wgsl"))
 }
 
-/// Threads per workgroup (`WG` in surface.wgsl), and workgroups per row of
-/// a two-dimensional dispatch.
+/// Threads per workgroup (`WG` in surface.wgsl); a two-dimensional
+/// dispatch has rows of the liquid's `ROW` workgroups.
 const WG: u32 = 64;
-const ROW: u32 = 32768;
+use super::ROW;
 /// Bytes of the counters: the indexed indirect draw's five u32, then the
 /// vertices taken.
 pub const COUNTERS_BYTES: u64 = 24;
@@ -47,8 +47,7 @@ pub const COUNTERS_BYTES: u64 = 24;
 pub const VERTEX_BYTES: u64 = 32;
 
 fn groups(n: u32) -> (u32, u32) {
-    let g = n.div_ceil(WG).max(1);
-    if g <= ROW { (g, 1) } else { (ROW, g.div_ceil(ROW)) }
+    super::groups_of(n, WG)
 }
 
 pub(crate) struct LiquidSurface {
