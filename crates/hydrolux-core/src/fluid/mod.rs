@@ -8,6 +8,7 @@ pub mod coupled;
 pub mod flip;
 pub mod grid;
 pub mod pressure;
+pub mod screen_mesh;
 pub mod solids;
 pub mod surface;
 
