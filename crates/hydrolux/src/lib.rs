@@ -47,7 +47,9 @@ pub use hydrolux_core as core;
 pub use info::{DumpData, DumpKind, DumpShape};
 pub use registry::{dump_kinds, simulation_names, technique_names};
 pub use renderer::{FrameInput, Renderer};
-pub use simulation::liquid::readback::{LiquidBench, LiquidReadback, LiquidSurfaceReadback};
+pub use simulation::liquid::readback::{
+    LiquidBench, LiquidReadback, LiquidSurfaceReadback, ScreenMeshReadback,
+};
 pub use simulation::liquid::{LiquidParticle, SolveState};
 pub use simulation::ocean::largest_ocean_resolution;
 pub use simulation::ripples::readback::RippleField;

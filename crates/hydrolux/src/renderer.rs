@@ -251,6 +251,7 @@ impl Renderer {
         // initial state.
         let sim_time = if input.2.is_finite() { input.2.clamp(0.0, MAX_TIME_S) } else { 0.0 };
         let advance = self.clock.advance_to(sim_time).expect("a finite time from 0 on");
+        self.simulations.set_frame_size(shared, input.1);
         let (camera, progress) = (&input.0, &mut self.catch_up_progress);
         self.simulations.advance(shared, &self.clock, advance, camera, input.2, encoder, progress);
         // Bodies the simulations moved are drawn where they are now.

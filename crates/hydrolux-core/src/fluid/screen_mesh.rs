@@ -47,6 +47,14 @@ pub const NONE: u32 = u32::MAX;
 pub const MAX_FILTER: u32 = 10;
 /// Rounds of silhouette smoothing allowed (Table 1: 0 to 10).
 pub const MAX_SILHOUETTE_ITERATIONS: u32 = 10;
+/// A particle whose circle is wider than this many node spacings (one
+/// almost at the camera) is left out of the depth map: its splat would
+/// cover a large part of the screen, and a camera that close is in the
+/// liquid.
+pub const MAX_SPLAT_REACH: f32 = 32.0;
+/// The nearest depth a sphere's front is kept at (m): depths compare as
+/// the bits of positive floats on the GPU.
+pub const MIN_DEPTH: f32 = 1e-6;
 /// Triangles one grid square makes at most (one cut edge: a run of four
 /// corners and two cut vertices, a hexagon).
 pub const MAX_SQUARE_TRIANGLES: usize = 4;
@@ -65,6 +73,21 @@ pub struct ScreenMeshParams {
     /// z_max (m): neighbours whose depths differ more are not joined
     /// (more than r_z = r).
     pub depth_threshold: f32,
+}
+
+impl ScreenMeshParams {
+    /// Table 1's parameters of a liquid's scene keys (`fluid.screen_*`):
+    /// r in particle spacings, z_max in particle radii.
+    pub fn of(fluid: &crate::scene::FluidDesc) -> Self {
+        let radius = fluid.screen_radius * fluid.particle_spacing();
+        ScreenMeshParams {
+            spacing: fluid.screen_spacing,
+            radius,
+            filter: fluid.screen_filter,
+            silhouette_iterations: fluid.screen_silhouette_iterations,
+            depth_threshold: fluid.screen_depth_threshold * radius,
+        }
+    }
 }
 
 /// The camera the mesh is made for.
@@ -164,9 +187,19 @@ impl ScreenGrid {
     }
 }
 
-/// The projected particles within reach of the screen.
-pub fn project_all(view: &ScreenView, radius: f32, particles: &[[f32; 3]]) -> Vec<Projected> {
-    particles.iter().filter_map(|p| view.project(Vec3::from(*p), radius)).collect()
+/// The projected particles in front of the camera and no wider than
+/// [`MAX_SPLAT_REACH`] node spacings `h`.
+pub fn project_all(
+    view: &ScreenView,
+    radius: f32,
+    h: f32,
+    particles: &[[f32; 3]],
+) -> Vec<Projected> {
+    particles
+        .iter()
+        .filter_map(|p| view.project(Vec3::from(*p), radius))
+        .filter(|p| p.rx.max(p.ry) <= MAX_SPLAT_REACH * h)
+        .collect()
 }
 
 /// Eq. 24: the front of every particle's sphere on the depth map (∞ where
@@ -187,7 +220,7 @@ pub fn splat_depth(grid: ScreenGrid, h: f32, radius: f32, particles: &[Projected
                 let dy = (j as f32 * h - p.y) / p.ry;
                 let d2 = dx * dx + dy * dy;
                 if d2 <= 1.0 {
-                    let z = p.z - radius * (1.0 - d2).sqrt();
+                    let z = (p.z - radius * (1.0 - d2).sqrt()).max(MIN_DEPTH);
                     let n = grid.node(i, j);
                     depth[n] = depth[n].min(z);
                 }
@@ -421,7 +454,7 @@ pub fn mesh(view: &ScreenView, params: &ScreenMeshParams, particles: &[[f32; 3]]
     let h = params.spacing;
     let (nx, ny) = view.nodes(h);
     let grid = ScreenGrid { nx, ny };
-    let projected = project_all(view, params.radius, particles);
+    let projected = project_all(view, params.radius, h, particles);
     let raw = splat_depth(grid, h, params.radius, &projected);
     let silhouette = silhouette_edges(grid, &raw, params.depth_threshold);
     let cuts = silhouette_cuts(grid, h, &projected, &raw, &silhouette);
@@ -661,7 +694,7 @@ mod tests {
         let (near, far) = (at(32.0, 32.0, 2.0), at(40.0, 32.0, 4.0));
         let p = ScreenMeshParams { depth_threshold: 1.0, ..params(0.3) };
         let grid = ScreenGrid { nx: 17, ny: 17 };
-        let projected = project_all(&v, p.radius, &[near, far]);
+        let projected = project_all(&v, p.radius, 4.0, &[near, far]);
         let raw = splat_depth(grid, 4.0, p.radius, &projected);
         let n = |i, j| grid.node(i, j);
         let filled: Vec<usize> = (0..raw.len()).filter(|&k| raw[k].is_finite()).collect();

@@ -40,6 +40,9 @@ pub enum FluidSurface {
     /// A mesh by marching cubes over the particles' density
     /// (`fluid::surface`), shaded as clear water.
     MarchingCubes,
+    /// A screen-space mesh of the front the camera sees
+    /// (`fluid::screen_mesh`, seed 003 §3.2), shaded as clear water.
+    ScreenMesh,
     /// Not drawn (simulated, dumped and benchmarked only).
     None,
 }
@@ -133,7 +136,8 @@ pub struct FluidDesc {
     /// The domain's open sides ("-x", "+x", "-y", "+y", "-z", "+z"): beyond
     /// them is air, and the liquid leaves through them; the rest are walls.
     pub open: Vec<String>,
-    /// How it is drawn: "marching_cubes" (the default), "points" or "none".
+    /// How it is drawn: "marching_cubes" (the default), "screen_mesh",
+    /// "points" or "none".
     pub surface: FluidSurface,
     /// Marching cubes' cells along the domain's longest side (8 to
     /// [`MAX_SURFACE_RESOLUTION`]), independent of the simulation's grid.
@@ -142,6 +146,18 @@ pub struct FluidDesc {
     /// 0 to 8 (`fluid::surface::smooth`): the particles' jitter smoothed
     /// out of the surface.
     pub surface_smoothing: u32,
+    /// Screen-space meshes' Table 1 (seed 003 §3.2): h, pixels between the
+    /// depth map's nodes (1 to 10).
+    pub screen_spacing: f32,
+    /// r, the particles' radius in particle spacings (0.5 to 4).
+    pub screen_radius: f32,
+    /// n_filter, the depth filter's half length (0 to 10).
+    pub screen_filter: u32,
+    /// n_iters, rounds of silhouette smoothing (0 to 10).
+    pub screen_silhouette_iterations: u32,
+    /// z_max, the depth step that parts two layers, in particle radii
+    /// (more than 1, as Table 1 asks z_max > r_z, up to 20).
+    pub screen_depth_threshold: f32,
     /// Where the liquid starts; no sources, no liquid.
     pub sources: Vec<FluidSource>,
 }
@@ -164,6 +180,11 @@ impl Default for FluidDesc {
             surface: FluidSurface::MarchingCubes,
             surface_resolution: 96,
             surface_smoothing: 1,
+            screen_spacing: 2.0,
+            screen_radius: 1.0,
+            screen_filter: 3,
+            screen_silhouette_iterations: 2,
+            screen_depth_threshold: 4.0,
             sources: Vec::new(),
         }
     }
@@ -182,6 +203,11 @@ impl FluidDesc {
         let h = longest / self.resolution.max(1) as f32;
         let n = extent.map(|e| ((e / h).round() as u32).max(2));
         (h, n)
+    }
+
+    /// The particles' spacing at rest (m).
+    pub fn particle_spacing(&self) -> f32 {
+        self.grid_shape().0 / self.particles_per_axis() as f32
     }
 
     /// Particles per axis of a cell.
@@ -380,6 +406,38 @@ impl FluidDesc {
                 value: f.surface_smoothing.to_string(),
                 allowed: "must be 0 to 8 rounds of the filter".into(),
             });
+        }
+        let ranges: [(&str, f32, bool, f32, f32, &str); 5] = [
+            ("screen_spacing", f.screen_spacing, true, 1.0, 10.0, "pixels between nodes"),
+            ("screen_radius", f.screen_radius, true, 0.5, 4.0, "particle spacings"),
+            ("screen_filter", f.screen_filter as f32, true, 0.0, 10.0, "nodes of half length"),
+            (
+                "screen_silhouette_iterations",
+                f.screen_silhouette_iterations as f32,
+                true,
+                0.0,
+                10.0,
+                "rounds",
+            ),
+            (
+                "screen_depth_threshold",
+                f.screen_depth_threshold,
+                false,
+                1.0,
+                20.0,
+                "particle radii (more than 1: z_max > r_z)",
+            ),
+        ];
+        for (key, value, from_included, low, high, unit) in ranges {
+            let above = if from_included { value >= low } else { value > low };
+            if !(above && value <= high) {
+                let from = if from_included { "from" } else { "more than" };
+                return Err(SceneError::OutOfRange {
+                    key: format!("fluid.{key}"),
+                    value: value.to_string(),
+                    allowed: format!("must be {from} {low} to {high} {unit}"),
+                });
+            }
         }
         if ![1, 8, 27, 64].contains(&f.particles_per_cell) {
             return Err(SceneError::OutOfRange {
@@ -596,11 +654,18 @@ impl Scene {
     /// (the domain and a cell of its surface grid around it).
     pub fn liquid_mesh_bounds(&self) -> Option<([f32; 3], [f32; 3])> {
         let f = &self.fluid;
-        if !f.enabled() || f.surface != FluidSurface::MarchingCubes {
+        if !f.enabled() {
             return None;
         }
-        let grid = crate::fluid::surface::SurfaceGrid::over(f.min, f.max, f.surface_resolution);
-        Some((f.min.map(|v| v - grid.h), f.max.map(|v| v + grid.h)))
+        let margin = match f.surface {
+            FluidSurface::MarchingCubes => {
+                crate::fluid::surface::SurfaceGrid::over(f.min, f.max, f.surface_resolution).h
+            }
+            // Vertices are on the particles' spheres.
+            FluidSurface::ScreenMesh => f.screen_radius * f.particle_spacing(),
+            FluidSurface::Points | FluidSurface::None => return None,
+        };
+        Some((f.min.map(|v| v - margin), f.max.map(|v| v + margin)))
     }
 
     /// Whether object `o` is a body of the liquid: it moves (dynamic, or

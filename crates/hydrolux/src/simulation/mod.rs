@@ -157,6 +157,12 @@ pub(crate) trait Simulation {
     /// After a batch of steps (mips of what the steps wrote).
     fn finish(&mut self, _shared: &Shared, _encoder: &mut wgpu::CommandEncoder) {}
 
+    /// The frame's size (pixels), before it is simulated: true if what it
+    /// publishes changed (buffers made for the size).
+    fn frame_size(&mut self, _shared: &Shared, _size: (u32, u32)) -> bool {
+        false
+    }
+
     /// The frame's own work (the surface at the frame's time), recorded
     /// with the frame's first stage.
     fn record_frame(
@@ -463,6 +469,18 @@ impl Simulations {
         self.published = published;
         self.republish();
         self.prepare(queue, frame_time);
+    }
+
+    /// The coming frame's size (pixels): what depends on it is made anew
+    /// and published before the frame reads it.
+    pub fn set_frame_size(&mut self, shared: &Shared, size: (u32, u32)) {
+        let mut changed = false;
+        for s in self.each_mut() {
+            changed |= s.frame_size(shared, size);
+        }
+        if changed {
+            self.republish();
+        }
     }
 
     /// The frame's own work, with its first stage (the surface at the

@@ -22,6 +22,7 @@
 pub(crate) mod bodies;
 pub mod draw;
 pub mod readback;
+pub mod screen_mesh;
 pub mod surface;
 
 use crate::error::RenderError;
@@ -29,7 +30,7 @@ use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::Shared;
 use crate::uniforms::uniform;
-use hydrolux_core::scene::{FluidDesc, Scene};
+use hydrolux_core::scene::{FluidDesc, FluidSurface, Scene};
 
 uniform! { LiquidParams;
     /// WGSL `LiquidParams` (simulation/liquid/liquid.wgsl).
@@ -244,8 +245,10 @@ pub struct Liquid {
     bodies_buffer: wgpu::Buffer,
     /// Their world as the scene describes it (an edit to it remakes it).
     bodies_desc: Option<hydrolux_core::bodies::BodiesDesc>,
-    /// Its surface mesh, when drawn as one.
+    /// Its surface mesh, when drawn as one by marching cubes…
     pub(crate) surface: Option<surface::LiquidSurface>,
+    /// …or as a screen-space mesh.
+    pub(crate) screen_mesh: Option<screen_mesh::ScreenMeshSurface>,
 }
 
 impl Liquid {
@@ -527,16 +530,20 @@ impl Liquid {
             bodies_buffer,
             bodies_desc: scene.liquid_bodies(),
             surface: None,
+            screen_mesh: None,
         };
-        if desc.surface == hydrolux_core::scene::FluidSurface::MarchingCubes {
-            let spacing = liquid.uniforms.h / desc.particles_per_axis() as f32;
-            liquid.surface = Some(surface::LiquidSurface::new(
-                shared,
-                scene,
-                &liquid.particles,
-                liquid.particle_count(),
-                spacing,
-            ));
+        let spacing = liquid.uniforms.h / desc.particles_per_axis() as f32;
+        let (particles, count) = (&liquid.particles, liquid.particle_count());
+        match desc.surface {
+            FluidSurface::MarchingCubes => {
+                liquid.surface =
+                    Some(surface::LiquidSurface::new(shared, scene, particles, count, spacing));
+            }
+            FluidSurface::ScreenMesh => {
+                liquid.screen_mesh =
+                    Some(screen_mesh::ScreenMeshSurface::new(shared, scene, particles, count));
+            }
+            FluidSurface::Points | FluidSurface::None => {}
         }
         liquid.write_start(&shared.queue);
         Ok(Some(liquid))
@@ -674,7 +681,11 @@ impl crate::simulation::Simulation for Liquid {
             count: self.particle_count(),
             radius: self.particle_radius(),
             landings: (self.uniforms.landing == 1).then(|| self.state.clone()),
-            mesh: self.surface.as_ref().map(|s| s.mesh()),
+            mesh: match (&self.surface, &self.screen_mesh) {
+                (Some(s), _) => Some(s.mesh()),
+                (_, Some(s)) => s.mesh(),
+                _ => None,
+            },
         });
         if let Some(b) = &self.bodies {
             published.bodies.extend(b.transforms());
@@ -685,16 +696,23 @@ impl crate::simulation::Simulation for Liquid {
         crate::simulation::Pace::Follows
     }
 
+    /// A screen-space mesh's buffers follow the frame's size.
+    fn frame_size(&mut self, shared: &Shared, size: (u32, u32)) -> bool {
+        self.screen_mesh.as_mut().is_some_and(|s| s.resize(&shared.device, size))
+    }
+
     /// The surface mesh of the particles at the frame's time.
     fn record_frame(
         &mut self,
-        _shared: &Shared,
+        shared: &Shared,
         encoder: &mut wgpu::CommandEncoder,
-        _plan: &crate::plan::FramePlan,
+        plan: &crate::plan::FramePlan,
         timer: Option<&mut crate::timing::GpuTimer>,
     ) {
         if let Some(s) = &self.surface {
             s.record(encoder, timer);
+        } else if let Some(s) = &mut self.screen_mesh {
+            s.record(&shared.queue, encoder, plan.matrices.view_proj, timer);
         }
     }
 
@@ -766,10 +784,17 @@ impl crate::simulation::Simulation for Liquid {
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "liquid",
     dumps: readback::DUMPS,
-    shaders: || vec![("liquid".into(), source()), ("liquid surface".into(), surface::source())],
+    shaders: || {
+        vec![
+            ("liquid".into(), source()),
+            ("liquid surface".into(), surface::source()),
+            ("liquid screen mesh".into(), screen_mesh::source()),
+        ]
+    },
     uniforms: || {
         vec![
             crate::uniforms::Layout::of::<surface::SurfaceUniforms>(surface::source()),
+            crate::uniforms::Layout::of::<screen_mesh::ScreenMeshUniforms>(screen_mesh::source()),
             crate::uniforms::Layout::of::<LiquidUniforms>(source()),
             crate::uniforms::Layout::sized(
                 "LiquidParticle",

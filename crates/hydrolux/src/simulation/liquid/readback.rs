@@ -22,7 +22,7 @@ pub(crate) const DUMPS: &[DumpKind] = &[
 fn no_mesh(scene: &Scene) -> Option<&'static str> {
     no_liquid(scene).or_else(|| {
         scene.liquid_mesh_bounds().is_none().then_some(
-            "the liquid's surface is not meshed (it needs fluid.surface = \"marching_cubes\")",
+            "the liquid's surface is not meshed (it needs fluid.surface = \"marching_cubes\" or \"screen_mesh\")",
         )
     })
 }
@@ -278,6 +278,63 @@ impl Renderer {
     }
 }
 
+/// The liquid's screen-space mesh as the GPU made it for the last frame.
+#[derive(Clone, Debug)]
+pub struct ScreenMeshReadback {
+    /// The depth map's grid and the view it was made for.
+    pub grid: hydrolux_core::fluid::screen_mesh::ScreenGrid,
+    pub view: hydrolux_core::fluid::screen_mesh::ScreenView,
+    /// Its triangles (the vertices in the order the GPU took them).
+    pub mesh: hydrolux_core::fluid::surface::SurfaceMesh,
+    /// Vertices made, and the buffer's room for them.
+    pub vertices_taken: u32,
+    pub vertex_capacity: u32,
+}
+
+impl Renderer {
+    /// The liquid's screen-space mesh after the last frame (`None` without
+    /// a liquid drawn by `fluid.surface = "screen_mesh"`, or before a frame).
+    pub fn read_liquid_screen_mesh(&self) -> Option<ScreenMeshReadback> {
+        let l = self.simulations.liquid.as_ref()?;
+        l.read_screen_mesh(self.device(), self.queue())
+    }
+}
+
+/// A mesh the GPU made in `vertices`, `indices` and `counters` (the
+/// indexed draw's arguments, then the vertices taken): the mesh and the
+/// vertices taken.
+fn read_mesh(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffers: (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+    vertex_capacity: u32,
+) -> (hydrolux_core::fluid::surface::SurfaceMesh, u32) {
+    let (vertices, indices, counters) = buffers;
+    let counters: Vec<u32> =
+        bytemuck::cast_slice(&read_buffer(device, queue, counters, super::surface::COUNTERS_BYTES))
+            .to_vec();
+    let (index_count, taken) = (counters[0], counters[5]);
+    let kept = taken.min(vertex_capacity);
+    let floats: Vec<f32> = bytemuck::cast_slice(&read_buffer(
+        device,
+        queue,
+        vertices,
+        (kept as u64 * super::surface::VERTEX_BYTES).max(4),
+    ))
+    .to_vec();
+    let indices: Vec<u32> =
+        bytemuck::cast_slice(&read_buffer(device, queue, indices, (index_count as u64 * 4).max(4)))
+            [..index_count as usize]
+            .to_vec();
+    let vertices = floats.chunks_exact(8);
+    let mesh = hydrolux_core::fluid::surface::SurfaceMesh {
+        positions: vertices.clone().map(|v| [v[0], v[1], v[2]]).collect(),
+        normals: vertices.map(|v| [v[3], v[4], v[5]]).collect(),
+        indices,
+    };
+    (mesh, taken)
+}
+
 impl Liquid {
     fn read_surface(
         &self,
@@ -285,66 +342,74 @@ impl Liquid {
         queue: &wgpu::Queue,
     ) -> Option<LiquidSurfaceReadback> {
         let s = self.surface.as_ref()?;
-        let counters: Vec<u32> = bytemuck::cast_slice(&read_buffer(
-            device,
-            queue,
-            &s.counters,
-            super::surface::COUNTERS_BYTES,
-        ))
-        .to_vec();
-        let (index_count, taken) = (counters[0], counters[5]);
-        let kept = taken.min(s.uniforms.vertex_capacity);
-        let floats: Vec<f32> = bytemuck::cast_slice(&read_buffer(
-            device,
-            queue,
-            &s.vertices,
-            (kept as u64 * super::surface::VERTEX_BYTES).max(4),
-        ))
-        .to_vec();
-        let indices: Vec<u32> = bytemuck::cast_slice(&read_buffer(
-            device,
-            queue,
-            &s.indices,
-            (index_count as u64 * 4).max(4),
-        ))[..index_count as usize]
-            .to_vec();
-        let vertices = floats.chunks_exact(8);
-        let mesh = hydrolux_core::fluid::surface::SurfaceMesh {
-            positions: vertices.clone().map(|v| [v[0], v[1], v[2]]).collect(),
-            normals: vertices.map(|v| [v[3], v[4], v[5]]).collect(),
-            indices,
-        };
+        let capacity = s.uniforms.vertex_capacity;
+        let (mesh, taken) =
+            read_mesh(device, queue, (&s.vertices, &s.indices, &s.counters), capacity);
         Some(LiquidSurfaceReadback {
             grid: s.grid,
             mesh,
             vertices_taken: taken,
-            vertex_capacity: s.uniforms.vertex_capacity,
+            vertex_capacity: capacity,
+        })
+    }
+
+    fn read_screen_mesh(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Option<ScreenMeshReadback> {
+        let s = self.screen_mesh.as_ref()?;
+        let (vertices, indices, counters, grid) = s.buffers()?;
+        let view = s.view?;
+        let capacity = s.uniforms.vertex_capacity;
+        let (mesh, taken) = read_mesh(device, queue, (vertices, indices, counters), capacity);
+        Some(ScreenMeshReadback {
+            grid,
+            view,
+            mesh,
+            vertices_taken: taken,
+            vertex_capacity: capacity,
         })
     }
 
     /// The `fluid_mesh` dump: a row per triangle, its corners' positions.
     fn dump_mesh(&self, ctx: &DumpContext) -> Result<DumpData, String> {
-        let r = self.read_surface(ctx.device, ctx.queue).ok_or_else(|| {
-            "the liquid's surface is not meshed (set fluid.surface = \"marching_cubes\")"
+        let unmeshed = || {
+            "the liquid's surface is not meshed (set fluid.surface = \"marching_cubes\" or \"screen_mesh\")"
                 .to_string()
-        })?;
-        let rows = r.mesh.indices.len() / 3;
-        let data = r.mesh.triangles().flat_map(|t| t.into_iter().flatten()).collect();
-        let g = &r.grid;
+        };
+        let (mesh, taken, capacity, how) = if self.surface.is_some() {
+            let r = self.read_surface(ctx.device, ctx.queue).ok_or_else(unmeshed)?;
+            let g = &r.grid;
+            let how = format!(
+                "meshed on {}×{}×{} nodes {} m apart; columns: three corners' x y z (m), counter-clockwise seen from outside; area {:.5} m², volume {:.6} m³",
+                g.nodes[0],
+                g.nodes[1],
+                g.nodes[2],
+                g.h,
+                r.mesh.area(),
+                r.mesh.volume()
+            );
+            (r.mesh, r.vertices_taken, r.vertex_capacity, how)
+        } else {
+            let r = self.read_screen_mesh(ctx.device, ctx.queue).ok_or_else(unmeshed)?;
+            let how = format!(
+                "the front the camera sees, meshed on a {}×{} depth map of the {}×{} screen; columns: three corners' x y z (m), counter-clockwise seen from the camera; area {:.5} m²",
+                r.grid.nx,
+                r.grid.ny,
+                r.view.width,
+                r.view.height,
+                r.mesh.area()
+            );
+            (r.mesh, r.vertices_taken, r.vertex_capacity, how)
+        };
+        let rows = mesh.indices.len() / 3;
+        let data = mesh.triangles().flat_map(|t| t.into_iter().flatten()).collect();
         let note = format!(
-            "{rows} triangles at t = {t:.4} s, meshed on {nx}×{ny}×{nz} nodes {h} m apart; columns: three corners' x y z (m), counter-clockwise seen from outside; area {area:.5} m², volume {volume:.6} m³{full}",
+            "{rows} triangles at t = {t:.4} s, {how}{full}",
             t = ctx.time,
-            nx = g.nodes[0],
-            ny = g.nodes[1],
-            nz = g.nodes[2],
-            h = g.h,
-            area = r.mesh.area(),
-            volume = r.mesh.volume(),
-            full = if r.vertices_taken > r.vertex_capacity {
-                format!(
-                    "; the vertex buffer was full ({} of {})",
-                    r.vertex_capacity, r.vertices_taken
-                )
+            full = if taken > capacity {
+                format!("; the vertex buffer was full ({capacity} of {taken})")
             } else {
                 String::new()
             },
