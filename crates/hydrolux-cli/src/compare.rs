@@ -4,6 +4,12 @@
 //! per-pixel error between them (CIELAB ΔE of what is displayed) over the
 //! water, split into reflection- and refraction-dominated pixels by the
 //! water's Fresnel reflectance there (the `fresnel` debug view).
+//!
+//! For a scene with the volumetric liquid (issue #30), `--surfaces` (the
+//! default where the scene has no surface water) compares its surfaces
+//! instead: the same liquid drawn by marching cubes, a screen-space mesh
+//! and points, each against marching cubes at the finest grid, with the
+//! error over the pixels the liquid changes.
 
 use crate::SceneArgs;
 use crate::output::{self, Staged};
@@ -33,6 +39,12 @@ pub struct CompareArgs {
     /// (ΔE: black 0, red 10, yellow 20, white 40 and more).
     #[arg(long, default_value = "compare")]
     pub out: PathBuf,
+    /// Compare the liquid's surfaces (marching cubes, screen-space mesh,
+    /// points) against marching cubes at its finest grid: OUT-S.png and
+    /// OUT-S-error.png for each [default where the scene has a liquid and
+    /// no surface water].
+    #[arg(long)]
+    pub surfaces: bool,
 }
 
 fn with_suffix(out: &Path, suffix: &str) -> PathBuf {
@@ -58,6 +70,10 @@ pub fn run(a: CompareArgs) -> Result<()> {
         bail!(
             "--view: compare renders the final image (and its own Fresnel view); leave --view out"
         );
+    }
+    let plain = a.scene.load_offline()?;
+    if a.surfaces || (plain.fluid.enabled() && !plain.has_water()) {
+        return surfaces(&a, &plain);
     }
     let paths = ["projective", "raytrace", "error"].map(|s| with_suffix(&a.out, s));
     for p in &paths {
@@ -145,6 +161,82 @@ pub fn run(a: CompareArgs) -> Result<()> {
         &format!("refraction-dominated (F < {REFRACTION_DOMINATED})"),
         ErrorStats::of(&refracting),
     );
+    for p in &paths {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// The surfaces compared, and the reference's grid.
+const SURFACES: [&str; 3] = ["marching_cubes", "screen_mesh", "points"];
+
+/// `--surfaces`: each of the liquid's surfaces against marching cubes at
+/// its finest grid, over the pixels where the liquid changes the image
+/// (where the reference differs from the scene without the liquid drawn).
+fn surfaces(a: &CompareArgs, plain: &Scene) -> Result<()> {
+    if !plain.fluid.enabled() {
+        bail!("--surfaces: the scene {} has no liquid ([fluid] with sources)", a.scene.scene);
+    }
+    let mut paths = Vec::new();
+    for s in SURFACES {
+        paths.push(with_suffix(&a.out, s));
+        paths.push(with_suffix(&a.out, &format!("{s}-error")));
+    }
+    for p in &paths {
+        output::check_writable(p)?;
+    }
+    let finest =
+        format!("fluid.surface_resolution={}", hydrolux::core::scene::MAX_SURFACE_RESOLUTION);
+    let reference = scene_with(&a.scene, &["fluid.surface=marching_cubes", &finest])?;
+    let bare = scene_with(&a.scene, &["fluid.surface=none"])?;
+    let time = a.time.unwrap_or(plain.start_time);
+    let ctx = crate::headless_context()?;
+    let (w, h) = (a.size.width, a.size.height);
+    let target = HeadlessTarget::new(&ctx.device, (w, h));
+    let frame = |scene: &Scene| -> Result<Vec<u8>> {
+        let mut r = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, scene)?;
+        r.set_exact_time(true);
+        r.set_catch_up_progress(Some(crate::render::catch_up_bar(time)));
+        Ok(target.render(&mut r, scene.camera(), time)?)
+    };
+    let truth = frame(&reference)?;
+    let without = frame(&bare)?;
+    let rgb = |p: &[u8], i: usize| [p[4 * i], p[4 * i + 1], p[4 * i + 2]];
+    // The liquid's pixels: it changes them by more than a just noticeable
+    // difference.
+    let liquid: Vec<bool> =
+        (0..(w * h) as usize).map(|i| delta_e(rgb(&truth, i), rgb(&without, i)) > 1.0).collect();
+    let mut staged = Staged::new();
+    let mut lines = Vec::new();
+    for (k, s) in SURFACES.iter().enumerate() {
+        let pixels = frame(&scene_with(&a.scene, &[&format!("fluid.surface={s}")])?)?;
+        let mut error = vec![0u8; (w * h * 4) as usize];
+        let mut over = Vec::new();
+        for i in 0..(w * h) as usize {
+            let e = delta_e(rgb(&pixels, i), rgb(&truth, i));
+            let c = heat(e);
+            error[4 * i..4 * i + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
+            if liquid[i] {
+                over.push(e);
+            }
+        }
+        staged.png(&paths[2 * k], w, h, &pixels)?;
+        staged.png(&paths[2 * k + 1], w, h, &error)?;
+        lines.push((s, ErrorStats::of(&over)));
+    }
+    staged.publish()?;
+    println!(
+        "compare   {} {w}×{h} at t = {time} s: the liquid's surfaces against marching cubes on {} cells (ΔE*ab of the displayed colours, over the liquid's pixels)",
+        a.scene.scene,
+        hydrolux::core::scene::MAX_SURFACE_RESOLUTION
+    );
+    for (s, e) in lines {
+        let share = 100.0 * e.pixels as f64 / (w * h) as f64;
+        println!(
+            "{s:<16} {:>8} px ({share:4.1}%)   mean {:6.2}   p95 {:6.2}   max {:6.2}",
+            e.pixels, e.mean, e.p95, e.max
+        );
+    }
     for p in &paths {
         println!("wrote {}", p.display());
     }

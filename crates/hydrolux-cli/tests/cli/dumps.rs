@@ -246,3 +246,41 @@ fn fluid_dumps_hold_the_particles_and_the_cells() {
         "encloses {volume} m³, particles {particles} m³"
     );
 }
+
+#[test]
+fn the_screen_mesh_dump_is_the_front_the_camera_sees() {
+    // The same coarse dam break drawn by a screen-space mesh: the dump is
+    // the mesh the frame drew, every corner on the liquid's side of the
+    // camera and within the tank (plus a particle radius).
+    let dir = scratch("screen_mesh");
+    let (code, err) = hydrolux(
+        &[
+            "render",
+            "--scene",
+            "dam_break",
+            "--set",
+            "fluid.resolution=16",
+            "--set",
+            "fluid.surface=screen_mesh",
+            "--time",
+            "0.05",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--dump",
+            "fluid_mesh=m.npy",
+            "--out",
+            "d.png",
+        ],
+        &dir,
+    );
+    assert_eq!(code, 0, "{err}");
+    let (header, triangles) = npy_f32(&dir.join("m.npy"));
+    assert!(header.contains(", 9)"), "{header}");
+    assert!(triangles.len() > 20 * 9, "{} triangles", triangles.len() / 9);
+    // The tank (x −0.6…0.6, y 0…0.9) and a particle radius (3.75 cm).
+    for p in triangles.chunks(3) {
+        assert!(p[0].abs() < 0.65 && p[1] > -0.05 && p[1] < 0.95, "corner {p:?}");
+    }
+}

@@ -229,7 +229,15 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
                 "--dump",
                 "fluid_mesh=m.npy",
             ],
-            "the liquid's surface is not meshed (it needs fluid.surface = \"marching_cubes\")",
+            "the liquid's surface is not meshed (it needs fluid.surface = \"marching_cubes\" or \"screen_mesh\")",
+        ),
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.screen_depth_threshold=0.5"],
+            "`fluid.screen_depth_threshold` = 0.5 is out of range: must be more than 1 and at most 20 particle radii (Table 1: z_max > r_z)",
+        ),
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.screen_spacing=0"],
+            "`fluid.screen_spacing` = 0 is out of range: must be 1 to 10 pixels between nodes",
         ),
         (
             &["render", "--scene", "dam_break", "--set", "fluid.surface_resolution=1000"],

@@ -425,17 +425,21 @@ impl FluidDesc {
                 false,
                 1.0,
                 20.0,
-                "particle radii (more than 1: z_max > r_z)",
+                "particle radii (Table 1: z_max > r_z)",
             ),
         ];
         for (key, value, from_included, low, high, unit) in ranges {
             let above = if from_included { value >= low } else { value > low };
             if !(above && value <= high) {
-                let from = if from_included { "from" } else { "more than" };
+                let allowed = if from_included {
+                    format!("must be {low} to {high} {unit}")
+                } else {
+                    format!("must be more than {low} and at most {high} {unit}")
+                };
                 return Err(SceneError::OutOfRange {
                     key: format!("fluid.{key}"),
                     value: value.to_string(),
-                    allowed: format!("must be {from} {low} to {high} {unit}"),
+                    allowed,
                 });
             }
         }

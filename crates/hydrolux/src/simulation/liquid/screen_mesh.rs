@@ -279,13 +279,8 @@ impl ScreenMeshSurface {
         let mut timer = timer;
         let mut run = |encoder: &mut wgpu::CommandEncoder,
                        label: &'static str,
-                       timed: bool,
                        work: &[(&wgpu::ComputePipeline, (u32, u32))]| {
-            let writes = if timed {
-                timer.as_deref_mut().and_then(|t| t.compute_writes(label))
-            } else {
-                None
-            };
+            let writes = timer.as_deref_mut().and_then(|t| t.compute_writes(label));
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(label),
                 timestamp_writes: writes,
@@ -299,7 +294,6 @@ impl ScreenMeshSurface {
         run(
             encoder,
             "liquid screen depth",
-            true,
             &[
                 (&self.clear, clear),
                 (&self.splat, particles),
@@ -312,7 +306,6 @@ impl ScreenMeshSurface {
         run(
             encoder,
             "liquid screen mesh",
-            true,
             &[(&self.emit_vertices, both), (&self.emit_triangles, nodes)],
         );
         let rounds = self.params.silhouette_iterations;
@@ -321,12 +314,11 @@ impl ScreenMeshSurface {
             work.push((&self.silhouette[(r % 2) as usize], vertices));
         }
         if !work.is_empty() {
-            run(encoder, "liquid screen silhouettes", false, &work);
+            run(encoder, "liquid screen silhouettes", &work);
         }
         run(
             encoder,
             "liquid screen to world",
-            false,
             &[
                 (&self.to_world, vertices),
                 (&self.accumulate_normals, triangles),
