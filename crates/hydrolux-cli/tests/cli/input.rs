@@ -131,6 +131,10 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         (&["render", "--set", "water.method=exact"], "water.method"),
         (&["compare", "--view", "normals"], "--view"),
         (
+            &["compare", "--scene", "lake", "--surfaces"],
+            "--surfaces: the scene lake has no liquid ([fluid] with sources)",
+        ),
+        (
             &["compare", "--set", "water.model=none"],
             "--set water.model=none: the scene then has no water to compare",
         ),

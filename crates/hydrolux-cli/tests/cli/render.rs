@@ -121,6 +121,37 @@ fn compare_writes_both_frames_and_the_error_with_its_statistics() {
 }
 
 #[test]
+fn compare_draws_the_liquid_three_ways_against_the_finest_mesh() {
+    // A coarse dam break a twentieth of a second in (the default for a
+    // scene with a liquid and no surface water).
+    let dir = scratch("compare_surfaces");
+    let out = Command::new(env!("CARGO_BIN_EXE_hydrolux"))
+        .args(["compare", "--scene", "dam_break", "--set", "fluid.resolution=16", "--time", "0.05"])
+        .args(["--width", "64", "--height", "36", "--out", "s"])
+        .current_dir(&dir)
+        .output()
+        .expect("runs");
+    let (stdout, stderr) =
+        (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{stderr}");
+    let mut means = Vec::new();
+    for s in ["marching_cubes", "screen_mesh", "points"] {
+        for f in [format!("s-{s}.png"), format!("s-{s}-error.png")] {
+            assert_eq!(&std::fs::read(dir.join(&f)).unwrap()[1..4], b"PNG", "{f}");
+        }
+        let line = stdout.lines().find(|l| l.starts_with(s)).expect("a line per surface");
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let pixels: u32 = words[1].parse().unwrap();
+        assert!(pixels > 20, "{line}");
+        let mean = words.iter().position(|w| *w == "mean").expect("a mean");
+        means.push(words[mean + 1].parse::<f32>().unwrap());
+    }
+    // Each differs from the reference, and the meshes less than points.
+    assert!(means.iter().all(|m| m.is_finite() && *m > 0.0), "{stdout}");
+    assert!(means[0] < means[2] && means[1] < means[2], "{stdout}");
+}
+
+#[test]
 fn scenes_with_mesh_files_and_every_debug_view_render() {
     let dir = scratch("views");
     // An OBJ without normals, referred to relative to the scene file.
