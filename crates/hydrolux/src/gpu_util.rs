@@ -93,6 +93,42 @@ pub fn storage_entry(
     )
 }
 
+/// A compute layout of a uniform at binding 0 and storage buffers from
+/// binding 1, each read-only or not as `read_only` says.
+pub fn compute_buffers_layout(
+    device: &wgpu::Device,
+    label: &str,
+    read_only: &[bool],
+) -> wgpu::BindGroupLayout {
+    let cs = wgpu::ShaderStages::COMPUTE;
+    let entries: Vec<_> = std::iter::once(uniform_entry(0, cs))
+        .chain(read_only.iter().enumerate().map(|(i, &r)| storage_entry(i as u32 + 1, cs, r)))
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}
+
+/// A bind group of whole buffers, binding i the i-th.
+pub fn bind_buffers(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
 /// A 2D depth texture (read with a comparison sampler or `textureLoad`).
 pub fn depth_texture_entry(
     binding: u32,

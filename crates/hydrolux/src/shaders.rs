@@ -35,6 +35,7 @@ const MODULES: &[(&str, &str)] = &[
     ("caustic_params", include_str!("passes/caustics/params.wgsl")),
     ("particle", include_str!("simulation/whitewater/particle.wgsl")),
     ("liquid_particle", include_str!("simulation/liquid/particle.wgsl")),
+    ("liquid_mesh", include_str!("simulation/liquid/mesh.wgsl")),
     ("liquid_landing", include_str!("simulation/liquid/landing.wgsl")),
     ("liquid_bodies", include_str!("simulation/liquid/bodies.wgsl")),
     ("ripple_texel", include_str!("simulation/ripples/texel.wgsl")),

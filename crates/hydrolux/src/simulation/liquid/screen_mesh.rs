@@ -126,21 +126,10 @@ impl ScreenMeshSurface {
             _pad2: 0,
         };
         let uniform_buffer = uniform_buffer(device, "liquid screen mesh", &uniforms);
-        let cs = wgpu::ShaderStages::COMPUTE;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("liquid screen mesh"),
-            entries: &[
-                uniform_entry(0, cs),
-                storage_entry(1, cs, true),
-                storage_entry(2, cs, false),
-                storage_entry(3, cs, false),
-                storage_entry(4, cs, false),
-                storage_entry(5, cs, false),
-                storage_entry(6, cs, false),
-                storage_entry(7, cs, false),
-                storage_entry(8, cs, false),
-            ],
-        });
+        // Particles are read; the rest written.
+        let mut read_only = [false; 8];
+        read_only[0] = true;
+        let layout = compute_buffers_layout(device, "liquid screen mesh", &read_only);
         let module = shader(device, "liquid screen mesh", &source());
         let p = |entry| compute_pipeline(device, entry, &module, entry, &[&layout]);
         ScreenMeshSurface {
@@ -228,10 +217,11 @@ impl ScreenMeshSurface {
             COUNTERS_BYTES,
             wgpu::BufferUsages::INDIRECT,
         );
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("liquid screen mesh"),
-            layout: &self.layout,
-            entries: &[
+        let group = bind_buffers(
+            device,
+            "liquid screen mesh",
+            &self.layout,
+            &[
                 &self.uniform_buffer,
                 &self.particles,
                 &marks,
@@ -241,15 +231,8 @@ impl ScreenMeshSurface {
                 &vertices,
                 &indices,
                 &counters,
-            ]
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect::<Vec<_>>(),
-        });
+            ],
+        );
         self.sized = Some(Sized { size, grid, vertices, indices, counters, group });
         true
     }

@@ -9,7 +9,7 @@
 // links) → silhouette smoothing rounds → back to world space (eq. 25–26) →
 // normals from the triangles (summed in fixed point) → the indexed
 // indirect draw's count.
-#import liquid_particle
+#import liquid_particle, liquid_mesh
 
 struct ScreenMeshParams {
     // World → clip, and back.
@@ -40,16 +40,6 @@ struct ScreenMeshParams {
     _pad2: u32,
 }
 
-// The indexed indirect draw's arguments, then the vertices taken.
-struct Counters {
-    index_count: atomic<u32>,
-    instance_count: u32,
-    first_index: u32,
-    base_vertex: u32,
-    first_instance: u32,
-    vertex_count: atomic<u32>,
-}
-
 @group(0) @binding(0) var<uniform> params: ScreenMeshParams;
 @group(0) @binding(1) var<storage, read> particles: array<LiquidParticle>;
 // The nodes' depth bits (EMPTY: none), then each edge's mark (0: not a
@@ -67,7 +57,7 @@ struct Counters {
 // Eight floats a vertex: position, normal, uv (the meshes' layout).
 @group(0) @binding(6) var<storage, read_write> vertices: array<f32>;
 @group(0) @binding(7) var<storage, read_write> indices: array<u32>;
-@group(0) @binding(8) var<storage, read_write> counters: Counters;
+@group(0) @binding(8) var<storage, read_write> counters: MeshCounters;
 
 const NONE: u32 = 0xffffffffu;
 const EMPTY: u32 = 0xffffffffu;
@@ -191,12 +181,7 @@ fn unproject(s: vec3<f32>) -> vec3<f32> {
 fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = thread(id);
     if (i == 0u) {
-        atomicStore(&counters.index_count, 0u);
-        counters.instance_count = 1u;
-        counters.first_index = 0u;
-        counters.base_vertex = 0u;
-        counters.first_instance = 0u;
-        atomicStore(&counters.vertex_count, 0u);
+        reset_mesh_counters();
     }
     if (i < params.node_count) {
         atomicStore(&marks[i], EMPTY);
@@ -612,13 +597,7 @@ fn to_world(@builtin(global_invocation_id) id: vec3<u32>) {
     if (v >= vertex_count()) {
         return;
     }
-    let p = unproject(screen[params.smoothed_half + v].xyz);
-    let at = v * 8u;
-    vertices[at] = p.x;
-    vertices[at + 1u] = p.y;
-    vertices[at + 2u] = p.z;
-    vertices[at + 6u] = 0.0;
-    vertices[at + 7u] = 0.0;
+    set_mesh_position(v, unproject(screen[params.smoothed_half + v].xyz));
     for (var k = 0u; k < 3u; k++) {
         atomicStore(&marks[normal_sum(v) + k], 0u);
     }
@@ -659,8 +638,7 @@ fn accumulate_normals(@builtin(global_invocation_id) id: vec3<u32>) {
 fn finish(@builtin(global_invocation_id) id: vec3<u32>) {
     let v = thread(id);
     if (v == 0u) {
-        let n = atomicLoad(&counters.index_count);
-        atomicStore(&counters.index_count, min(n, params.index_capacity));
+        keep_indices_within(params.index_capacity);
     }
     if (v >= vertex_count()) {
         return;
@@ -674,9 +652,5 @@ fn finish(@builtin(global_invocation_id) id: vec3<u32>) {
     if (length(sum) > 0.0) {
         n = sum;
     }
-    n = normalize(n);
-    let at = v * 8u;
-    vertices[at + 3u] = n.x;
-    vertices[at + 4u] = n.y;
-    vertices[at + 5u] = n.z;
+    set_mesh_normal(v, normalize(n));
 }

@@ -137,25 +137,14 @@ impl LiquidSurface {
                 usage: wgpu::BufferUsages::STORAGE,
             })
         };
-        let cs = wgpu::ShaderStages::COMPUTE;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("liquid surface"),
-            entries: &[
-                uniform_entry(0, cs),
-                storage_entry(1, cs, true),
-                storage_entry(2, cs, false),
-                storage_entry(3, cs, false),
-                storage_entry(4, cs, false),
-                storage_entry(5, cs, false),
-                storage_entry(6, cs, false),
-                storage_entry(7, cs, true),
-                storage_entry(8, cs, false),
-            ],
-        });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("liquid surface"),
-            layout: &layout,
-            entries: &[
+        // Particles and the case table are read; the rest written.
+        let read_only = [true, false, false, false, false, false, true, false];
+        let layout = compute_buffers_layout(device, "liquid surface", &read_only);
+        let group = bind_buffers(
+            device,
+            "liquid surface",
+            &layout,
+            &[
                 &params,
                 particles,
                 &field,
@@ -165,15 +154,8 @@ impl LiquidSurface {
                 &counters,
                 &table,
                 &smoothed,
-            ]
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect::<Vec<_>>(),
-        });
+            ],
+        );
         let module = shader(device, "liquid surface", &source());
         let p = |entry| compute_pipeline(device, entry, &module, entry, &[&layout]);
         let ior = scene.water.ior;

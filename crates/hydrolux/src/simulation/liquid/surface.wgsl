@@ -8,7 +8,7 @@
 // derived table, indices into the edges' shared vertices) → finish (the
 // indexed indirect draw's count). Slots are taken with atomic counters, so
 // the vertices' order varies run to run but never the mesh.
-#import liquid_particle
+#import liquid_particle, liquid_mesh
 
 struct SurfaceParams {
     // The nodes' low corner (m), their spacing (m).
@@ -29,16 +29,6 @@ struct SurfaceParams {
     row: u32,
 }
 
-// The indexed indirect draw's arguments, then the vertices taken.
-struct Counters {
-    index_count: atomic<u32>,
-    instance_count: u32,
-    first_index: u32,
-    base_vertex: u32,
-    first_instance: u32,
-    vertex_count: atomic<u32>,
-}
-
 @group(0) @binding(0) var<uniform> params: SurfaceParams;
 @group(0) @binding(1) var<storage, read> particles: array<LiquidParticle>;
 @group(0) @binding(2) var<storage, read_write> field: array<atomic<u32>>;
@@ -46,7 +36,7 @@ struct Counters {
 // Eight floats a vertex: position, normal, uv (the meshes' layout).
 @group(0) @binding(4) var<storage, read_write> vertices: array<f32>;
 @group(0) @binding(5) var<storage, read_write> indices: array<u32>;
-@group(0) @binding(6) var<storage, read_write> counters: Counters;
+@group(0) @binding(6) var<storage, read_write> counters: MeshCounters;
 // Per case: its triangle count, then three cube edges per triangle.
 @group(0) @binding(7) var<storage, read> cases: array<u32>;
 // A smoothing round's output (copied back over the field after each axis).
@@ -82,12 +72,7 @@ fn value(p: vec3<u32>) -> f32 {
 fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = thread(id);
     if (i == 0u) {
-        atomicStore(&counters.index_count, 0u);
-        counters.instance_count = 1u;
-        counters.first_index = 0u;
-        counters.base_vertex = 0u;
-        counters.first_instance = 0u;
-        atomicStore(&counters.vertex_count, 0u);
+        reset_mesh_counters();
     }
     if (i < params.node_count) {
         atomicStore(&field[i], 0u);
@@ -201,15 +186,8 @@ fn emit_vertices(@builtin(global_invocation_id) id: vec3<u32>) {
         let position = mix(node_position(p), node_position(o), t);
         let g = mix(gradient(p), gradient(o), t);
         let normal = -g / max(length(g), 1e-20);
-        let at = slot * 8u;
-        vertices[at] = position.x;
-        vertices[at + 1u] = position.y;
-        vertices[at + 2u] = position.z;
-        vertices[at + 3u] = normal.x;
-        vertices[at + 4u] = normal.y;
-        vertices[at + 5u] = normal.z;
-        vertices[at + 6u] = 0.0;
-        vertices[at + 7u] = 0.0;
+        set_mesh_position(slot, position);
+        set_mesh_normal(slot, normal);
     }
 }
 
@@ -270,10 +248,7 @@ fn emit_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-// The draw covers the indices written (allocations past the buffer's end
-// were not).
 @compute @workgroup_size(1)
 fn finish() {
-    let n = atomicLoad(&counters.index_count);
-    atomicStore(&counters.index_count, min(n, params.index_capacity));
+    keep_indices_within(params.index_capacity);
 }
