@@ -275,7 +275,7 @@ uniform! { Object;
         pub tile_size: f32,
         pub pattern: u32,
         pub ior: f32,
-        pub open_thickness: f32,
+        pub _pad0: u32,
         pub _pad1: u32,
     }
 }

@@ -30,6 +30,14 @@
 //!    cuts where it starts and ends, is one polygon, fanned into triangles.
 //!    A run of empty corners makes nothing. Triangles wind counter-clockwise
 //!    on the screen, so they face the camera.
+//!    Each vertex but the outline's has a copy at the back of its layer
+//!    ([`splat_back`]: the farthest sphere back among the particles whose
+//!    front lies within z_max of the node's depth, filtered the same way),
+//!    and each triangle is repeated on the copies, wound the other way: a
+//!    back sheet that meets the front at the outline, so the mesh is a
+//!    closed shell with the liquid's thickness (the seed's method meshes
+//!    the front alone; the back sheet gives refraction its way out and
+//!    absorption its path length).
 //! 6. **Silhouette smoothing**: the front silhouette vertices, each joined
 //!    to the next along the outline by the squares' closing edges, are
 //!    moved n_iters times to the mean of themselves and those neighbours
@@ -207,25 +215,10 @@ pub fn project_all(
 pub fn splat_depth(grid: ScreenGrid, h: f32, radius: f32, particles: &[Projected]) -> Vec<f32> {
     let mut depth = vec![f32::INFINITY; grid.node_count()];
     for p in particles {
-        let i0 = ((p.x - p.rx) / h).ceil().max(0.0) as usize;
-        let i1 = ((p.x + p.rx) / h).floor().min(grid.nx as f32 - 1.0);
-        let j0 = ((p.y - p.ry) / h).ceil().max(0.0) as usize;
-        let j1 = ((p.y + p.ry) / h).floor().min(grid.ny as f32 - 1.0);
-        if i1 < 0.0 || j1 < 0.0 {
-            continue;
-        }
-        for j in j0..=j1 as usize {
-            for i in i0..=i1 as usize {
-                let dx = (i as f32 * h - p.x) / p.rx;
-                let dy = (j as f32 * h - p.y) / p.ry;
-                let d2 = dx * dx + dy * dy;
-                if d2 <= 1.0 {
-                    let z = (p.z - radius * (1.0 - d2).sqrt()).max(MIN_DEPTH);
-                    let n = grid.node(i, j);
-                    depth[n] = depth[n].min(z);
-                }
-            }
-        }
+        for_each_covered_node(grid, h, p, |n, reach| {
+            let z = (p.z - radius * reach).max(MIN_DEPTH);
+            depth[n] = depth[n].min(z);
+        });
     }
     depth
 }
@@ -364,8 +357,59 @@ pub fn smooth_pass(
 
 /// The depth filter, across then down (§3.2.6).
 pub fn smooth_depth(grid: ScreenGrid, raw: &[f32], n: u32, z_max: f32) -> Vec<f32> {
-    let across = smooth_pass(grid, raw, raw, n, z_max, true);
+    smooth_map(grid, raw, raw, n, z_max)
+}
+
+/// The depth filter over `values` (a map of the same nodes as `raw`), its
+/// layers those of `raw`.
+pub fn smooth_map(grid: ScreenGrid, raw: &[f32], values: &[f32], n: u32, z_max: f32) -> Vec<f32> {
+    let across = smooth_pass(grid, raw, values, n, z_max, true);
     smooth_pass(grid, raw, &across, n, z_max, false)
+}
+
+/// The back of the front layer: at each filled node, the farthest back of
+/// the spheres whose front there lies within z_max of the node's depth
+/// (the front layer's particles, not those of a layer behind it); 0 where
+/// the node is empty.
+pub fn splat_back(
+    grid: ScreenGrid,
+    h: f32,
+    radius: f32,
+    z_max: f32,
+    particles: &[Projected],
+    raw: &[f32],
+) -> Vec<f32> {
+    let mut back = vec![0.0f32; grid.node_count()];
+    for p in particles {
+        for_each_covered_node(grid, h, p, |n, reach| {
+            let front = (p.z - radius * reach).max(MIN_DEPTH);
+            if front <= raw[n] + z_max {
+                back[n] = back[n].max(p.z + radius * reach);
+            }
+        });
+    }
+    back
+}
+
+/// Each node within particle `p`'s circle, with √(1 − d²/r_p²) there.
+fn for_each_covered_node(grid: ScreenGrid, h: f32, p: &Projected, mut f: impl FnMut(usize, f32)) {
+    let i0 = ((p.x - p.rx) / h).ceil().max(0.0) as usize;
+    let i1 = ((p.x + p.rx) / h).floor().min(grid.nx as f32 - 1.0);
+    let j0 = ((p.y - p.ry) / h).ceil().max(0.0) as usize;
+    let j1 = ((p.y + p.ry) / h).floor().min(grid.ny as f32 - 1.0);
+    if i1 < 0.0 || j1 < 0.0 {
+        return;
+    }
+    for j in j0..=j1 as usize {
+        for i in i0..=i1 as usize {
+            let dx = (i as f32 * h - p.x) / p.rx;
+            let dy = (j as f32 * h - p.y) / p.ry;
+            let d2 = dx * dx + dy * dy;
+            if d2 <= 1.0 {
+                f(grid.node(i, j), (1.0 - d2).sqrt());
+            }
+        }
+    }
 }
 
 /// What a vertex is.
@@ -378,6 +422,9 @@ pub enum VertexKind {
     /// On a silhouette edge between two filled nodes, with the back
     /// layer's depth.
     Back,
+    /// The back sheet's copy of the vertex before it (the same pixel, the
+    /// depth of the back of its layer).
+    Sheet,
 }
 
 /// The mesh, with its vertices on the screen as well as in the world.
@@ -387,6 +434,8 @@ pub struct ScreenMesh {
     /// (x_p, y_p, z_p) of each vertex after silhouette smoothing.
     pub screen: Vec<[f32; 3]>,
     pub kinds: Vec<VertexKind>,
+    /// The front sheet's indices: the mesh's first, the back sheet's after.
+    pub front_indices: usize,
     /// The world-space mesh (positions by eq. 25–26, normals from its
     /// triangles).
     pub mesh: SurfaceMesh,
@@ -459,16 +508,20 @@ pub fn mesh(view: &ScreenView, params: &ScreenMeshParams, particles: &[[f32; 3]]
     let silhouette = silhouette_edges(grid, &raw, params.depth_threshold);
     let cuts = silhouette_cuts(grid, h, &projected, &raw, &silhouette);
     let depth = smooth_depth(grid, &raw, params.filter, params.depth_threshold);
+    let far = splat_back(grid, h, params.radius, params.depth_threshold, &projected, &raw);
+    let far = smooth_map(grid, &raw, &far, params.filter, params.depth_threshold);
 
-    // Vertices: the filled nodes, then each silhouette edge's one or two.
+    // Vertices: the filled nodes, then each silhouette edge's one or two,
+    // each but the outline's followed by its back-sheet copy.
     let mut screen = Vec::new();
     let mut kinds = Vec::new();
     let mut node_vertex = vec![NONE; grid.node_count()];
     for (n, z) in depth.iter().enumerate() {
         if z.is_finite() {
             node_vertex[n] = screen.len() as u32;
-            screen.push([(n % nx) as f32 * h, (n / nx) as f32 * h, *z]);
-            kinds.push(VertexKind::Node);
+            let (x, y) = ((n % nx) as f32 * h, (n / nx) as f32 * h);
+            screen.extend([[x, y, *z], [x, y, far[n]]]);
+            kinds.extend([VertexKind::Node, VertexKind::Sheet]);
         }
     }
     let mut edge_vertex = vec![[NONE; 2]; grid.edge_count()];
@@ -486,9 +539,10 @@ pub fn mesh(view: &ScreenView, params: &ScreenMeshParams, particles: &[[f32; 3]]
         screen.push([xy[0], xy[1], depth[front]]);
         kinds.push(VertexKind::Front);
         if raw[back].is_finite() {
+            screen.push([xy[0], xy[1], far[front]]);
             edge_vertex[e][1] = screen.len() as u32;
-            screen.push([xy[0], xy[1], depth[back]]);
-            kinds.push(VertexKind::Back);
+            screen.extend([[xy[0], xy[1], depth[back]], [xy[0], xy[1], far[back]]]);
+            kinds.extend([VertexKind::Sheet, VertexKind::Back, VertexKind::Sheet]);
         }
     }
     // The vertex on edge `e` for the polygon on node `n`'s side.
@@ -531,8 +585,22 @@ pub fn mesh(view: &ScreenView, params: &ScreenMeshParams, particles: &[[f32; 3]]
         }
     }
 
+    // The back sheet: each triangle again on the vertices' copies (the
+    // outline's own vertices, which have none, close it), wound the other
+    // way so it faces away from the camera.
+    let sheet = |v: u32| {
+        let copy = v as usize + 1;
+        if kinds.get(copy) == Some(&VertexKind::Sheet) { copy as u32 } else { v }
+    };
+    let front_indices = indices.len();
+    for t in 0..front_indices / 3 {
+        let [a, b, c] = [0, 1, 2].map(|k| indices[3 * t + k]);
+        indices.extend([sheet(a), sheet(c), sheet(b)]);
+    }
+
     // Silhouette smoothing: the front silhouette's vertices to the mean of
-    // themselves and their neighbours along it.
+    // themselves and their neighbours along it (the back sheet's copies
+    // follow them).
     for _ in 0..params.silhouette_iterations {
         let before = screen.clone();
         for (v, l) in links.iter().enumerate() {
@@ -549,12 +617,24 @@ pub fn mesh(view: &ScreenView, params: &ScreenMeshParams, particles: &[[f32; 3]]
             screen[v][0] = sum[0] / count;
             screen[v][1] = sum[1] / count;
         }
+        for v in 1..screen.len() {
+            if kinds[v] == VertexKind::Sheet {
+                screen[v][0] = screen[v - 1][0];
+                screen[v][1] = screen[v - 1][1];
+            }
+        }
     }
 
     let positions: Vec<[f32; 3]> =
         screen.iter().map(|s| view.unproject(s[0], s[1], s[2]).to_array()).collect();
     let normals = vertex_normals(view, &screen, &positions, &indices);
-    ScreenMesh { grid, screen, kinds, mesh: SurfaceMesh { positions, normals, indices } }
+    ScreenMesh {
+        grid,
+        screen,
+        kinds,
+        front_indices,
+        mesh: SurfaceMesh { positions, normals, indices },
+    }
 }
 
 /// Each vertex's normal: the sum of its triangles' unit normals; a vertex
@@ -646,12 +726,20 @@ mod tests {
         let m = mesh(&v, &params(r), &[at(32.0, 32.0, z)]);
         assert_eq!(m.kinds.iter().filter(|k| **k == VertexKind::Node).count(), 1);
         assert_eq!(m.kinds.iter().filter(|k| **k == VertexKind::Front).count(), 4);
-        assert_eq!(m.mesh.indices.len(), 12);
+        // Four triangles in front, four behind on the back sheet.
+        assert_eq!((m.front_indices, m.mesh.indices.len()), (12, 24));
         let node = m.screen[0];
         assert_eq!([node[0], node[1]], [32.0, 32.0]);
         assert!((node[2] - (z - r)).abs() < 1e-5);
-        let mut offsets: Vec<(i32, i32)> = m.screen[1..]
+        // Its back-sheet copy is at the back of the sphere.
+        assert_eq!(m.kinds[1], VertexKind::Sheet);
+        assert!((m.screen[1][2] - (z + r)).abs() < 1e-5);
+        let mut offsets: Vec<(i32, i32)> = m
+            .screen
             .iter()
+            .zip(&m.kinds)
+            .filter(|(_, k)| **k == VertexKind::Front)
+            .map(|(s, _)| s)
             .map(|s| {
                 (((s[0] - 32.0) * 100.0).round() as i32, ((s[1] - 32.0) * 100.0).round() as i32)
             })
@@ -659,9 +747,10 @@ mod tests {
         offsets.sort();
         assert_eq!(offsets, vec![(-240, 0), (0, -240), (0, 240), (240, 0)]);
         // Every triangle faces the camera (+z here) and is wound so.
-        for (t, n) in m.mesh.triangles().zip(m.mesh.indices.chunks(3)) {
+        for (k, t) in m.mesh.triangles().enumerate() {
             let [a, b, c] = t.map(Vec3::from);
-            assert!((b - a).cross(c - a).z > 0.0, "{n:?}");
+            let towards = (b - a).cross(c - a).z > 0.0;
+            assert_eq!(towards, 3 * k < m.front_indices, "triangle {k}");
         }
         // One round of silhouette smoothing: the right vertex (2.4, 0) to
         // the mean of itself and the top and bottom ones, (0.8, 0).
@@ -714,8 +803,15 @@ mod tests {
         let backs: Vec<usize> =
             (0..m.kinds.len()).filter(|&k| m.kinds[k] == VertexKind::Back).collect();
         assert_eq!(backs.len(), 1, "only the edge (9, 8)–(10, 8) joins two filled layers");
-        let (back, front) = (backs[0], backs[0] - 1);
+        let (back, front) = (backs[0], backs[0] - 2);
         assert_eq!(m.kinds[front], VertexKind::Front);
+        assert_eq!((m.kinds[front + 1], m.kinds[back + 1]), (VertexKind::Sheet, VertexKind::Sheet));
+        // The back sheet's copies: the back of each layer's spheres.
+        assert!(
+            (m.screen[front + 1][2] - (2.0 + 0.3 * (1.0f32 - (4.0f32 / 4.8).powi(2)).sqrt())).abs()
+                < 1e-4
+        );
+        assert!((m.screen[back + 1][2] - 4.3).abs() < 1e-5);
         assert!((m.screen[front][0] - 36.8).abs() < 1e-3 && m.screen[front][1] == 32.0);
         assert_eq!(m.screen[front][..2], m.screen[back][..2]);
         assert!((m.screen[front][2] - side).abs() < 1e-5);
@@ -753,11 +849,17 @@ mod tests {
                 assert!((-pos[2] - (z - s)).abs() < 0.2 * s, "{pos:?}");
             }
         }
-        for n in &m.mesh.normals {
-            assert!(n[2] > 0.9, "{n:?}");
+        for (n, pos) in m.mesh.normals.iter().zip(&m.mesh.positions) {
+            if pos[0].abs() < 0.4 && pos[1].abs() < 0.4 {
+                let kind = m.kinds[m.mesh.positions.iter().position(|p| p == pos).unwrap()];
+                let facing = if kind == VertexKind::Sheet { -n[2] } else { n[2] };
+                assert!(facing > 0.9, "{kind:?} {n:?}");
+            }
         }
         // The wall spans 20 s + 2 r = 1.1 m on a side (its circles' outline).
-        let area = m.mesh.area();
+        let front =
+            SurfaceMesh { indices: m.mesh.indices[..m.front_indices].to_vec(), ..m.mesh.clone() };
+        let area = front.area();
         assert!((area - 1.1 * 1.1).abs() < 0.1 * 1.21, "{area}");
         // Consistently wound: an inside edge is used once each way.
         let mut edges = std::collections::HashMap::new();
@@ -767,6 +869,8 @@ mod tests {
             }
         }
         assert!(edges.values().all(|&c| c == 1), "no edge is used twice in one direction");
+        // Front and back sheet meet at the outline: the shell is closed.
+        assert!(edges.keys().all(|(a, b)| edges.contains_key(&(*b, *a))), "an open edge");
     }
 
     #[test]

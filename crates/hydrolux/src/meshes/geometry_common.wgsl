@@ -19,10 +19,7 @@ struct Object {
     // Pattern (0 none, 1 tiles, 2 checker); index of refraction (0: opaque).
     pattern: u32,
     ior: f32,
-    // A mesh with no back faces (the liquid's screen-space mesh): the
-    // thickness (m) it stands for at most where none lies behind it (0: a
-    // closed mesh).
-    open_thickness: f32,
+    _pad0: u32,
     _pad1: u32,
 }
 

@@ -309,7 +309,7 @@ impl GeometryPass {
                 tile_size: m.tile_size,
                 pattern: crate::modes::pattern(m.pattern),
                 ior: m.ior,
-                open_thickness: 0.0,
+                _pad0: 0,
                 _pad1: 0,
             };
             let buffer = uniform_buffer(device, &o.name, &u);
@@ -436,7 +436,6 @@ impl GeometryPass {
         device: &wgpu::Device,
         label: &str,
         ior: f32,
-        open_thickness: f32,
     ) -> wgpu::BindGroup {
         let identity = glam::Mat4::IDENTITY;
         let u = ObjectUniforms {
@@ -448,7 +447,7 @@ impl GeometryPass {
             tile_size: 1.0,
             pattern: 0,
             ior,
-            open_thickness,
+            _pad0: 0,
             _pad1: 0,
         };
         let buffer = uniform_buffer(device, label, &u);

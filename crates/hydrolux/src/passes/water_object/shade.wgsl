@@ -83,14 +83,7 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
         * vec4<f32>(2.0 * uv_here.x - 1.0, 1.0 - 2.0 * uv_here.y, max(z_here, 1e-7), 1.0);
     let to_scene = select(1e9, distance(h_here.xyz / h_here.w, eye), z_here > 0.0);
     let front = distance(in.world, eye);
-    let back = textureLoad(back_tex, px, 0).w;
-    var thickness = clamp(back - front, 0.005, max(to_scene - front, 0.005));
-    // A mesh of the front alone (the liquid's screen-space mesh, seed 003
-    // §3.2): with no back face behind, the liquid reaches the scene behind,
-    // within its box.
-    if (object.open_thickness > 0.0 && back <= front) {
-        thickness = clamp(to_scene - front, 0.005, object.open_thickness);
-    }
+    let thickness = clamp(textureLoad(back_tex, px, 0).w - front, 0.005, max(to_scene - front, 0.005));
     let p1 = in.world + t1 * thickness;
     let at_exit = screen_uv(p1);
     let exit_texel = texel_at(at_exit.xy, size);

@@ -76,6 +76,7 @@ pub(crate) struct ScreenMeshSurface {
     pub view: Option<ScreenView>,
     clear: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
+    splat_back: wgpu::ComputePipeline,
     classify: wgpu::ComputePipeline,
     cut: wgpu::ComputePipeline,
     smooth: [wgpu::ComputePipeline; 2],
@@ -87,11 +88,6 @@ pub(crate) struct ScreenMeshSurface {
     finish: wgpu::ComputePipeline,
     /// The mesh as an object (identity, the water's index) for the draws.
     object_group: wgpu::BindGroup,
-}
-
-/// The liquid box's diagonal (m): the most liquid a ray can cross.
-fn extent(f: &hydrolux_core::scene::FluidDesc) -> f32 {
-    (0..3).map(|a| (f.max[a] - f.min[a]).powi(2)).sum::<f32>().sqrt()
 }
 
 impl ScreenMeshSurface {
@@ -141,6 +137,7 @@ impl ScreenMeshSurface {
             view: None,
             clear: p("clear"),
             splat: p("splat"),
+            splat_back: p("splat_back"),
             classify: p("classify"),
             cut: p("cut"),
             smooth: [p("smooth_x"), p("smooth_y")],
@@ -151,13 +148,10 @@ impl ScreenMeshSurface {
             accumulate_normals: p("accumulate_normals"),
             finish: p("finish"),
             layout,
-            // Only the front is meshed: behind it the liquid reaches the
-            // scene behind, within the liquid's box.
             object_group: shared.meshes.plain_object_group(
                 device,
                 "liquid screen mesh",
                 scene.water.ior,
-                extent(&scene.fluid),
             ),
         }
     }
@@ -172,11 +166,12 @@ impl ScreenMeshSurface {
         let (nx, ny) = view.nodes(self.params.spacing);
         let grid = ScreenGrid { nx: nx.max(2), ny: ny.max(2) };
         let (n, e) = (grid.node_count() as u32, grid.edge_count() as u32);
-        // Every node filled and a silhouette vertex on one edge in four is
-        // far more than a liquid covers; a square makes two triangles but
-        // for its silhouettes. Within the 128 MiB a binding may be.
-        let vertex_capacity = (n + n / 2).min(3 << 20);
-        let index_capacity = (n * 9).min(24 << 20);
+        // Every node filled (two vertices each, front and back sheet) and a
+        // silhouette vertex on one edge in four is far more than a liquid
+        // covers; a square makes two triangles a sheet but for its
+        // silhouettes. Within the 128 MiB a binding may be.
+        let vertex_capacity = (3 * n).min(3 << 20);
+        let index_capacity = (n * 18).min(24 << 20);
         let u = &mut self.uniforms;
         u.screen = [size.0 as f32, size.1 as f32];
         u.nodes = [grid.nx as u32, grid.ny as u32];
@@ -188,9 +183,13 @@ impl ScreenMeshSurface {
         u.smoothed_half = vertex_capacity * (self.params.silhouette_iterations % 2);
         let none = wgpu::BufferUsages::empty();
         let words = |count: u32| count as u64 * 4;
-        let marks =
-            storage_buffer(device, "liquid screen marks", words(n + e + 3 * vertex_capacity), none);
-        let depths = storage_buffer(device, "liquid screen depths", words(2 * n), none);
+        let marks = storage_buffer(
+            device,
+            "liquid screen marks",
+            words(2 * n + e + 3 * vertex_capacity),
+            none,
+        );
+        let depths = storage_buffer(device, "liquid screen depths", words(4 * n), none);
         let maps = storage_buffer(
             device,
             "liquid screen maps",
@@ -280,6 +279,7 @@ impl ScreenMeshSurface {
             &[
                 (&self.clear, clear),
                 (&self.splat, particles),
+                (&self.splat_back, particles),
                 (&self.classify, edges),
                 (&self.cut, particles),
                 (&self.smooth[0], nodes),

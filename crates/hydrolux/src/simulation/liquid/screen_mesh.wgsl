@@ -42,11 +42,13 @@ struct ScreenMeshParams {
 
 @group(0) @binding(0) var<uniform> params: ScreenMeshParams;
 @group(0) @binding(1) var<storage, read> particles: array<LiquidParticle>;
-// The nodes' depth bits (EMPTY: none), then each edge's mark (0: not a
-// silhouette; 1: one, uncut; 2 + q: cut at q/65535 from its front node),
-// then three fixed-point normal sums per vertex.
+// The nodes' depth bits (EMPTY: none), then the back of their layer's
+// bits (0: none), then each edge's mark (0: not a silhouette; 1: one,
+// uncut; 2 + q: cut at q/65535 from its front node), then three
+// fixed-point normal sums per vertex.
 @group(0) @binding(2) var<storage, read_write> marks: array<atomic<u32>>;
-// The filtered depths: across, then across and down.
+// The filtered depths (across, then across and down), then the filtered
+// backs (the same).
 @group(0) @binding(3) var<storage, read_write> depths: array<f32>;
 // Vertex of each node, two of each edge (front, back), then two silhouette
 // links per vertex.
@@ -64,6 +66,8 @@ const EMPTY: u32 = 0xffffffffu;
 const KIND_NODE: f32 = 0.0;
 const KIND_FRONT: f32 = 1.0;
 const KIND_BACK: f32 = 2.0;
+// The back sheet's copy of the vertex before it.
+const KIND_SHEET: f32 = 3.0;
 const CUT_STEPS: f32 = 65535.0;
 // Units of a normal sum per unit normal.
 const NORMAL_FIXED_POINT: f32 = 16384.0;
@@ -114,8 +118,16 @@ fn raw_depth(n: u32) -> f32 {
     return bitcast<f32>(raw_bits(n));
 }
 
+fn back_at(n: u32) -> u32 {
+    return params.node_count + n;
+}
+
+fn edge_at(e: u32) -> u32 {
+    return 2u * params.node_count + e;
+}
+
 fn edge_mark(e: u32) -> u32 {
-    return atomicLoad(&marks[params.node_count + e]);
+    return atomicLoad(&marks[edge_at(e)]);
 }
 
 // Whether the edge's second node is its front (nearer) one; an empty
@@ -185,39 +197,80 @@ fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     if (i < params.node_count) {
         atomicStore(&marks[i], EMPTY);
+        atomicStore(&marks[back_at(i)], 0u);
     }
     if (i < params.edge_count) {
-        atomicStore(&marks[params.node_count + i], 0u);
+        atomicStore(&marks[edge_at(i)], 0u);
     }
     if (i < params.node_count + 2u * params.edge_count) {
         maps[i] = NONE;
     }
 }
 
+// The nodes in particle `p`'s circle: their range, clamped to the map.
+struct Covered {
+    ok: bool,
+    lo: vec2<u32>,
+    hi: vec2<u32>,
+}
+
+fn covered(p: Projected) -> Covered {
+    var c: Covered;
+    let h = params.h;
+    let last = vec2<f32>(params.nodes) - 1.0;
+    let i1 = min(floor((p.x + p.rx) / h), last.x);
+    let j1 = min(floor((p.y + p.ry) / h), last.y);
+    c.ok = i1 >= 0.0 && j1 >= 0.0;
+    c.lo = vec2<u32>(u32(max(ceil((p.x - p.rx) / h), 0.0)), u32(max(ceil((p.y - p.ry) / h), 0.0)));
+    c.hi = vec2<u32>(u32(max(i1, 0.0)), u32(max(j1, 0.0)));
+    return c;
+}
+
+// √(1 − d²/r_p²) at node (i, j), negative outside the circle.
+fn reach(p: Projected, i: u32, j: u32) -> f32 {
+    let dx = (f32(i) * params.h - p.x) / p.rx;
+    let dy = (f32(j) * params.h - p.y) / p.ry;
+    let d2 = dx * dx + dy * dy;
+    return select(-1.0, sqrt(max(1.0 - d2, 0.0)), d2 <= 1.0);
+}
+
 // Eq. 24: each particle's sphere front on the nodes in its circle.
 @compute @workgroup_size(64)
 fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = project(thread(id));
-    if (!p.ok) {
+    let c = covered(p);
+    if (!p.ok || !c.ok) {
         return;
     }
-    let h = params.h;
-    let last = vec2<f32>(params.nodes) - 1.0;
-    let i0 = u32(max(ceil((p.x - p.rx) / h), 0.0));
-    let i1 = min(floor((p.x + p.rx) / h), last.x);
-    let j0 = u32(max(ceil((p.y - p.ry) / h), 0.0));
-    let j1 = min(floor((p.y + p.ry) / h), last.y);
-    if (i1 < 0.0 || j1 < 0.0) {
-        return;
-    }
-    for (var j = j0; j <= u32(j1); j++) {
-        for (var i = i0; i <= u32(i1); i++) {
-            let dx = (f32(i) * h - p.x) / p.rx;
-            let dy = (f32(j) * h - p.y) / p.ry;
-            let d2 = dx * dx + dy * dy;
-            if (d2 <= 1.0) {
-                let z = max(p.z - params.radius * sqrt(1.0 - d2), params.min_depth);
+    for (var j = c.lo.y; j <= c.hi.y; j++) {
+        for (var i = c.lo.x; i <= c.hi.x; i++) {
+            let k = reach(p, i, j);
+            if (k >= 0.0) {
+                let z = max(p.z - params.radius * k, params.min_depth);
                 atomicMin(&marks[node(i, j)], bitcast<u32>(z));
+            }
+        }
+    }
+}
+
+// The back of the front layer: the farthest sphere back among the
+// particles whose front lies within z_max of the node's depth.
+@compute @workgroup_size(64)
+fn splat_back(@builtin(global_invocation_id) id: vec3<u32>) {
+    let p = project(thread(id));
+    let c = covered(p);
+    if (!p.ok || !c.ok) {
+        return;
+    }
+    for (var j = c.lo.y; j <= c.hi.y; j++) {
+        for (var i = c.lo.x; i <= c.hi.x; i++) {
+            let k = reach(p, i, j);
+            let n = node(i, j);
+            if (k >= 0.0) {
+                let front = max(p.z - params.radius * k, params.min_depth);
+                if (front <= raw_depth(n) + params.depth_threshold) {
+                    atomicMax(&marks[back_at(n)], bitcast<u32>(p.z + params.radius * k));
+                }
             }
         }
     }
@@ -237,7 +290,7 @@ fn classify(@builtin(global_invocation_id) id: vec3<u32>) {
         silhouette = abs(raw_depth(ends.x) - raw_depth(ends.y)) > params.depth_threshold;
     }
     if (silhouette) {
-        atomicStore(&marks[params.node_count + e], 1u);
+        atomicStore(&marks[edge_at(e)], 1u);
     }
 }
 
@@ -257,7 +310,7 @@ fn offer_cut(e: u32, along: f32, z: f32) {
         t = 1.0 - along;
     }
     let q = u32(floor(clamp(t, 0.0, 1.0) * CUT_STEPS));
-    atomicMax(&marks[params.node_count + e], 2u + q);
+    atomicMax(&marks[edge_at(e)], 2u + q);
 }
 
 // Fig. 12–13: each particle cuts the silhouette edges its circle crosses.
@@ -322,7 +375,12 @@ fn binomial(n: u32, k: u32) -> f32 {
 
 // §3.2.6: the filter along x or y over filled nodes, from neighbours of
 // the same layer (within z_max in the raw depths).
-fn smooth_along(c: u32, along_x: bool, from_raw: bool) -> f32 {
+// The values a pass filters: SOURCE_RAW the depth bits, SOURCE_BACK the
+// backs' bits, otherwise `depths` from that offset.
+const SOURCE_RAW: u32 = 0xffffffffu;
+const SOURCE_BACK: u32 = 0xfffffffeu;
+
+fn smooth_along(c: u32, along_x: bool, source: u32) -> f32 {
     let zc = raw_depth(c);
     let n = i32(params.filter_half_length);
     let ci = i32(c % params.nodes.x);
@@ -345,9 +403,13 @@ fn smooth_along(c: u32, along_x: bool, from_raw: bool) -> f32 {
             continue;
         }
         let w = binomial(params.filter_half_length, u32(k + n));
-        var v = depths[m];
-        if (from_raw) {
+        var v: f32;
+        if (source == SOURCE_RAW) {
             v = raw_depth(m);
+        } else if (source == SOURCE_BACK) {
+            v = bitcast<f32>(atomicLoad(&marks[back_at(m)]));
+        } else {
+            v = depths[source + m];
         }
         sum += w * v;
         weight += w;
@@ -361,7 +423,8 @@ fn smooth_x(@builtin(global_invocation_id) id: vec3<u32>) {
     if (c >= params.node_count || !filled(c)) {
         return;
     }
-    depths[c] = smooth_along(c, true, true);
+    depths[c] = smooth_along(c, true, SOURCE_RAW);
+    depths[2u * params.node_count + c] = smooth_along(c, true, SOURCE_BACK);
 }
 
 @compute @workgroup_size(64)
@@ -370,11 +433,17 @@ fn smooth_y(@builtin(global_invocation_id) id: vec3<u32>) {
     if (c >= params.node_count || !filled(c)) {
         return;
     }
-    depths[params.node_count + c] = smooth_along(c, false, false);
+    let n = params.node_count;
+    depths[n + c] = smooth_along(c, false, 0u);
+    depths[3u * n + c] = smooth_along(c, false, 2u * n);
 }
 
 fn smoothed(n: u32) -> f32 {
     return depths[params.node_count + n];
+}
+
+fn smoothed_back(n: u32) -> f32 {
+    return depths[3u * params.node_count + n];
 }
 
 fn put_vertex(slot: u32, s: vec4<f32>) {
@@ -394,10 +463,12 @@ fn emit_vertices(@builtin(global_invocation_id) id: vec3<u32>) {
         if (!filled(i)) {
             return;
         }
-        let slot = atomicAdd(&counters.vertex_count, 1u);
-        if (slot < params.vertex_capacity) {
+        // The node and its back-sheet copy.
+        let slot = atomicAdd(&counters.vertex_count, 2u);
+        if (slot + 2u <= params.vertex_capacity) {
             maps[i] = slot;
             put_vertex(slot, vec4<f32>(node_xy(i), smoothed(i), KIND_NODE));
+            put_vertex(slot + 1u, vec4<f32>(node_xy(i), smoothed_back(i), KIND_SHEET));
         }
         return;
     }
@@ -421,17 +492,22 @@ fn emit_vertices(@builtin(global_invocation_id) id: vec3<u32>) {
         t = f32(mark - 2u) / CUT_STEPS;
     }
     let xy = mix(node_xy(front), node_xy(back), t);
+    // The outline's vertex alone (front and back sheet meet there); between
+    // two layers each layer's vertex and its copy.
     let two = filled(back);
-    let slot = atomicAdd(&counters.vertex_count, select(1u, 2u, two));
-    if (slot + select(1u, 2u, two) > params.vertex_capacity) {
+    let count = select(1u, 4u, two);
+    let slot = atomicAdd(&counters.vertex_count, count);
+    if (slot + count > params.vertex_capacity) {
         return;
     }
     let at = params.node_count + 2u * e;
     maps[at] = slot;
     put_vertex(slot, vec4<f32>(xy, smoothed(front), KIND_FRONT));
     if (two) {
-        maps[at + 1u] = slot + 1u;
-        put_vertex(slot + 1u, vec4<f32>(xy, smoothed(back), KIND_BACK));
+        put_vertex(slot + 1u, vec4<f32>(xy, smoothed_back(front), KIND_SHEET));
+        maps[at + 1u] = slot + 2u;
+        put_vertex(slot + 2u, vec4<f32>(xy, smoothed(back), KIND_BACK));
+        put_vertex(slot + 3u, vec4<f32>(xy, smoothed_back(back), KIND_SHEET));
     }
 }
 
@@ -477,6 +553,22 @@ fn put_triangle(at: u32, a: u32, b: u32, c: u32) {
     indices[at + 2u] = select(0u, c, kept);
 }
 
+// The back sheet's copy of vertex `v` (taken with it, just after it), or
+// `v` itself on the outline.
+fn sheet(v: u32) -> u32 {
+    if (v != NONE && v + 1u < vertex_count() && kind(v + 1u) == KIND_SHEET) {
+        return v + 1u;
+    }
+    return v;
+}
+
+// A front triangle at `at` and its back-sheet twin, wound the other way,
+// after it.
+fn put_triangles(at: u32, a: u32, b: u32, c: u32) {
+    put_triangle(at, a, b, c);
+    put_triangle(at + 3u, sheet(a), sheet(c), sheet(b));
+}
+
 // Fig. 14: the square's boundary splits at its cut edges into runs of
 // corners; each run of filled corners, closed by the vertices on the cuts
 // it starts and ends on, is a polygon fanned into triangles.
@@ -506,9 +598,9 @@ fn emit_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             poly[c] = maps[n];
         }
-        let at = atomicAdd(&counters.index_count, 6u);
-        put_triangle(at, poly[0], poly[1], poly[2]);
-        put_triangle(at + 3u, poly[0], poly[2], poly[3]);
+        let at = atomicAdd(&counters.index_count, 12u);
+        put_triangles(at, poly[0], poly[1], poly[2]);
+        put_triangles(at + 6u, poly[0], poly[2], poly[3]);
         return;
     }
     let links = params.node_count + 2u * params.edge_count;
@@ -532,9 +624,9 @@ fn emit_triangles(@builtin(global_invocation_id) id: vec3<u32>) {
         let leaving = k;
         poly[len] = side_vertex(square_edge(i, j, leaving), square_corner(i, j, leaving));
         len += 1u;
-        let at = atomicAdd(&counters.index_count, 3u * (len - 2u));
+        let at = atomicAdd(&counters.index_count, 6u * (len - 2u));
         for (var t = 1u; t + 1u < len; t++) {
-            put_triangle(at + 3u * (t - 1u), poly[0], poly[t], poly[t + 1u]);
+            put_triangles(at + 6u * (t - 1u), poly[0], poly[t], poly[t + 1u]);
         }
         // The closing edge joins two front silhouette vertices: they are
         // neighbours along the silhouette. Slot: which of the edge's two
@@ -553,27 +645,38 @@ fn vertex_count() -> u32 {
     return min(atomicLoad(&counters.vertex_count), params.vertex_capacity);
 }
 
-// One round of silhouette smoothing from one half of `screen` to the other.
+// Vertex `v` after a round of silhouette smoothing over `read_half`: a
+// front silhouette vertex to the mean of itself and its neighbours.
+fn smoothed_xy(v: u32, read_half: u32) -> vec2<f32> {
+    let s = screen[read_half + v];
+    if (s.w != KIND_FRONT) {
+        return s.xy;
+    }
+    var sum = s.xy;
+    var count = 1.0;
+    let links = params.node_count + 2u * params.edge_count + 2u * v;
+    for (var k = 0u; k < 2u; k++) {
+        let n = maps[links + k];
+        if (n != NONE) {
+            sum += screen[read_half + n].xy;
+            count += 1.0;
+        }
+    }
+    return sum / count;
+}
+
+// One round of silhouette smoothing from one half of `screen` to the
+// other; a back-sheet copy follows the vertex before it.
 fn smooth_silhouette(v: u32, read_half: u32, write_half: u32) {
     if (v >= vertex_count()) {
         return;
     }
     let s = screen[read_half + v];
-    var out = s;
-    if (s.w == KIND_FRONT) {
-        var sum = s.xy;
-        var count = 1.0;
-        let links = params.node_count + 2u * params.edge_count + 2u * v;
-        for (var k = 0u; k < 2u; k++) {
-            let n = maps[links + k];
-            if (n != NONE) {
-                sum += screen[read_half + n].xy;
-                count += 1.0;
-            }
-        }
-        out = vec4<f32>(sum / count, s.zw);
+    var xy = smoothed_xy(v, read_half);
+    if (s.w == KIND_SHEET) {
+        xy = smoothed_xy(v - 1u, read_half);
     }
-    screen[write_half + v] = out;
+    screen[write_half + v] = vec4<f32>(xy, s.zw);
 }
 
 @compute @workgroup_size(64)
@@ -587,7 +690,7 @@ fn silhouette_back(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 fn normal_sum(v: u32) -> u32 {
-    return params.node_count + params.edge_count + 3u * v;
+    return 2u * params.node_count + params.edge_count + 3u * v;
 }
 
 // Eq. 25–26: each vertex back to the world; its normal's sum emptied.

@@ -175,7 +175,7 @@ impl LiquidSurface {
             indices,
             counters,
             group,
-            object_group: shared.meshes.plain_object_group(device, "liquid surface", ior, 0.0),
+            object_group: shared.meshes.plain_object_group(device, "liquid surface", ior),
         }
     }
 
