@@ -248,7 +248,7 @@ fn fluid_dumps_hold_the_particles_and_the_cells() {
 }
 
 #[test]
-fn the_screen_mesh_dump_is_the_front_the_camera_sees() {
+fn the_screen_mesh_dump_is_the_liquid_the_camera_sees() {
     // The same coarse dam break drawn by a screen-space mesh: the dump is
     // the mesh the frame drew, every corner on the liquid's side of the
     // camera and within the tank (plus a particle radius).

@@ -394,7 +394,7 @@ impl Liquid {
         } else {
             let r = self.read_screen_mesh(ctx.device, ctx.queue).ok_or_else(unmeshed)?;
             let how = format!(
-                "the front the camera sees, meshed on a {}×{} depth map of the {}×{} screen; columns: three corners' x y z (m), counter-clockwise seen from the camera; area {:.5} m²",
+                "the layer of liquid the camera sees (its front and the back sheet behind it), meshed on a {}×{} depth map of the {}×{} screen; columns: three corners' x y z (m), counter-clockwise seen from outside; area {:.5} m²",
                 r.grid.nx,
                 r.grid.ny,
                 r.view.width,
