@@ -146,12 +146,16 @@ impl ScreenView {
     /// clip w). Eq. 26 solves the unit homogeneous coordinate for w given
     /// the clip z; here w is known and it is solved for the clip z.
     pub fn unproject(&self, x: f32, y: f32, z: f32) -> Vec3 {
-        let q = self.view_proj.inverse();
+        self.unproject_by(&self.view_proj.inverse(), x, y, z)
+    }
+
+    /// [`Self::unproject`] with Q = P⁻¹ given (a mesh's vertices share it).
+    pub fn unproject_by(&self, q: &Mat4, x: f32, y: f32, z: f32) -> Vec3 {
         let cx = (-1.0 + 2.0 * x / self.width as f32) * z;
         let cy = (-1.0 + 2.0 * y / self.height as f32) * z;
         let q4 = q.row(3);
         let cz = (1.0 - q4.x * cx - q4.y * cy - q4.w * z) / q4.z;
-        (q * Vec4::new(cx, cy, cz, z)).truncate()
+        (*q * Vec4::new(cx, cy, cz, z)).truncate()
     }
 }
 
@@ -625,9 +629,10 @@ pub fn mesh(view: &ScreenView, params: &ScreenMeshParams, particles: &[[f32; 3]]
         }
     }
 
+    let q = view.view_proj.inverse();
     let positions: Vec<[f32; 3]> =
-        screen.iter().map(|s| view.unproject(s[0], s[1], s[2]).to_array()).collect();
-    let normals = vertex_normals(view, &screen, &positions, &indices);
+        screen.iter().map(|s| view.unproject_by(&q, s[0], s[1], s[2]).to_array()).collect();
+    let normals = vertex_normals(view, &q, &screen, &positions, &indices);
     ScreenMesh {
         grid,
         screen,
@@ -641,6 +646,7 @@ pub fn mesh(view: &ScreenView, params: &ScreenMeshParams, particles: &[[f32; 3]]
 /// of none faces the camera.
 fn vertex_normals(
     view: &ScreenView,
+    q: &Mat4,
     screen: &[[f32; 3]],
     positions: &[[f32; 3]],
     indices: &[u32],
@@ -656,8 +662,8 @@ fn vertex_normals(
     sum.iter()
         .zip(screen)
         .map(|(n, s)| {
-            let towards_eye =
-                view.unproject(s[0], s[1], s[2]) - view.unproject(s[0], s[1], s[2] + 1.0);
+            let towards_eye = view.unproject_by(q, s[0], s[1], s[2])
+                - view.unproject_by(q, s[0], s[1], s[2] + 1.0);
             n.try_normalize().unwrap_or(towards_eye.normalize()).to_array()
         })
         .collect()

@@ -234,10 +234,12 @@ fn reach(p: Projected, i: u32, j: u32) -> f32 {
     return select(-1.0, sqrt(max(1.0 - d2, 0.0)), d2 <= 1.0);
 }
 
-// Eq. 24: each particle's sphere front on the nodes in its circle.
-@compute @workgroup_size(64)
-fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
-    let p = project(thread(id));
+// One particle over the nodes in its circle: `back` false, eq. 24, its
+// sphere's front (atomic min); true, the back of the front layer, its
+// sphere's back where its front lies within z_max of the node's depth
+// (atomic max; after the fronts are all in).
+fn splat_particle(particle: u32, back: bool) {
+    let p = project(particle);
     let c = covered(p);
     if (!p.ok || !c.ok) {
         return;
@@ -245,35 +247,28 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var j = c.lo.y; j <= c.hi.y; j++) {
         for (var i = c.lo.x; i <= c.hi.x; i++) {
             let k = reach(p, i, j);
-            if (k >= 0.0) {
-                let z = max(p.z - params.radius * k, params.min_depth);
-                atomicMin(&marks[node(i, j)], bitcast<u32>(z));
+            if (k < 0.0) {
+                continue;
+            }
+            let n = node(i, j);
+            let front = max(p.z - params.radius * k, params.min_depth);
+            if (!back) {
+                atomicMin(&marks[n], bitcast<u32>(front));
+            } else if (front <= raw_depth(n) + params.depth_threshold) {
+                atomicMax(&marks[back_at(n)], bitcast<u32>(p.z + params.radius * k));
             }
         }
     }
 }
 
-// The back of the front layer: the farthest sphere back among the
-// particles whose front lies within z_max of the node's depth.
+@compute @workgroup_size(64)
+fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
+    splat_particle(thread(id), false);
+}
+
 @compute @workgroup_size(64)
 fn splat_back(@builtin(global_invocation_id) id: vec3<u32>) {
-    let p = project(thread(id));
-    let c = covered(p);
-    if (!p.ok || !c.ok) {
-        return;
-    }
-    for (var j = c.lo.y; j <= c.hi.y; j++) {
-        for (var i = c.lo.x; i <= c.hi.x; i++) {
-            let k = reach(p, i, j);
-            let n = node(i, j);
-            if (k >= 0.0) {
-                let front = max(p.z - params.radius * k, params.min_depth);
-                if (front <= raw_depth(n) + params.depth_threshold) {
-                    atomicMax(&marks[back_at(n)], bitcast<u32>(p.z + params.radius * k));
-                }
-            }
-        }
-    }
+    splat_particle(thread(id), true);
 }
 
 @compute @workgroup_size(64)
