@@ -9,6 +9,7 @@ pub mod flip;
 pub mod grid;
 pub mod pressure;
 pub mod screen_mesh;
+pub mod screen_space;
 pub mod solids;
 pub mod surface;
 

@@ -55,7 +55,7 @@ choice!(CausticMethod: Photons, Beam, Procedural, Off);
 choice!(GodRayMethod: Lines, March, Off);
 choice!(RippleEdges: Walls, Open);
 choice!(Quality: Auto, Low, Medium, High, Ultra);
-choice!(FluidSurface: Points, MarchingCubes, ScreenMesh, None);
+choice!(FluidSurface: Points, MarchingCubes, ScreenMesh, ScreenSpace, None);
 choice!(FluidSourceKind: Block, Nozzle, Drain);
 
 /// Each enumerated key (array indices left out: `objects.primitive`) and

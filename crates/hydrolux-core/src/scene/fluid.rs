@@ -43,6 +43,10 @@ pub enum FluidSurface {
     /// A screen-space mesh of the front the camera sees
     /// (`fluid::screen_mesh`, seed 003 §3.2), shaded as clear water.
     ScreenMesh,
+    /// Screen-space fluid rendering: the particles' depth and thickness
+    /// splatted per pixel, smoothed by a narrow-range filter and shaded as
+    /// clear water per pixel, no mesh (`fluid::screen_space`).
+    ScreenSpace,
     /// Not drawn (simulated, dumped and benchmarked only).
     None,
 }
@@ -137,7 +141,7 @@ pub struct FluidDesc {
     /// them is air, and the liquid leaves through them; the rest are walls.
     pub open: Vec<String>,
     /// How it is drawn: "marching_cubes" (the default), "screen_mesh",
-    /// "points" or "none".
+    /// "screen_space", "points" or "none".
     pub surface: FluidSurface,
     /// Marching cubes' cells along the domain's longest side (8 to
     /// [`MAX_SURFACE_RESOLUTION`]), independent of the simulation's grid.
@@ -149,7 +153,8 @@ pub struct FluidDesc {
     /// Screen-space meshes' Table 1 (seed 003 §3.2): h, pixels between the
     /// depth map's nodes (1 to 10).
     pub screen_spacing: f32,
-    /// r, the particles' radius in particle spacings (0.5 to 4).
+    /// r, the particles' radius in particle spacings (0.5 to 4), for both
+    /// screen methods.
     pub screen_radius: f32,
     /// n_filter, the depth filter's half length (0 to 10).
     pub screen_filter: u32,
@@ -158,6 +163,13 @@ pub struct FluidDesc {
     /// z_max, the depth step that parts two layers, in particle radii
     /// (more than 1, as Table 1 asks z_max > r_z, up to 20).
     pub screen_depth_threshold: f32,
+    /// Screen-space fluid rendering's narrow-range filter: its radius as a
+    /// world length in particle radii (0 to 10; 0 leaves the depths as
+    /// splatted). Its range is `screen_depth_threshold`.
+    pub screen_space_filter: f32,
+    /// Where a sample beyond the range counts from the centre's depth, in
+    /// particle radii (0 to 4; at most `screen_depth_threshold`).
+    pub screen_space_clamp: f32,
     /// Where the liquid starts; no sources, no liquid.
     pub sources: Vec<FluidSource>,
 }
@@ -185,6 +197,8 @@ impl Default for FluidDesc {
             screen_filter: 3,
             screen_silhouette_iterations: 2,
             screen_depth_threshold: 4.0,
+            screen_space_filter: 3.0,
+            screen_space_clamp: 1.0,
             sources: Vec::new(),
         }
     }
@@ -407,7 +421,7 @@ impl FluidDesc {
                 allowed: "must be 0 to 8 rounds of the filter".into(),
             });
         }
-        let ranges: [(&str, f32, bool, f32, f32, &str); 5] = [
+        let ranges: [(&str, f32, bool, f32, f32, &str); 7] = [
             ("screen_spacing", f.screen_spacing, true, 1.0, 10.0, "pixels between nodes"),
             ("screen_radius", f.screen_radius, true, 0.5, 4.0, "particle spacings"),
             ("screen_filter", f.screen_filter as f32, true, 0.0, 10.0, "nodes of half length"),
@@ -427,6 +441,8 @@ impl FluidDesc {
                 20.0,
                 "particle radii (Table 1: z_max > r_z)",
             ),
+            ("screen_space_filter", f.screen_space_filter, true, 0.0, 10.0, "particle radii"),
+            ("screen_space_clamp", f.screen_space_clamp, true, 0.0, 4.0, "particle radii"),
         ];
         for (key, value, from_included, low, high, unit) in ranges {
             let above = if from_included { value >= low } else { value > low };
@@ -442,6 +458,16 @@ impl FluidDesc {
                     allowed,
                 });
             }
+        }
+        if f.screen_space_clamp > f.screen_depth_threshold {
+            return Err(SceneError::OutOfRange {
+                key: "fluid.screen_space_clamp".into(),
+                value: f.screen_space_clamp.to_string(),
+                allowed: format!(
+                    "must be at most fluid.screen_depth_threshold ({}): a sample beyond the range cannot count nearer than one within it",
+                    f.screen_depth_threshold
+                ),
+            });
         }
         if ![1, 8, 27, 64].contains(&f.particles_per_cell) {
             return Err(SceneError::OutOfRange {
@@ -667,7 +693,7 @@ impl Scene {
             }
             // Vertices are on the particles' spheres.
             FluidSurface::ScreenMesh => f.screen_radius * f.particle_spacing(),
-            FluidSurface::Points | FluidSurface::None => return None,
+            FluidSurface::Points | FluidSurface::ScreenSpace | FluidSurface::None => return None,
         };
         Some((f.min.map(|v| v - margin), f.max.map(|v| v + margin)))
     }

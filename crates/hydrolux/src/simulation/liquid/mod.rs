@@ -543,7 +543,7 @@ impl Liquid {
                 liquid.screen_mesh =
                     Some(screen_mesh::ScreenMeshSurface::new(shared, scene, particles, count));
             }
-            FluidSurface::Points | FluidSurface::None => {}
+            FluidSurface::Points | FluidSurface::ScreenSpace | FluidSurface::None => {}
         }
         liquid.write_start(&shared.queue);
         Ok(Some(liquid))

@@ -1,0 +1,491 @@
+//! The liquid drawn by screen-space fluid rendering, the CPU twin of
+//! `simulation/liquid/screen_space.wgsl` (seed 003 §3.2 names the family;
+//! the method is van der Laan, Green & Sainz 2009, with the narrow-range
+//! filter of Truong & Yuksel 2018). No mesh is made: the particles are
+//! drawn as spheres into two screen images, which are smoothed and shaded
+//! as a surface per pixel. It is the fast path beside the two meshes, and
+//! a comparison for them (`hydrolux compare --surfaces`).
+//!
+//! 1. **Depth and thickness splats** ([`splat`]): per pixel, the ray
+//!    through the pixel's centre meets each particle's sphere (radius r);
+//!    the depth map keeps the nearest front (as the clip w, the distance
+//!    along the view axis, like the screen-space mesh), the thickness map
+//!    sums the chords (m along the ray), each cut short by the opaque scene
+//!    where it lies nearer (`scene_w`).
+//! 2. **Narrow-range filter** ([`filter`]): a Gaussian of the depths whose
+//!    radius is a world length (`filter_radius`) seen at the pixel's depth
+//!    (at most [`MAX_FILTER_PIXELS`]), σ half that radius, across then
+//!    down. Its range is narrow around the centre's depth z_c: a sample
+//!    nearer than z_c − `threshold` is another layer in front and is left
+//!    out; one farther than z_c + `threshold` (or empty, which is the
+//!    background) counts as z_c + `clamp`, so a layer's edge bends away
+//!    gently instead of being dragged to what lies behind it. The
+//!    thickness is blurred by the same Gaussian (empty pixels are 0 thick).
+//! 3. **Normals from depth** ([`normal_at`]): the filtered depths back to
+//!    world space (eq. 25–26, [`ScreenView::unproject_by`]); the normal is
+//!    the cross product of the differences across and down, each taken on
+//!    the side whose depth is nearer the centre's (no difference across a
+//!    silhouette).
+//!
+//! The shading (per pixel, `screen_space.wgsl`) is the same water as the
+//! meshes': Fresnel, the sky and the sun's glint mirrored, the scene
+//! behind refracted through a slab of the pixel's thickness and absorbed
+//! over it by the water's medium.
+//!
+//! Pixels are addressed as the images are: x across, y down, centres at
+//! half-integers.
+
+use super::screen_mesh::ScreenView;
+use glam::{Mat4, Vec3, Vec4};
+
+/// The filter's widest reach (pixels either side): a near liquid is
+/// filtered no wider, so its cost per pixel is bounded.
+pub const MAX_FILTER_PIXELS: u32 = 16;
+
+/// The method's parameters, in metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScreenSpaceParams {
+    /// The particles' spheres (m).
+    pub radius: f32,
+    /// The filter's radius as a world length (m); 0 leaves the depths as
+    /// splatted.
+    pub filter_radius: f32,
+    /// Depths differing by more are other layers (m).
+    pub threshold: f32,
+    /// Where a farther sample counts from the centre (m).
+    pub clamp: f32,
+}
+
+impl ScreenSpaceParams {
+    /// The parameters of a liquid's scene keys: the spheres of
+    /// `fluid.screen_radius` particle spacings (shared with the screen
+    /// mesh), the layers parted at `fluid.screen_depth_threshold` radii
+    /// (shared too), the filter and clamp in radii.
+    pub fn of(fluid: &crate::scene::FluidDesc) -> Self {
+        let radius = fluid.screen_radius * fluid.particle_spacing();
+        ScreenSpaceParams {
+            radius,
+            filter_radius: fluid.screen_space_filter * radius,
+            threshold: fluid.screen_depth_threshold * radius,
+            clamp: fluid.screen_space_clamp * radius,
+        }
+    }
+}
+
+/// The two images, row by row from the top; a depth of 0 is empty.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FluidMaps {
+    pub width: u32,
+    pub height: u32,
+    /// The nearest sphere's front as the clip w (m).
+    pub depth: Vec<f32>,
+    /// The summed chords (m).
+    pub thickness: Vec<f32>,
+}
+
+impl FluidMaps {
+    pub fn empty(width: u32, height: u32) -> Self {
+        let n = (width * height) as usize;
+        FluidMaps { width, height, depth: vec![0.0; n], thickness: vec![0.0; n] }
+    }
+
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        (y * self.width + x) as usize
+    }
+
+    /// Pixels the liquid covers.
+    pub fn covered(&self) -> usize {
+        self.depth.iter().filter(|&&z| z > 0.0).count()
+    }
+}
+
+/// Pixels per metre at unit depth, down the screen (the filter's scale).
+pub fn pixels_per_metre(view: &ScreenView) -> f32 {
+    0.5 * view.height as f32 * view.view_proj.row(1).truncate().length()
+}
+
+/// How the clip w grows along a unit of `dir` from the eye (w is 0 at the
+/// eye of a perspective camera).
+pub fn w_per_metre(view: &ScreenView, dir: Vec3) -> f32 {
+    view.view_proj.row(3).truncate().dot(dir)
+}
+
+/// The unit ray from `eye` through the centre of pixel (x, y).
+pub fn pixel_ray(view: &ScreenView, q: &Mat4, eye: Vec3, x: u32, y: u32) -> Vec3 {
+    let far = pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, 1.0);
+    (far - eye).normalize()
+}
+
+/// The world point at image position (x, y) (pixels, y down) and depth w.
+pub fn pixel_point(view: &ScreenView, q: &Mat4, x: f32, y: f32, w: f32) -> Vec3 {
+    view.unproject_by(q, x, view.height as f32 - y, w)
+}
+
+/// The clip w of the opaque scene from the depth buffer's value `z` at
+/// normalised device position (ndc_x, ndc_y): infinite where the buffer
+/// is empty (0 with reversed Z).
+pub fn scene_w(q: &Mat4, ndc_x: f32, ndc_y: f32, z: f32) -> f32 {
+    let h = *q * Vec4::new(ndc_x, ndc_y, z, 1.0);
+    if h.w > 0.0 { 1.0 / h.w } else { f32::INFINITY }
+}
+
+/// The entry and exit distances of the ray (`eye`, unit `dir`) through
+/// the sphere at `centre`, or `None` if it misses or starts inside.
+pub fn sphere_chord(eye: Vec3, dir: Vec3, centre: Vec3, r: f32) -> Option<(f32, f32)> {
+    let oc = eye - centre;
+    let b = oc.dot(dir);
+    let disc = b * b - (oc.length_squared() - r * r);
+    if disc < 0.0 {
+        return None;
+    }
+    let s = disc.sqrt();
+    let t0 = -b - s;
+    (t0 > 0.0).then_some((t0, -b + s))
+}
+
+/// Step 1: the depth and thickness splats of spheres of `radius` at
+/// `particles` for a camera at `eye`. `scene_w` (per pixel, the opaque
+/// scene's clip w, infinite where none) hides the spheres behind it and
+/// cuts the chords that reach it.
+pub fn splat(
+    view: &ScreenView,
+    eye: Vec3,
+    radius: f32,
+    particles: &[[f32; 3]],
+    scene_w: Option<&[f32]>,
+) -> FluidMaps {
+    let mut maps = FluidMaps::empty(view.width, view.height);
+    let q = view.view_proj.inverse();
+    let (w, h) = (view.width as i64, view.height as i64);
+    for p in particles {
+        let c = Vec3::from(*p);
+        let Some(s) = view.project(c, radius) else { continue };
+        // The silhouette of a near sphere is wider than r/w: widen, as the
+        // GPU's quad does, and test every pixel exactly.
+        let dist = (c - eye).length();
+        let grow = dist / (dist * dist - radius * radius).max(1e-8).sqrt();
+        let (rx, ry) = (s.rx * grow + 1.0, s.ry * grow + 1.0);
+        let cy = h as f32 - s.y;
+        let x0 = ((s.x - rx).floor() as i64).max(0);
+        let x1 = ((s.x + rx).ceil() as i64).min(w - 1);
+        let y0 = ((cy - ry).floor() as i64).max(0);
+        let y1 = ((cy + ry).ceil() as i64).min(h - 1);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let (x, y) = (x as u32, y as u32);
+                let dir = pixel_ray(view, &q, eye, x, y);
+                let Some((t0, t1)) = sphere_chord(eye, dir, c, radius) else { continue };
+                let k = w_per_metre(view, dir);
+                let i = maps.index(x, y);
+                let limit = scene_w.map_or(f32::INFINITY, |s| s[i]);
+                let front = t0 * k;
+                if front > limit {
+                    continue;
+                }
+                let back = t1.min(limit / k.max(1e-12));
+                if maps.depth[i] == 0.0 || front < maps.depth[i] {
+                    maps.depth[i] = front;
+                }
+                maps.thickness[i] += back - t0;
+            }
+        }
+    }
+    maps
+}
+
+/// The filter's reach (pixels either side) at depth `z`.
+pub fn filter_reach(params: &ScreenSpaceParams, scale: f32, z: f32) -> u32 {
+    if z <= 0.0 || params.filter_radius <= 0.0 {
+        return 0;
+    }
+    ((params.filter_radius * scale / z).ceil() as u32).min(MAX_FILTER_PIXELS)
+}
+
+/// One pass of step 2 along (dx, dy).
+pub fn filter_pass(maps: &FluidMaps, params: &ScreenSpaceParams, scale: f32, dx: i32, dy: i32) -> FluidMaps {
+    let mut out = FluidMaps::empty(maps.width, maps.height);
+    for y in 0..maps.height {
+        for x in 0..maps.width {
+            let i = maps.index(x, y);
+            let zc = maps.depth[i];
+            if zc <= 0.0 {
+                continue;
+            }
+            let reach = filter_reach(params, scale, zc) as i32;
+            let sigma = 0.5 * reach.max(1) as f32;
+            let (mut zs, mut zw, mut ts, mut tw) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+            for k in -reach..=reach {
+                let (sx, sy) = (x as i32 + k * dx, y as i32 + k * dy);
+                if sx < 0 || sy < 0 || sx >= maps.width as i32 || sy >= maps.height as i32 {
+                    continue;
+                }
+                let g = (-((k * k) as f32) / (2.0 * sigma * sigma)).exp();
+                let j = maps.index(sx as u32, sy as u32);
+                ts += g * maps.thickness[j];
+                tw += g;
+                let z = maps.depth[j];
+                if z > 0.0 && z < zc - params.threshold {
+                    continue;
+                }
+                let z = if z <= 0.0 || z > zc + params.threshold { zc + params.clamp } else { z };
+                zs += g * z;
+                zw += g;
+            }
+            out.depth[i] = zs / zw;
+            out.thickness[i] = ts / tw;
+        }
+    }
+    out
+}
+
+/// Step 2: the narrow-range filter across, then down.
+pub fn filter(maps: &FluidMaps, params: &ScreenSpaceParams, view: &ScreenView) -> FluidMaps {
+    let scale = pixels_per_metre(view);
+    let across = filter_pass(maps, params, scale, 1, 0);
+    filter_pass(&across, params, scale, 0, 1)
+}
+
+/// Steps 1 and 2.
+pub fn render(
+    view: &ScreenView,
+    eye: Vec3,
+    params: &ScreenSpaceParams,
+    particles: &[[f32; 3]],
+) -> FluidMaps {
+    filter(&splat(view, eye, params.radius, particles, None), params, view)
+}
+
+/// Step 3: the surface's unit normal at pixel (x, y) of filtered `maps`,
+/// facing the eye; `None` where the pixel is empty.
+pub fn normal_at(
+    view: &ScreenView,
+    q: &Mat4,
+    maps: &FluidMaps,
+    threshold: f32,
+    x: u32,
+    y: u32,
+) -> Option<Vec3> {
+    let zc = maps.depth[maps.index(x, y)];
+    if zc <= 0.0 {
+        return None;
+    }
+    let at = |x: u32, y: u32, z: f32| pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, z);
+    let centre = at(x, y, zc);
+    // The difference towards the neighbour whose depth is nearer the
+    // centre's, oriented along +axis; none if both are other layers.
+    let side = |dx: i32, dy: i32| -> Option<Vec3> {
+        let mut best: Option<(f32, Vec3)> = None;
+        for sign in [-1i32, 1] {
+            let (sx, sy) = (x as i32 + sign * dx, y as i32 + sign * dy);
+            if sx < 0 || sy < 0 || sx >= maps.width as i32 || sy >= maps.height as i32 {
+                continue;
+            }
+            let z = maps.depth[maps.index(sx as u32, sy as u32)];
+            let gap = (z - zc).abs();
+            if z <= 0.0 || gap > threshold || best.is_some_and(|(g, _)| g <= gap) {
+                continue;
+            }
+            best = Some((gap, (at(sx as u32, sy as u32, z) - centre) * sign as f32));
+        }
+        best.map(|(_, d)| d)
+    };
+    let eye_dir = (centre - at(x, y, 0.5 * zc)).normalize();
+    // Turned towards the eye below; facing the eye where both sides are
+    // other layers.
+    let n = match (side(1, 0), side(0, 1)) {
+        (Some(a), Some(d)) => a.cross(d),
+        _ => -eye_dir,
+    };
+    let n = n.normalize_or(-eye_dir);
+    Some(if n.dot(eye_dir) > 0.0 { -n } else { n })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera(eye: Vec3, target: Vec3, width: u32, height: u32) -> ScreenView {
+        let camera =
+            crate::camera::Camera { position: eye, look_at: target, up: Vec3::Y, fov_y_deg: 45.0 };
+        let view_proj = camera.view_projection(width as f32 / height as f32);
+        ScreenView { view_proj, width, height }
+    }
+
+    fn params(radius: f32) -> ScreenSpaceParams {
+        ScreenSpaceParams {
+            radius,
+            filter_radius: 3.0 * radius,
+            threshold: 4.0 * radius,
+            clamp: radius,
+        }
+    }
+
+    /// One sphere seen head on: the centre pixel is a diameter thick and
+    /// its depth is the sphere's front; the thickness summed over the
+    /// pixels' footprints (at the sphere's distance) is its volume.
+    #[test]
+    fn one_sphere_is_its_diameter_thick_and_holds_its_volume() {
+        let (eye, r) = (Vec3::new(0.0, 0.0, 2.0), 0.1);
+        let view = camera(eye, Vec3::ZERO, 128, 128);
+        let maps = splat(&view, eye, r, &[[0.0; 3]], None);
+        let i = maps.index(64, 64);
+        assert!((maps.thickness[i] - 2.0 * r).abs() < 1e-3, "{}", maps.thickness[i]);
+        assert!((maps.depth[i] - (2.0 - r)).abs() < 1e-3, "{}", maps.depth[i]);
+        // A pixel's side at distance 2 m; the pixels' rays fan out, so the
+        // footprint is taken at the centre's distance (an error of r/2,
+        // about 0.1%, in the area's scale).
+        let side = 2.0 / pixels_per_metre(&view);
+        let volume: f32 = maps.thickness.iter().sum::<f32>() * side * side;
+        let exact = 4.0 / 3.0 * std::f32::consts::PI * r * r * r;
+        assert!((volume / exact - 1.0).abs() < 0.02, "{volume} m³, a sphere holds {exact} m³");
+        // The disc the sphere covers: πr² seen at 2 m (its silhouette is
+        // a touch wider, r·d/√(d²−r²)).
+        let area = maps.covered() as f32 * side * side;
+        let disc = std::f32::consts::PI * r * r * 4.0 / (4.0 - r * r);
+        assert!((area / disc - 1.0).abs() < 0.03, "{area} m², disc {disc} m²");
+    }
+
+    /// A sphere in front of another: the depth map keeps the nearer front,
+    /// the thickness map both chords; a scene nearer than the back sphere
+    /// hides it and cuts nothing of the front one.
+    #[test]
+    fn the_nearer_front_is_kept_and_the_chords_add() {
+        let (eye, r) = (Vec3::new(0.0, 0.0, 2.0), 0.1);
+        // An odd size, so that the middle pixel's ray is the axis.
+        let view = camera(eye, Vec3::ZERO, 63, 63);
+        let spheres = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.5]];
+        let maps = splat(&view, eye, r, &spheres, None);
+        let i = maps.index(31, 31);
+        assert!((maps.depth[i] - 1.4).abs() < 1e-3);
+        assert!((maps.thickness[i] - 4.0 * r).abs() < 2e-3);
+        let wall = vec![1.85; 63 * 63];
+        let cut = splat(&view, eye, r, &spheres, Some(&wall));
+        assert!((cut.depth[i] - 1.4).abs() < 1e-3);
+        assert!((cut.thickness[i] - 2.0 * r).abs() < 2e-3);
+        // A scene through the front sphere's middle cuts its chord in half.
+        let floor = vec![1.5; 63 * 63];
+        let half = splat(&view, eye, r, &spheres, Some(&floor));
+        assert!((half.thickness[i] - r).abs() < 2e-3, "{}", half.thickness[i]);
+    }
+
+    /// The filter keeps what a surface should keep: a flat and a tilted
+    /// plane away from their edges, and a step between two layers (the
+    /// near layer's edge bends back by at most the clamp, the far layer is
+    /// untouched by the near one); noise on a plane is smoothed out.
+    #[test]
+    fn the_narrow_range_filter_keeps_planes_and_layers_and_smooths_noise() {
+        let view = camera(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, 64, 64);
+        let p = params(0.01);
+        let scale = pixels_per_metre(&view);
+        let reach = filter_reach(&p, scale, 2.0) as u32;
+        assert!(reach >= 2 && reach < 16, "{reach}");
+        let mut maps = FluidMaps::empty(64, 64);
+        for y in 0..64 {
+            for x in 0..64 {
+                let i = maps.index(x, y);
+                maps.depth[i] = 2.0 + 0.001 * x as f32;
+                maps.thickness[i] = 0.3;
+            }
+        }
+        let f = filter(&maps, &p, &view);
+        for y in reach..64 - reach {
+            for x in reach..64 - reach {
+                let i = maps.index(x, y);
+                assert!((f.depth[i] - maps.depth[i]).abs() < 1e-5, "{x},{y}");
+                assert!((f.thickness[i] - 0.3).abs() < 1e-5);
+            }
+        }
+        // Two layers: left half at 2 m, right half 0.2 m behind.
+        let mut step = FluidMaps::empty(64, 64);
+        for y in 0..64 {
+            for x in 0..64 {
+                let i = step.index(x, y);
+                step.depth[i] = if x < 32 { 2.0 } else { 2.2 };
+            }
+        }
+        let f = filter(&step, &p, &view);
+        for x in 16..48 {
+            let z = f.depth[step.index(x, 32)];
+            if x < 32 {
+                assert!(z >= 2.0 && z <= 2.0 + p.clamp, "near layer at {x}: {z}");
+            } else {
+                assert!((z - 2.2).abs() < 1e-6, "far layer at {x}: {z}");
+            }
+        }
+        // Noise of ±2 mm on a plane: its spread shrinks more than 2.5 fold
+        // (a reach of 2 pixels here).
+        let mut noisy = FluidMaps::empty(64, 64);
+        let mut seed = 1u32;
+        for z in &mut noisy.depth {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            *z = 2.0 + 0.004 * ((seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5);
+        }
+        let f = filter(&noisy, &p, &view);
+        let spread = |d: &[f32]| {
+            let inner: Vec<f32> = (16..48)
+                .flat_map(|y| (16..48).map(move |x| d[y * 64 + x]))
+                .collect();
+            let mean = inner.iter().sum::<f32>() / inner.len() as f32;
+            (inner.iter().map(|z| (z - mean).powi(2)).sum::<f32>() / inner.len() as f32).sqrt()
+        };
+        let (before, after) = (spread(&noisy.depth), spread(&f.depth));
+        assert!(after < 0.4 * before, "spread {before} → {after}");
+    }
+
+    /// The normals of a filtered sphere's depth point out of the sphere,
+    /// and a plane's are the plane's, to its edge.
+    #[test]
+    fn normals_from_depth_are_the_surfaces_normals() {
+        let eye = Vec3::new(0.0, 0.0, 2.0);
+        let view = camera(eye, Vec3::ZERO, 96, 96);
+        let q = view.view_proj.inverse();
+        let r = 0.3;
+        let maps = splat(&view, eye, r, &[[0.0; 3]], None);
+        let mut checked = 0;
+        for y in 0..96 {
+            for x in 0..96 {
+                let i = maps.index(x, y);
+                if maps.depth[i] <= 0.0 {
+                    continue;
+                }
+                let n = normal_at(&view, &q, &maps, 0.05, x, y).expect("filled");
+                let p = pixel_point(&view, &q, x as f32 + 0.5, y as f32 + 0.5, maps.depth[i]);
+                let exact = p.normalize();
+                // Away from the outline, where the sphere turns away fast.
+                if exact.z > 0.5 {
+                    assert!(n.dot(exact) > 0.995, "{x},{y}: {n} vs {exact}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 500, "{checked}");
+        // The plane z = 0 seen at an angle: its normal everywhere.
+        let eye = Vec3::new(0.0, 1.0, 2.0);
+        let view = camera(eye, Vec3::ZERO, 48, 48);
+        let q = view.view_proj.inverse();
+        let mut plane = FluidMaps::empty(48, 48);
+        for y in 0..48 {
+            for x in 0..48 {
+                let dir = pixel_ray(&view, &q, eye, x, y);
+                let t = -eye.z / dir.z;
+                let i = plane.index(x, y);
+                plane.depth[i] = t * w_per_metre(&view, dir);
+            }
+        }
+        for (x, y) in [(0, 0), (47, 0), (24, 24), (0, 47), (47, 47)] {
+            let n = normal_at(&view, &q, &plane, 0.05, x, y).expect("filled");
+            assert!(n.dot(Vec3::Z) > 0.9999, "{x},{y}: {n}");
+        }
+    }
+
+    /// The depth buffer's value back to the clip w.
+    #[test]
+    fn the_scene_depth_is_its_clip_w() {
+        let view = camera(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, 64, 64);
+        let q = view.view_proj.inverse();
+        let c = view.view_proj * Vec4::new(0.1, -0.2, 0.3, 1.0);
+        let w = scene_w(&q, c.x / c.w, c.y / c.w, c.z / c.w);
+        assert!((w - c.w).abs() < 1e-4 * c.w, "{w} vs {}", c.w);
+        assert_eq!(scene_w(&q, 0.0, 0.0, 0.0), f32::INFINITY);
+    }
+}
