@@ -50,6 +50,7 @@ pub use renderer::{FrameInput, Renderer};
 pub use simulation::liquid::readback::{
     LiquidBench, LiquidReadback, LiquidSurfaceReadback, ScreenMeshReadback,
 };
+pub use simulation::liquid::screen_space::ScreenSpaceReadback;
 pub use simulation::liquid::{LiquidParticle, SolveState};
 pub use simulation::ocean::largest_ocean_resolution;
 pub use simulation::ripples::readback::RippleField;

@@ -10,6 +10,7 @@ use crate::error::RenderError;
 use crate::passes::{caustics, geometry, godrays, sky, tonemap, water, water_object};
 use crate::plan::World;
 use crate::simulation::liquid::draw as liquid_points;
+use crate::simulation::liquid::screen_space as liquid_screen_space;
 use crate::simulation::whitewater::draw as particles;
 use crate::technique::{Bound, Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
@@ -85,6 +86,7 @@ registry! {
     caustics: caustics::Caustics => caustics::INFO,
     geometry: geometry::Geometry => geometry::INFO,
     liquid_points: liquid_points::LiquidPoints => liquid_points::INFO,
+    liquid_screen_space: liquid_screen_space::LiquidScreenSpace => liquid_screen_space::INFO,
     water_objects: water_object::WaterObjects => water_object::INFO,
     water: water::WaterPass => water::INFO,
     godrays: godrays::GodRays => godrays::INFO,

@@ -30,6 +30,8 @@ const MODULES: &[(&str, &str)] = &[
     ("caustics_lookup", include_str!("shaders/caustics_lookup.wgsl")),
     ("heightfield_trace", include_str!("shaders/heightfield_trace.wgsl")),
     ("ray_primitive", include_str!("shaders/ray_primitive.wgsl")),
+    ("screen_project", include_str!("shaders/screen_project.wgsl")),
+    ("screen_lookup", include_str!("shaders/screen_lookup.wgsl")),
     // Modules of one technique that another reuses.
     ("geometry_common", include_str!("meshes/geometry_common.wgsl")),
     ("caustic_params", include_str!("passes/caustics/params.wgsl")),

@@ -11,7 +11,9 @@
 //!    the depth map keeps the nearest front (as the clip w, the distance
 //!    along the view axis, like the screen-space mesh), the thickness map
 //!    sums the chords (m along the ray), each cut short by the opaque scene
-//!    where it lies nearer (`scene_w`).
+//!    where it lies nearer (`scene_w`) and weighted by the particle's share
+//!    of its sphere ([`sphere_share`]): the spheres overlap, and the
+//!    thickness is the liquid's.
 //! 2. **Narrow-range filter** ([`filter`]): a Gaussian of the depths whose
 //!    radius is a world length (`filter_radius`) seen at the pixel's depth
 //!    (at most [`MAX_FILTER_PIXELS`]), σ half that radius, across then
@@ -47,6 +49,11 @@ pub const MAX_FILTER_PIXELS: u32 = 16;
 pub struct ScreenSpaceParams {
     /// The particles' spheres (m).
     pub radius: f32,
+    /// A particle's share of the liquid's volume over its sphere's volume:
+    /// each chord counts this much, so that the thickness sums the liquid's
+    /// volume, not the spheres' overlaps (at one particle spacing the
+    /// spheres hold about 4 times the liquid).
+    pub volume_share: f32,
     /// The filter's radius as a world length (m); 0 leaves the depths as
     /// splatted.
     pub filter_radius: f32,
@@ -62,14 +69,22 @@ impl ScreenSpaceParams {
     /// mesh), the layers parted at `fluid.screen_depth_threshold` radii
     /// (shared too), the filter and clamp in radii.
     pub fn of(fluid: &crate::scene::FluidDesc) -> Self {
-        let radius = fluid.screen_radius * fluid.particle_spacing();
+        let spacing = fluid.particle_spacing();
+        let radius = fluid.screen_radius * spacing;
         ScreenSpaceParams {
             radius,
+            volume_share: sphere_share(spacing, radius),
             filter_radius: fluid.screen_space_filter * radius,
             threshold: fluid.screen_depth_threshold * radius,
             clamp: fluid.screen_space_clamp * radius,
         }
     }
+}
+
+/// The share of a sphere of `radius` that a particle's cube of liquid
+/// (side `spacing`) fills.
+pub fn sphere_share(spacing: f32, radius: f32) -> f32 {
+    spacing.powi(3) / (4.0 / 3.0 * std::f32::consts::PI * radius.powi(3))
 }
 
 /// The two images, row by row from the top; a depth of 0 is empty.
@@ -144,13 +159,13 @@ pub fn sphere_chord(eye: Vec3, dir: Vec3, centre: Vec3, r: f32) -> Option<(f32, 
 }
 
 /// Step 1: the depth and thickness splats of spheres of `radius` at
-/// `particles` for a camera at `eye`. `scene_w` (per pixel, the opaque
-/// scene's clip w, infinite where none) hides the spheres behind it and
-/// cuts the chords that reach it.
+/// `particles` for a camera at `eye`, each chord weighted by `share`.
+/// `scene_w` (per pixel, the opaque scene's clip w, infinite where none)
+/// hides the spheres behind it and cuts the chords that reach it.
 pub fn splat(
     view: &ScreenView,
     eye: Vec3,
-    radius: f32,
+    (radius, share): (f32, f32),
     particles: &[[f32; 3]],
     scene_w: Option<&[f32]>,
 ) -> FluidMaps {
@@ -186,7 +201,7 @@ pub fn splat(
                 if maps.depth[i] == 0.0 || front < maps.depth[i] {
                     maps.depth[i] = front;
                 }
-                maps.thickness[i] += back - t0;
+                maps.thickness[i] += share * (back - t0);
             }
         }
     }
@@ -202,7 +217,13 @@ pub fn filter_reach(params: &ScreenSpaceParams, scale: f32, z: f32) -> u32 {
 }
 
 /// One pass of step 2 along (dx, dy).
-pub fn filter_pass(maps: &FluidMaps, params: &ScreenSpaceParams, scale: f32, dx: i32, dy: i32) -> FluidMaps {
+pub fn filter_pass(
+    maps: &FluidMaps,
+    params: &ScreenSpaceParams,
+    scale: f32,
+    dx: i32,
+    dy: i32,
+) -> FluidMaps {
     let mut out = FluidMaps::empty(maps.width, maps.height);
     for y in 0..maps.height {
         for x in 0..maps.width {
@@ -252,27 +273,47 @@ pub fn render(
     params: &ScreenSpaceParams,
     particles: &[[f32; 3]],
 ) -> FluidMaps {
-    filter(&splat(view, eye, params.radius, particles, None), params, view)
+    filter(&splat(view, eye, (params.radius, params.volume_share), particles, None), params, view)
 }
 
-/// Step 3: the surface's unit normal at pixel (x, y) of filtered `maps`,
-/// facing the eye; `None` where the pixel is empty.
+/// The surface under pixel (x, y) of filtered `maps`: its front, or its
+/// back (the front carried along the pixel's ray by the thickness: the
+/// back of a single layer).
+pub fn surface_point(
+    view: &ScreenView,
+    q: &Mat4,
+    maps: &FluidMaps,
+    x: u32,
+    y: u32,
+    back: bool,
+) -> Vec3 {
+    let i = maps.index(x, y);
+    let front = pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, maps.depth[i]);
+    if !back {
+        return front;
+    }
+    let eye = pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, 0.0);
+    front + (front - eye).normalize() * maps.thickness[i].max(0.0)
+}
+
+/// Step 3: the unit normal of the front (facing the eye) or of the back
+/// (facing away) at pixel (x, y) of filtered `maps`; `None` where the
+/// pixel is empty. Each difference, across and down, is taken towards the
+/// neighbour whose depth is nearer the pixel's (within `threshold`); where
+/// either way has none, the normal faces along the view ray.
 pub fn normal_at(
     view: &ScreenView,
     q: &Mat4,
     maps: &FluidMaps,
     threshold: f32,
-    x: u32,
-    y: u32,
+    (x, y): (u32, u32),
+    back: bool,
 ) -> Option<Vec3> {
     let zc = maps.depth[maps.index(x, y)];
     if zc <= 0.0 {
         return None;
     }
-    let at = |x: u32, y: u32, z: f32| pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, z);
-    let centre = at(x, y, zc);
-    // The difference towards the neighbour whose depth is nearer the
-    // centre's, oriented along +axis; none if both are other layers.
+    let centre = surface_point(view, q, maps, x, y, back);
     let side = |dx: i32, dy: i32| -> Option<Vec3> {
         let mut best: Option<(f32, Vec3)> = None;
         for sign in [-1i32, 1] {
@@ -285,19 +326,19 @@ pub fn normal_at(
             if z <= 0.0 || gap > threshold || best.is_some_and(|(g, _)| g <= gap) {
                 continue;
             }
-            best = Some((gap, (at(sx as u32, sy as u32, z) - centre) * sign as f32));
+            let p = surface_point(view, q, maps, sx as u32, sy as u32, back);
+            best = Some((gap, (p - centre) * sign as f32));
         }
         best.map(|(_, d)| d)
     };
-    let eye_dir = (centre - at(x, y, 0.5 * zc)).normalize();
-    // Turned towards the eye below; facing the eye where both sides are
-    // other layers.
+    let front = pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, zc);
+    let ray = (front - pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, 0.5 * zc)).normalize();
+    let fallback = if back { ray } else { -ray };
     let n = match (side(1, 0), side(0, 1)) {
-        (Some(a), Some(d)) => a.cross(d),
-        _ => -eye_dir,
+        (Some(a), Some(d)) => a.cross(d).normalize_or(fallback),
+        _ => fallback,
     };
-    let n = n.normalize_or(-eye_dir);
-    Some(if n.dot(eye_dir) > 0.0 { -n } else { n })
+    Some(if n.dot(fallback) < 0.0 { -n } else { n })
 }
 
 #[cfg(test)]
@@ -314,6 +355,7 @@ mod tests {
     fn params(radius: f32) -> ScreenSpaceParams {
         ScreenSpaceParams {
             radius,
+            volume_share: 1.0,
             filter_radius: 3.0 * radius,
             threshold: 4.0 * radius,
             clamp: radius,
@@ -327,7 +369,7 @@ mod tests {
     fn one_sphere_is_its_diameter_thick_and_holds_its_volume() {
         let (eye, r) = (Vec3::new(0.0, 0.0, 2.0), 0.1);
         let view = camera(eye, Vec3::ZERO, 128, 128);
-        let maps = splat(&view, eye, r, &[[0.0; 3]], None);
+        let maps = splat(&view, eye, (r, 1.0), &[[0.0; 3]], None);
         let i = maps.index(64, 64);
         assert!((maps.thickness[i] - 2.0 * r).abs() < 1e-3, "{}", maps.thickness[i]);
         assert!((maps.depth[i] - (2.0 - r)).abs() < 1e-3, "{}", maps.depth[i]);
@@ -345,6 +387,40 @@ mod tests {
         assert!((area / disc - 1.0).abs() < 0.03, "{area} m², disc {disc} m²");
     }
 
+    /// A block of liquid on the particles' lattice (spheres of one spacing,
+    /// overlapping) seen end on: its thickness, over a cell's worth of
+    /// pixels, is the block's depth, not the spheres' overlap.
+    #[test]
+    fn a_block_of_particles_is_as_thick_as_the_block() {
+        let (eye, s) = (Vec3::new(0.0, 0.0, 2.0), 0.02);
+        // Several pixels per cell: the chords' sum varies across a cell
+        // (from 0.48 to 1.35 times the block's depth), so the mean is taken
+        // over whole cells.
+        let view = camera(eye, Vec3::ZERO, 384, 384);
+        let mut particles = Vec::new();
+        for i in 0..12 {
+            for j in 0..12 {
+                for k in 0..6 {
+                    let at = |n: i32, c: f32| (n as f32 - c) * s;
+                    particles.push([at(i, 5.5), at(j, 5.5), at(k, 5.5)]);
+                }
+            }
+        }
+        let maps = splat(&view, eye, (s, sphere_share(s, s)), &particles, None);
+        // The pixels over the block's middle two cells each way.
+        let cell = s * pixels_per_metre(&view) / 2.0;
+        let (lo, hi) = ((192.0 - 2.0 * cell).round() as u32, (192.0 + 2.0 * cell).round() as u32);
+        let (mut sum, mut n) = (0.0, 0);
+        for y in lo..hi {
+            for x in lo..hi {
+                sum += maps.thickness[maps.index(x, y)];
+                n += 1;
+            }
+        }
+        let mean = sum / n as f32;
+        assert!((mean / (6.0 * s) - 1.0).abs() < 0.1, "{mean} m, the block is {} m deep", 6.0 * s);
+    }
+
     /// A sphere in front of another: the depth map keeps the nearer front,
     /// the thickness map both chords; a scene nearer than the back sphere
     /// hides it and cuts nothing of the front one.
@@ -354,17 +430,17 @@ mod tests {
         // An odd size, so that the middle pixel's ray is the axis.
         let view = camera(eye, Vec3::ZERO, 63, 63);
         let spheres = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.5]];
-        let maps = splat(&view, eye, r, &spheres, None);
+        let maps = splat(&view, eye, (r, 1.0), &spheres, None);
         let i = maps.index(31, 31);
         assert!((maps.depth[i] - 1.4).abs() < 1e-3);
         assert!((maps.thickness[i] - 4.0 * r).abs() < 2e-3);
         let wall = vec![1.85; 63 * 63];
-        let cut = splat(&view, eye, r, &spheres, Some(&wall));
+        let cut = splat(&view, eye, (r, 1.0), &spheres, Some(&wall));
         assert!((cut.depth[i] - 1.4).abs() < 1e-3);
         assert!((cut.thickness[i] - 2.0 * r).abs() < 2e-3);
         // A scene through the front sphere's middle cuts its chord in half.
         let floor = vec![1.5; 63 * 63];
-        let half = splat(&view, eye, r, &spheres, Some(&floor));
+        let half = splat(&view, eye, (r, 1.0), &spheres, Some(&floor));
         assert!((half.thickness[i] - r).abs() < 2e-3, "{}", half.thickness[i]);
     }
 
@@ -422,9 +498,8 @@ mod tests {
         }
         let f = filter(&noisy, &p, &view);
         let spread = |d: &[f32]| {
-            let inner: Vec<f32> = (16..48)
-                .flat_map(|y| (16..48).map(move |x| d[y * 64 + x]))
-                .collect();
+            let inner: Vec<f32> =
+                (16..48).flat_map(|y| (16..48).map(move |x| d[y * 64 + x])).collect();
             let mean = inner.iter().sum::<f32>() / inner.len() as f32;
             (inner.iter().map(|z| (z - mean).powi(2)).sum::<f32>() / inner.len() as f32).sqrt()
         };
@@ -432,15 +507,16 @@ mod tests {
         assert!(after < 0.4 * before, "spread {before} → {after}");
     }
 
-    /// The normals of a filtered sphere's depth point out of the sphere,
-    /// and a plane's are the plane's, to its edge.
+    /// The normals of a sphere's depth point out of the sphere, front and
+    /// back; a plane's are the plane's, to its edge, and a slab's back is
+    /// parallel to its front.
     #[test]
     fn normals_from_depth_are_the_surfaces_normals() {
         let eye = Vec3::new(0.0, 0.0, 2.0);
         let view = camera(eye, Vec3::ZERO, 96, 96);
         let q = view.view_proj.inverse();
         let r = 0.3;
-        let maps = splat(&view, eye, r, &[[0.0; 3]], None);
+        let maps = splat(&view, eye, (r, 1.0), &[[0.0; 3]], None);
         let mut checked = 0;
         for y in 0..96 {
             for x in 0..96 {
@@ -448,12 +524,17 @@ mod tests {
                 if maps.depth[i] <= 0.0 {
                     continue;
                 }
-                let n = normal_at(&view, &q, &maps, 0.05, x, y).expect("filled");
+                let n = normal_at(&view, &q, &maps, 0.05, (x, y), false).expect("filled");
                 let p = pixel_point(&view, &q, x as f32 + 0.5, y as f32 + 0.5, maps.depth[i]);
                 let exact = p.normalize();
                 // Away from the outline, where the sphere turns away fast.
                 if exact.z > 0.5 {
                     assert!(n.dot(exact) > 0.995, "{x},{y}: {n} vs {exact}");
+                    // The back, where the ray leaves the ball.
+                    let back = normal_at(&view, &q, &maps, 0.05, (x, y), true).expect("filled");
+                    let b = surface_point(&view, &q, &maps, x, y, true);
+                    assert!((b.length() - r).abs() < 2e-3, "{x},{y}: the back at {b}");
+                    assert!(back.dot(b.normalize()) > 0.99, "{x},{y}: {back} vs {}", b.normalize());
                     checked += 1;
                 }
             }
@@ -464,17 +545,24 @@ mod tests {
         let view = camera(eye, Vec3::ZERO, 48, 48);
         let q = view.view_proj.inverse();
         let mut plane = FluidMaps::empty(48, 48);
+        let mut slab = FluidMaps::empty(48, 48);
         for y in 0..48 {
             for x in 0..48 {
                 let dir = pixel_ray(&view, &q, eye, x, y);
                 let t = -eye.z / dir.z;
                 let i = plane.index(x, y);
                 plane.depth[i] = t * w_per_metre(&view, dir);
+                slab.depth[i] = plane.depth[i];
+                // The chord through a slab 5 cm thick.
+                slab.thickness[i] = 0.05 / -dir.z;
             }
         }
         for (x, y) in [(0, 0), (47, 0), (24, 24), (0, 47), (47, 47)] {
-            let n = normal_at(&view, &q, &plane, 0.05, x, y).expect("filled");
+            let n = normal_at(&view, &q, &plane, 0.05, (x, y), false).expect("filled");
             assert!(n.dot(Vec3::Z) > 0.9999, "{x},{y}: {n}");
+            // A slab 5 cm thick along every ray: its back is parallel.
+            let back = normal_at(&view, &q, &slab, 0.05, (x, y), true).expect("filled");
+            assert!(back.dot(-Vec3::Z) > 0.999, "{x},{y}: {back}");
         }
     }
 

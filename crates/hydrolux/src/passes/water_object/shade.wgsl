@@ -6,7 +6,7 @@
 // — in at the front face, out at the back face found by the thickness the
 // back-face pass measured — attenuated by the water inside, then through
 // the fog.
-#import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common, lighting
+#import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common, lighting, screen_lookup
 
 @group(3) @binding(0) var behind_tex: texture_2d<f32>;
 @group(3) @binding(1) var scene_depth: texture_2d<f32>;
@@ -31,30 +31,6 @@ fn vs_object(v: VsIn) -> ShadeOut {
 @fragment
 fn fs_back(in: ShadeOut) -> @location(0) vec4<f32> {
     return vec4<f32>(normalize(in.normal), distance(in.world, frame.view.position));
-}
-
-// World → (uv, inside the screen).
-fn screen_uv(p: vec3<f32>) -> vec3<f32> {
-    let clip = frame.view.view_proj * vec4<f32>(p, 1.0);
-    let ndc = clip.xy / clip.w;
-    let inside = (clip.w > 0.0) & all(abs(ndc) <= vec2<f32>(1.0));
-    return vec3<f32>(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y, select(0.0, 1.0, inside));
-}
-
-// The texel under screen uv, clamped to the texture — in float first, so
-// that a degenerate projection (NaN) cannot become a wild integer index.
-fn texel_at(uv: vec2<f32>, size: vec2<f32>) -> vec2<i32> {
-    return vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
-}
-
-// The sky cube towards `dir`, or the grey ground below the horizon; a
-// degenerate direction (zero, NaN) reads straight up instead (Mesa's
-// lavapipe crashes on a NaN cube lookup).
-fn sky_towards(dir: vec3<f32>) -> vec3<f32> {
-    let d = clamp(dir, vec3<f32>(-1.0), vec3<f32>(1.0));
-    let ok = dot(d, d) > 1e-8;
-    let sky = textureSampleLevel(sky_cube, sky_sampler, select(vec3<f32>(0.0, 1.0, 0.0), d, ok), 0.0).rgb * exposure();
-    return select(sky, below_horizon_radiance(), ok & (d.y < 0.0));
 }
 
 @fragment

@@ -17,12 +17,16 @@
 //! clock step, and the liquid flows round them.
 //!
 //! It publishes its particles (`published.rs`), which `draw.rs` (the
-//! `liquid` technique) draws as shaded spheres.
+//! `liquid_points` technique) draws as shaded spheres and
+//! `screen_space.rs` (the `liquid_screen_space` technique) by screen-space
+//! fluid rendering, and its surface mesh (marching cubes or the
+//! screen-space mesh), which the water objects draw.
 
 pub(crate) mod bodies;
 pub mod draw;
 pub mod readback;
 pub mod screen_mesh;
+pub mod screen_space;
 pub mod surface;
 
 use crate::error::RenderError;

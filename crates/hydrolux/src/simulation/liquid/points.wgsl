@@ -33,22 +33,7 @@ struct VertexOut {
 @vertex
 fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> VertexOut {
     let p = particles[i];
-    let corners = array<vec2<f32>, 6>(
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
-    );
-    let eye = frame.view.position;
-    let to_eye = eye - p.position;
-    let dist = max(length(to_eye), 1e-4);
-    let forward = -to_eye / dist;
-    let right = normalize(cross(forward, vec3<f32>(0.0, 1.0, 0.0)) + vec3<f32>(1e-6, 0.0, 0.0));
-    let up = cross(right, forward);
-    // A quad facing the eye, moved towards it so that it covers the whole
-    // sphere's silhouette (which is wider than r seen from close by).
-    let r = params.radius;
-    let grow = dist / sqrt(max(dist * dist - r * r, 1e-8));
-    let c = corners[v] * r * grow;
-    let world = p.position + right * c.x + up * c.y - forward * r;
+    let world = sphere_quad_corner(p.position, params.radius, frame.view.position, v);
     var out: VertexOut;
     out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
     if (p.alive == 0u) {

@@ -9,7 +9,7 @@
 // links) → silhouette smoothing rounds → back to world space (eq. 25–26) →
 // normals from the triangles (summed in fixed point) → the indexed
 // indirect draw's count.
-#import liquid_particle, liquid_mesh
+#import liquid_particle, liquid_mesh, screen_project
 
 struct ScreenMeshParams {
     // World → clip, and back.
@@ -179,14 +179,9 @@ fn project(i: u32) -> Projected {
     return p;
 }
 
-// Eq. 25–26 with the depth (clip w) known: the clip z solved from the
-// unit homogeneous coordinate.
+// Eq. 25–26 (`screen_project`).
 fn unproject(s: vec3<f32>) -> vec3<f32> {
-    let q = params.inv_view_proj;
-    let cx = (-1.0 + 2.0 * s.x / params.screen.x) * s.z;
-    let cy = (-1.0 + 2.0 * s.y / params.screen.y) * s.z;
-    let cz = (1.0 - q[0][3] * cx - q[1][3] * cy - q[3][3] * s.z) / q[2][3];
-    return (q * vec4<f32>(cx, cy, cz, s.z)).xyz;
+    return unproject_depth(params.inv_view_proj, params.screen, s);
 }
 
 @compute @workgroup_size(64)

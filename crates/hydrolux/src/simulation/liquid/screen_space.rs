@@ -1,0 +1,582 @@
+//! The `liquid_screen_space` technique: the liquid's published particles
+//! drawn by screen-space fluid rendering (`fluid.surface = "screen_space"`;
+//! `screen_space.wgsl`, CPU twin `hydrolux_core::fluid::screen_space`).
+//! No mesh: in the Composite stage, before the refractive objects (so a
+//! glass shows the liquid inside it), the image so far is copied; the
+//! particles' spheres are splatted into a depth image (the nearest front's
+//! clip w, depth-tested) and a thickness image (chords added); the
+//! narrow-range filter runs across and then down; and a full-screen pass
+//! shades each covered pixel as clear water over the image. Its images
+//! follow the frame's size and are made the first frame a scene draws it.
+
+use crate::error::RenderError;
+use crate::gpu_util::*;
+use crate::info::{DumpData, DumpKind, DumpShape, TechniqueInfo};
+use crate::shaders;
+use crate::simulation::published::LiquidState;
+use crate::technique::{DumpContext, FrameContext, Shared, Stage, Technique};
+use crate::timing::GpuTimer;
+use crate::uniforms::uniform;
+use hydrolux_core::fluid::screen_space::{self as twin, FluidMaps, ScreenSpaceParams};
+use hydrolux_core::scene::{FluidSurface, Scene};
+
+uniform! { ScreenSpaceParams;
+    /// WGSL `ScreenSpaceParams` (simulation/liquid/screen_space.wgsl).
+    pub(crate) struct ScreenSpaceUniforms {
+        pub radius: f32,
+        pub volume_share: f32,
+        pub filter_radius: f32,
+        pub threshold: f32,
+        pub clamp: f32,
+        pub pixels_per_metre: f32,
+        pub max_reach: u32,
+        pub count: u32,
+    }
+}
+
+pub fn source() -> String {
+    shaders::compose("", include_str!("screen_space.wgsl"))
+}
+
+/// Whether the liquid is drawn this way (the fluid view draws points).
+pub(crate) fn drawn_screen_space(scene: &Scene) -> bool {
+    scene.fluid.surface == FluidSurface::ScreenSpace && !super::draw::drawn_as_points(scene)
+}
+
+/// The depths and the filtered maps hold float bits: downlevel OpenGL
+/// renders no 32-bit float colour.
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+const THICKNESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+const FILTERED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
+
+/// The pipelines and layouts, made the first time a scene draws this way.
+struct Pipelines {
+    params: wgpu::Buffer,
+    splat_layout: wgpu::BindGroupLayout,
+    filter_layout: wgpu::BindGroupLayout,
+    shade_layout: wgpu::BindGroupLayout,
+    depth: wgpu::RenderPipeline,
+    thickness: wgpu::RenderPipeline,
+    across: wgpu::RenderPipeline,
+    down: wgpu::RenderPipeline,
+    shade: wgpu::RenderPipeline,
+}
+
+/// One render pipeline of `screen_space.wgsl` over the globals and one
+/// group of its own.
+struct PipelineSpec<'a> {
+    label: &'a str,
+    layout: &'a wgpu::BindGroupLayout,
+    vertex: &'a str,
+    fragment: &'a str,
+    target: wgpu::ColorTargetState,
+    depth: Option<wgpu::DepthStencilState>,
+}
+
+impl Pipelines {
+    fn new(shared: &Shared) -> Self {
+        let device = &shared.device;
+        let (vs, fs) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT);
+        let unfiltered = |b| texture_entry(b, fs, wgpu::TextureViewDimension::D2, false);
+        let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries,
+            })
+        };
+        let splat_layout = layout(
+            "liquid screen space splat",
+            &[storage_entry(0, vs | fs, true), storage_entry(1, vs, true), unfiltered(2)],
+        );
+        let bits = |b| uint_texture_entry(b, fs);
+        let filter_layout = layout(
+            "liquid screen space filter",
+            &[storage_entry(0, fs, true), bits(3), unfiltered(4)],
+        );
+        let shade_layout = layout(
+            "liquid screen space shade",
+            &[storage_entry(0, fs, true), unfiltered(2), bits(3), unfiltered(5)],
+        );
+        let params = storage_buffer(
+            device,
+            "liquid screen space",
+            std::mem::size_of::<ScreenSpaceUniforms>() as u64,
+            wgpu::BufferUsages::empty(),
+        );
+        let module = shader(device, "liquid screen space", &source());
+        let make = |spec: PipelineSpec| {
+            let layout =
+                pipeline_layout(device, spec.label, &[&shared.layouts.globals, spec.layout]);
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(spec.label),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(spec.vertex),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: spec.depth,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(spec.fragment),
+                    compilation_options: Default::default(),
+                    targets: &[Some(spec.target)],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let depth = make(PipelineSpec {
+            label: "liquid depth splat",
+            layout: &splat_layout,
+            vertex: "vs_sphere",
+            fragment: "fs_depth",
+            target: DEPTH_FORMAT.into(),
+            // The nearest front wins (reversed Z).
+            depth: Some(wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth32Float,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+        });
+        let add = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let thickness = make(PipelineSpec {
+            label: "liquid thickness splat",
+            layout: &splat_layout,
+            vertex: "vs_sphere",
+            fragment: "fs_thickness",
+            target: wgpu::ColorTargetState {
+                format: THICKNESS_FORMAT,
+                blend: Some(wgpu::BlendState { color: add, alpha: add }),
+                write_mask: wgpu::ColorWrites::ALL,
+            },
+            depth: None,
+        });
+        let filter = |label, fragment| {
+            make(PipelineSpec {
+                label,
+                layout: &filter_layout,
+                vertex: "vs_fullscreen",
+                fragment,
+                target: FILTERED_FORMAT.into(),
+                depth: None,
+            })
+        };
+        let across = filter("liquid filter across", "fs_filter_across");
+        let down = filter("liquid filter down", "fs_filter_down");
+        let shade = make(PipelineSpec {
+            label: "liquid screen space shade",
+            layout: &shade_layout,
+            vertex: "vs_fullscreen",
+            fragment: "fs_shade",
+            target: crate::formats::HDR_FORMAT.into(),
+            depth: None,
+        });
+        Pipelines {
+            params,
+            splat_layout,
+            filter_layout,
+            shade_layout,
+            depth,
+            thickness,
+            across,
+            down,
+            shade,
+        }
+    }
+}
+
+/// The images at the frame's size and the bind groups over them.
+struct Images {
+    size: (u32, u32),
+    /// The particle buffer the splat group binds.
+    particles: wgpu::Buffer,
+    depth_test: wgpu::TextureView,
+    front: wgpu::Texture,
+    front_view: wgpu::TextureView,
+    thickness_view: wgpu::TextureView,
+    across_view: wgpu::TextureView,
+    filtered: wgpu::Texture,
+    filtered_view: wgpu::TextureView,
+    behind: wgpu::Texture,
+    splat_group: wgpu::BindGroup,
+    across_group: wgpu::BindGroup,
+    down_group: wgpu::BindGroup,
+    shade_group: wgpu::BindGroup,
+}
+
+impl Images {
+    fn new(
+        device: &wgpu::Device,
+        p: &Pipelines,
+        size: (u32, u32),
+        liquid: &LiquidState,
+        scene_depth: &wgpu::TextureView,
+    ) -> Self {
+        use wgpu::TextureUsages as U;
+        let image = |label, format, extra| {
+            let t = texture_2d(device, label, size, format, U::TEXTURE_BINDING | extra);
+            let v = t.create_view(&Default::default());
+            (t, v)
+        };
+        let target = U::RENDER_ATTACHMENT | U::COPY_SRC;
+        let (_, depth_test) =
+            image("liquid depth test", wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT);
+        let (front, front_view) = image("liquid depth", DEPTH_FORMAT, target);
+        let (_, thickness_view) = image("liquid thickness", THICKNESS_FORMAT, target);
+        let (_, across_view) = image("liquid filtered across", FILTERED_FORMAT, target);
+        let (filtered, filtered_view) = image("liquid filtered", FILTERED_FORMAT, target);
+        let (behind, behind_view) = image("liquid behind", crate::formats::HDR_FORMAT, U::COPY_DST);
+        let tv = wgpu::BindingResource::TextureView;
+        let group = |label, layout, entries: &[(u32, wgpu::BindingResource)]| {
+            let entries: Vec<_> = entries
+                .iter()
+                .map(|(binding, resource)| wgpu::BindGroupEntry {
+                    binding: *binding,
+                    resource: resource.clone(),
+                })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &entries,
+            })
+        };
+        let params = p.params.as_entire_binding();
+        let splat_group = group(
+            "liquid splat",
+            &p.splat_layout,
+            &[(0, params.clone()), (1, liquid.particles.as_entire_binding()), (2, tv(scene_depth))],
+        );
+        let across_group = group(
+            "liquid filter across",
+            &p.filter_layout,
+            &[(0, params.clone()), (3, tv(&front_view)), (4, tv(&thickness_view))],
+        );
+        let down_group = group(
+            "liquid filter down",
+            &p.filter_layout,
+            // The thickness is the first pass's second channel (binding 4
+            // is not read).
+            &[(0, params.clone()), (3, tv(&across_view)), (4, tv(&thickness_view))],
+        );
+        let shade_group = group(
+            "liquid shade",
+            &p.shade_layout,
+            &[(0, params), (2, tv(scene_depth)), (3, tv(&filtered_view)), (5, tv(&behind_view))],
+        );
+        Images {
+            size,
+            particles: liquid.particles.clone(),
+            depth_test,
+            front,
+            front_view,
+            thickness_view,
+            across_view,
+            filtered,
+            filtered_view,
+            behind,
+            splat_group,
+            across_group,
+            down_group,
+            shade_group,
+        }
+    }
+}
+
+#[derive(Default)]
+pub(crate) struct LiquidScreenSpace {
+    pipelines: Option<Pipelines>,
+    images: Option<Images>,
+}
+
+/// The method's parameters for the GPU.
+fn uniforms(
+    scene: &Scene,
+    liquid: &LiquidState,
+    view_proj: glam::Mat4,
+    size: (u32, u32),
+) -> ScreenSpaceUniforms {
+    let p = ScreenSpaceParams::of(&scene.fluid);
+    let view =
+        hydrolux_core::fluid::screen_mesh::ScreenView { view_proj, width: size.0, height: size.1 };
+    ScreenSpaceUniforms {
+        radius: p.radius,
+        volume_share: p.volume_share,
+        filter_radius: p.filter_radius,
+        threshold: p.threshold,
+        clamp: p.clamp,
+        pixels_per_metre: twin::pixels_per_metre(&view),
+        max_reach: twin::MAX_FILTER_PIXELS,
+        count: liquid.count,
+    }
+}
+
+/// A colour attachment cleared to `clear` (or loaded).
+fn attachment(
+    view: &wgpu::TextureView,
+    clear: Option<wgpu::Color>,
+) -> wgpu::RenderPassColorAttachment<'_> {
+    wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+            store: wgpu::StoreOp::Store,
+        },
+    }
+}
+
+impl LiquidScreenSpace {
+    #[allow(clippy::too_many_arguments)]
+    fn pass(
+        encoder: &mut wgpu::CommandEncoder,
+        label: &'static str,
+        color: wgpu::RenderPassColorAttachment<'_>,
+        depth: Option<&wgpu::TextureView>,
+        pipeline: &wgpu::RenderPipeline,
+        globals: &wgpu::BindGroup,
+        group: &wgpu::BindGroup,
+        timer: Option<&mut GpuTimer>,
+        (vertices, instances): (u32, u32),
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[Some(color)],
+            depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.and_then(|t| t.render_writes(label)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, globals, &[]);
+        pass.set_bind_group(1, group, &[]);
+        pass.draw(0..vertices, 0..instances);
+    }
+
+    /// The filtered depth and thickness of the last frame drawn this way.
+    fn read_filtered(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<FluidMaps> {
+        let images = self.images.as_ref()?;
+        let (w, h) = images.size;
+        let bytes = read_texture(device, queue, &images.filtered, 8);
+        let values: &[f32] = bytemuck::cast_slice(&bytes); // float bits
+        let mut maps = FluidMaps::empty(w, h);
+        for (i, v) in values.chunks_exact(2).enumerate() {
+            maps.depth[i] = v[0];
+            maps.thickness[i] = v[1];
+        }
+        Some(maps)
+    }
+
+    /// The splatted depth (before the filter) of the last frame.
+    fn read_splatted_depth(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<Vec<f32>> {
+        let images = self.images.as_ref()?;
+        let bytes = read_texture(device, queue, &images.front, 4);
+        Some(bytemuck::cast_slice(&bytes).to_vec())
+    }
+}
+
+impl Technique for LiquidScreenSpace {
+    fn create(_shared: &Shared, _scene: &Scene) -> Result<Self, RenderError> {
+        Ok(LiquidScreenSpace::default())
+    }
+
+    fn resize(&mut self, _shared: &Shared, _targets: &crate::targets::Targets) {
+        // The scene's depth is a new view: bind it anew.
+        self.images = None;
+    }
+
+    fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
+        let (Some(liquid), Some(targets)) = (&frame.published.liquid, frame.targets) else {
+            return;
+        };
+        if !drawn_screen_space(frame.scene) {
+            return;
+        }
+        let pipelines = self.pipelines.get_or_insert_with(|| Pipelines::new(frame.shared));
+        let stale = self
+            .images
+            .as_ref()
+            .is_none_or(|i| i.size != targets.size || i.particles != liquid.particles);
+        if stale {
+            self.images = Some(Images::new(
+                &frame.shared.device,
+                pipelines,
+                targets.size,
+                liquid,
+                &targets.depth_view,
+            ));
+        }
+        let u = uniforms(frame.scene, liquid, frame.plan.matrices.view_proj, targets.size);
+        queue.write_buffer(&pipelines.params, 0, bytemuck::bytes_of(&u));
+    }
+
+    fn record(
+        &mut self,
+        stage: Stage,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
+        if stage != Stage::Composite || !drawn_screen_space(frame.scene) {
+            return;
+        }
+        let (Some(liquid), Some(p), Some(images)) =
+            (&frame.published.liquid, &self.pipelines, &self.images)
+        else {
+            return;
+        };
+        let targets = frame.targets();
+        let globals = &frame.bound.globals;
+        encoder.copy_texture_to_texture(
+            targets.hdr.as_image_copy(),
+            images.behind.as_image_copy(),
+            targets.hdr.size(),
+        );
+        let black = Some(wgpu::Color::TRANSPARENT);
+        let quads = (6, liquid.count);
+        Self::pass(
+            encoder,
+            "liquid depth splat",
+            attachment(&images.front_view, black),
+            Some(&images.depth_test),
+            &p.depth,
+            globals,
+            &images.splat_group,
+            timer.as_deref_mut(),
+            quads,
+        );
+        Self::pass(
+            encoder,
+            "liquid thickness splat",
+            attachment(&images.thickness_view, black),
+            None,
+            &p.thickness,
+            globals,
+            &images.splat_group,
+            timer.as_deref_mut(),
+            quads,
+        );
+        let passes = [
+            ("liquid filter across", &images.across_view, &p.across, &images.across_group),
+            ("liquid filter down", &images.filtered_view, &p.down, &images.down_group),
+        ];
+        for (label, view, pipeline, group) in passes {
+            let color = attachment(view, black);
+            Self::pass(
+                encoder,
+                label,
+                color,
+                None,
+                pipeline,
+                globals,
+                group,
+                timer.as_deref_mut(),
+                (3, 1),
+            );
+        }
+        Self::pass(
+            encoder,
+            "liquid screen space shade",
+            attachment(&targets.hdr_view, None),
+            None,
+            &p.shade,
+            globals,
+            &images.shade_group,
+            timer,
+            (3, 1),
+        );
+    }
+
+    fn dump(&self, name: &str, ctx: &DumpContext) -> Option<Result<DumpData, String>> {
+        (name == "fluid_screen_space").then(|| {
+            let maps = self.read_filtered(ctx.device, ctx.queue).ok_or_else(|| {
+                "no frame has drawn the liquid by screen-space fluid rendering yet".to_string()
+            })?;
+            let data = maps.depth.iter().zip(&maps.thickness).flat_map(|(&z, &t)| [z, t]).collect();
+            Ok(DumpData::Floats {
+                columns: maps.width as usize,
+                rows: maps.height as usize,
+                channels: 2,
+                data,
+                note: Some(
+                    "per pixel, rows from the top: the filtered depth (the clip w, m; 0 where no liquid) and thickness (m)"
+                        .into(),
+                ),
+            })
+        })
+    }
+}
+
+fn not_screen_space(scene: &Scene) -> Option<&'static str> {
+    if !scene.fluid.enabled() {
+        Some("the scene has no volumetric liquid (it needs [[fluid.sources]])")
+    } else if scene.fluid.surface != FluidSurface::ScreenSpace {
+        Some(
+            "the liquid is not drawn by screen-space fluid rendering (it needs fluid.surface = \"screen_space\")",
+        )
+    } else {
+        None
+    }
+}
+
+/// What one frame of screen-space fluid rendering made, for its tests.
+pub struct ScreenSpaceReadback {
+    /// The camera it was drawn for.
+    pub view: hydrolux_core::fluid::screen_mesh::ScreenView,
+    pub eye: glam::Vec3,
+    /// The nearest fronts as splatted (clip w, 0 where empty).
+    pub splatted_depth: Vec<f32>,
+    /// After the narrow-range filter.
+    pub filtered: FluidMaps,
+}
+
+impl crate::renderer::Renderer {
+    /// The liquid's screen-space images after the last frame; `None` unless
+    /// it was drawn by screen-space fluid rendering.
+    pub fn read_liquid_screen_space(&self) -> Option<ScreenSpaceReadback> {
+        let t = &self.techniques.liquid_screen_space;
+        let plan = self.last_plan.as_ref()?;
+        let filtered = t.read_filtered(self.device(), self.queue())?;
+        let splatted_depth = t.read_splatted_depth(self.device(), self.queue())?;
+        Some(ScreenSpaceReadback {
+            view: hydrolux_core::fluid::screen_mesh::ScreenView {
+                view_proj: plan.matrices.view_proj,
+                width: filtered.width,
+                height: filtered.height,
+            },
+            eye: plan.camera.position,
+            splatted_depth,
+            filtered,
+        })
+    }
+}
+
+/// The liquid's screen-space draw, validated offline.
+pub(crate) const INFO: TechniqueInfo = TechniqueInfo {
+    name: "liquid_screen_space",
+    dumps: &[DumpKind {
+        name: "fluid_screen_space",
+        shape: DumpShape::Grid,
+        missing: not_screen_space,
+    }],
+    shaders: || vec![("liquid screen space".into(), source())],
+    uniforms: || vec![crate::uniforms::Layout::of::<ScreenSpaceUniforms>(source())],
+};

@@ -1,0 +1,299 @@
+// Screen-space fluid rendering (`fluid.surface = "screen_space"`; van der
+// Laan, Green & Sainz 2009, the narrow-range filter of Truong & Yuksel
+// 2018; CPU twin `hydrolux_core::fluid::screen_space`):
+// 1. `fs_depth`: each particle a sphere ray-cast in an instanced quad; the
+//    nearest front's clip w per pixel (depth-tested), hidden by the opaque
+//    scene;
+// 2. `fs_thickness`: the spheres' chords along each pixel's ray, each
+//    weighted by its particle's share of the sphere, added (cut where the
+//    opaque scene lies nearer): the liquid's thickness;
+// 3. `fs_filter_across`, `fs_filter_down`: the narrow-range filter of the
+//    depths and a Gaussian of the thickness, across then down;
+// 4. `fs_shade`: normals from the filtered depths (the front) and from the
+//    depths plus the thickness (the back), shaded as clear water — Fresnel,
+//    the sky and the sun's glint mirrored, the scene behind seen through
+//    two refractions (in at the front, out at the back) and absorbed over
+//    the thickness, the light the water scatters, the sun's shadow, the fog.
+#import liquid_particle, constants, frame, modes, sky_bindings, medium, optics, lighting, fog, shadow_space, shadow_lookup, screen_lookup, fullscreen
+
+struct ScreenSpaceParams {
+    // The spheres (m), and the share of each that its particle's liquid
+    // fills (each chord is weighted by it).
+    radius: f32,
+    volume_share: f32,
+    // The filter's radius as a world length (m), its range and clamp (m).
+    filter_radius: f32,
+    threshold: f32,
+    clamp: f32,
+    // Pixels per metre at unit depth, down the screen.
+    pixels_per_metre: f32,
+    // The filter's widest reach (pixels either side).
+    max_reach: u32,
+    count: u32,
+}
+
+// A storage buffer, not a uniform one (see points.wgsl).
+@group(1) @binding(0) var<storage, read> params: ScreenSpaceParams;
+// The splats read the particles and the scene's depth; the filter passes
+// their sources; the shading the filtered maps, the scene's depth and the
+// image behind the liquid.
+@group(1) @binding(1) var<storage, read> particles: array<LiquidParticle>;
+@group(1) @binding(2) var scene_depth: texture_2d<f32>;
+// The depths and the filtered maps are float bits in integer images
+// (downlevel OpenGL renders no 32-bit float colour).
+@group(1) @binding(3) var depth_source: texture_2d<u32>;
+@group(1) @binding(4) var thickness_source: texture_2d<f32>;
+@group(1) @binding(5) var behind_tex: texture_2d<f32>;
+
+struct SplatOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) @interpolate(flat) centre: vec3<f32>,
+}
+
+@vertex
+fn vs_sphere(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> SplatOut {
+    let p = particles[i];
+    let world = sphere_quad_corner(p.position, params.radius, frame.view.position, v);
+    var out: SplatOut;
+    out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
+    if (p.alive == 0u) {
+        // An empty slot: behind the far plane, clipped.
+        out.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
+    }
+    out.world = world;
+    out.centre = p.position;
+    return out;
+}
+
+// The pixel's ray through the sphere: (entry, exit) distances along it and
+// how the clip w grows per metre of it; entry < 0 where it misses.
+struct Chord {
+    dir: vec3<f32>,
+    t0: f32,
+    t1: f32,
+    w_per_metre: f32,
+    // The opaque scene's clip w under the pixel.
+    limit: f32,
+}
+
+fn chord(in: SplatOut) -> Chord {
+    let eye = frame.view.position;
+    var c: Chord;
+    c.dir = normalize(in.world - eye);
+    let oc = eye - in.centre;
+    let b = dot(oc, c.dir);
+    let disc = b * b - (dot(oc, oc) - params.radius * params.radius);
+    let s = sqrt(max(disc, 0.0));
+    c.t0 = select(-1.0, -b - s, disc >= 0.0);
+    c.t1 = -b + s;
+    let m = frame.view.view_proj;
+    c.w_per_metre = dot(vec3<f32>(m[0][3], m[1][3], m[2][3]), c.dir);
+    c.limit = scene_w(in.clip.xy, textureLoad(scene_depth, vec2<i32>(in.clip.xy), 0).r);
+    return c;
+}
+
+struct DepthOut {
+    @location(0) w: u32,
+    @builtin(frag_depth) depth: f32,
+}
+
+@fragment
+fn fs_depth(in: SplatOut) -> DepthOut {
+    let c = chord(in);
+    let front = c.t0 * c.w_per_metre;
+    if (c.t0 <= 0.0 || front > c.limit) {
+        discard;
+    }
+    let hit = frame.view.view_proj * vec4<f32>(frame.view.position + c.t0 * c.dir, 1.0);
+    var out: DepthOut;
+    out.w = bitcast<u32>(front);
+    out.depth = hit.z / hit.w;
+    return out;
+}
+
+@fragment
+fn fs_thickness(in: SplatOut) -> @location(0) vec4<f32> {
+    let c = chord(in);
+    if (c.t0 <= 0.0 || c.t0 * c.w_per_metre > c.limit) {
+        discard;
+    }
+    let back = min(c.t1, c.limit / max(c.w_per_metre, 1e-12));
+    return vec4<f32>(params.volume_share * (back - c.t0), 0.0, 0.0, 0.0);
+}
+
+// The (depth, thickness) of a filtered image's pixel.
+fn maps_at(px: vec2<i32>) -> vec2<f32> {
+    return bitcast<vec2<f32>>(textureLoad(depth_source, px, 0).xy);
+}
+
+// One pass of the filter along `step`; the thickness comes from the
+// splat's own image (the first pass) or the first pass's second channel.
+fn filtered(px: vec2<i32>, step: vec2<i32>, first: bool) -> vec2<f32> {
+    let zc = bitcast<f32>(textureLoad(depth_source, px, 0).x);
+    if (zc <= 0.0) {
+        return vec2<f32>(0.0);
+    }
+    let size = vec2<i32>(textureDimensions(depth_source));
+    var reach = 0;
+    if (params.filter_radius > 0.0) {
+        reach = i32(min(ceil(params.filter_radius * params.pixels_per_metre / zc), f32(params.max_reach)));
+    }
+    let sigma = 0.5 * f32(max(reach, 1));
+    var z_sum = 0.0;
+    var z_weight = 0.0;
+    var t_sum = 0.0;
+    var t_weight = 0.0;
+    for (var k = -reach; k <= reach; k++) {
+        let s = px + k * step;
+        if (any(s < vec2<i32>(0)) || any(s >= size)) {
+            continue;
+        }
+        let g = exp(-f32(k * k) / (2.0 * sigma * sigma));
+        let source = textureLoad(depth_source, s, 0);
+        var thickness = bitcast<f32>(source.y);
+        if (first) {
+            thickness = textureLoad(thickness_source, s, 0).x;
+        }
+        t_sum += g * thickness;
+        t_weight += g;
+        var z = bitcast<f32>(source.x);
+        // Another layer in front: not this surface.
+        if (z > 0.0 && z < zc - params.threshold) {
+            continue;
+        }
+        // Behind the range, or the background: the layer's edge bends
+        // away by the clamp.
+        if (z <= 0.0 || z > zc + params.threshold) {
+            z = zc + params.clamp;
+        }
+        z_sum += g * z;
+        z_weight += g;
+    }
+    return vec2<f32>(z_sum / z_weight, t_sum / t_weight);
+}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    return vec4<f32>(fullscreen_ndc(i), 0.0, 1.0);
+}
+
+@fragment
+fn fs_filter_across(@builtin(position) p: vec4<f32>) -> @location(0) vec4<u32> {
+    return vec4<u32>(bitcast<vec2<u32>>(filtered(vec2<i32>(p.xy), vec2<i32>(1, 0), true)), 0u, 0u);
+}
+
+@fragment
+fn fs_filter_down(@builtin(position) p: vec4<f32>) -> @location(0) vec4<u32> {
+    return vec4<u32>(bitcast<vec2<u32>>(filtered(vec2<i32>(p.xy), vec2<i32>(0, 1), false)), 0u, 0u);
+}
+
+// The surface under pixel `px` of the filtered maps: its front (depth
+// `maps.x`) or its back (the front carried along the pixel's ray by the
+// thickness `maps.y`: the back of a single layer).
+fn surface_point(px: vec2<i32>, maps: vec2<f32>, back: bool) -> vec3<f32> {
+    let front = pixel_point(vec2<f32>(px) + 0.5, maps.x);
+    let ray = normalize(front - frame.view.position);
+    return select(front, front + ray * max(maps.y, 0.0), back);
+}
+
+// The difference from `centre` (depth zc) towards the neighbour along
+// `axis` whose depth is nearer zc, oriented along +axis, on the front or
+// the back; w = 0 where both are other layers (or off the screen).
+fn side(px: vec2<i32>, axis: vec2<i32>, zc: f32, centre: vec3<f32>, back: bool) -> vec4<f32> {
+    let size = vec2<i32>(textureDimensions(depth_source));
+    var best = vec4<f32>(0.0);
+    var best_gap = params.threshold;
+    for (var sign = -1; sign <= 1; sign += 2) {
+        let s = px + sign * axis;
+        if (any(s < vec2<i32>(0)) || any(s >= size)) {
+            continue;
+        }
+        let maps = maps_at(s);
+        let gap = abs(maps.x - zc);
+        if (maps.x <= 0.0 || gap > best_gap || (best.w > 0.0 && gap >= best_gap)) {
+            continue;
+        }
+        best_gap = gap;
+        best = vec4<f32>((surface_point(s, maps, back) - centre) * f32(sign), 1.0);
+    }
+    return best;
+}
+
+// The unit normal of the front (facing the eye) or of the back (facing
+// away) at `px`, from the differences across and down; `fallback` where
+// the pixel has no neighbour of its layer either way.
+fn surface_normal(px: vec2<i32>, maps: vec2<f32>, back: bool, fallback: vec3<f32>) -> vec3<f32> {
+    let centre = surface_point(px, maps, back);
+    let across = side(px, vec2<i32>(1, 0), maps.x, centre, back);
+    let down = side(px, vec2<i32>(0, 1), maps.x, centre, back);
+    var n = fallback;
+    if (across.w > 0.0 && down.w > 0.0) {
+        let c = cross(across.xyz, down.xyz);
+        n = select(fallback, normalize(c), dot(c, c) > 1e-20);
+    }
+    // Turned to the side the fallback faces.
+    return select(n, -n, dot(n, fallback) < 0.0);
+}
+
+@fragment
+fn fs_shade(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(p.xy);
+    let maps = maps_at(px);
+    let w = maps.x;
+    let z_scene = textureLoad(scene_depth, px, 0).r;
+    if (w <= 0.0 || w > scene_w(p.xy, z_scene)) {
+        discard;
+    }
+    let eye = frame.view.position;
+    let world = pixel_point(p.xy, w);
+    let dir = normalize(world - eye);
+    // Step 3: normals from depth, facing the eye; the back's from the
+    // depth plus the thickness, facing away.
+    let n = surface_normal(px, maps, false, -dir);
+    let n_back = surface_normal(px, maps, true, dir);
+    let thickness = max(maps.y, 0.0);
+
+    let ior = frame.water.ior;
+    let cos_i = max(dot(-dir, n), 0.0);
+    let reflectance = fresnel(frame.modes.fresnel, frame.water.fresnel_power, cos_i, 1.0, ior);
+    let visibility = sun_visibility(world, n);
+    let reflected = reflect(dir, n);
+    var mirror = sky_towards(reflected);
+    if (dot(reflected, frame.light.sun_dir) > frame.light.cos_sun_radius) {
+        mirror += frame.light.sun_illuminance * frame.light.inv_sun_solid_angle * visibility;
+    }
+    // Through the liquid: bent in at the front, across its thickness, bent
+    // out at the back (or reflected there, past the critical angle). What
+    // lies that way: its distance guessed from the scene's depth under the
+    // exit point, then looked up where it projects in the image as it was
+    // before the liquid.
+    let inside = refract(dir, n, 1.0 / ior);
+    let exit = world + inside * thickness;
+    let refracted_out = refract(inside, -n_back, ior);
+    let tir = dot(refracted_out, refracted_out) < 0.5;
+    let out_dir = select(refracted_out, reflect(inside, -n_back), tir);
+    let leaving = select(fresnel_exact(max(dot(inside, n_back), 0.0), ior, 1.0), 0.0, tir);
+    let size = vec2<f32>(textureDimensions(behind_tex));
+    let at_exit = screen_uv(exit);
+    let exit_texel = texel_at(at_exit.xy, size);
+    let z_exit = textureLoad(scene_depth, exit_texel, 0).r;
+    let beyond_w = scene_w(vec2<f32>(exit_texel) + 0.5, z_exit);
+    let exit_w = (frame.view.view_proj * vec4<f32>(exit, 1.0)).w;
+    let gap = clamp(beyond_w - exit_w, 0.05, 100.0);
+    let q = screen_uv(exit + out_dir * gap);
+    var behind = sky_towards(out_dir);
+    if (q.z > 0.5) {
+        behind = textureLoad(behind_tex, texel_at(q.xy, size), 0).rgb;
+    }
+    behind *= 1.0 - leaving;
+    let through = behind * transmittance(thickness);
+    // Light the water itself scatters towards the eye over its thickness.
+    let scatter = frame.water.scattering * thickness * air_irradiance(n, vec3<f32>(visibility)) / PI;
+    let color = reflectance * mirror + (1.0 - reflectance) * (through + scatter);
+    let shaded = clamp(through_fog(eye, world, color), vec3<f32>(0.0), vec3<f32>(60000.0));
+    // The normals debug view as a select, not a branch on the uniform (see
+    // `through_fog`).
+    let normals_view = frame.modes.debug_view == VIEW_NORMALS;
+    return vec4<f32>(select(shaded, n * 0.5 + 0.5, normals_view), 1.0);
+}
