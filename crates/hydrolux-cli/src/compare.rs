@@ -7,8 +7,8 @@
 //!
 //! For a scene with the volumetric liquid (issue #30), `--surfaces` (the
 //! default where the scene has no surface water) compares its surfaces
-//! instead: the same liquid drawn by marching cubes, a screen-space mesh
-//! and points, each against marching cubes at the finest grid, with the
+//! instead: the same liquid drawn by marching cubes, a screen-space mesh,
+//! screen-space fluid rendering and points, each against marching cubes at the finest grid, with the
 //! error over the pixels the liquid changes.
 
 use crate::SceneArgs;
@@ -40,7 +40,7 @@ pub struct CompareArgs {
     #[arg(long, default_value = "compare")]
     pub out: PathBuf,
     /// Compare the liquid's surfaces (marching cubes, screen-space mesh,
-    /// points) against marching cubes at its finest grid: OUT-S.png and
+    /// screen-space fluid rendering, points) against marching cubes at its finest grid: OUT-S.png and
     /// OUT-S-error.png for each [default where the scene has a liquid and
     /// no surface water].
     #[arg(long)]
@@ -168,7 +168,7 @@ pub fn run(a: CompareArgs) -> Result<()> {
 }
 
 /// The surfaces compared, and the reference's grid.
-const SURFACES: [&str; 3] = ["marching_cubes", "screen_mesh", "points"];
+const SURFACES: [&str; 4] = ["marching_cubes", "screen_mesh", "screen_space", "points"];
 
 /// `--surfaces`: each of the liquid's surfaces against marching cubes at
 /// its finest grid, over the pixels where the liquid changes the image
