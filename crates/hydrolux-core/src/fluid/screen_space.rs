@@ -453,8 +453,8 @@ mod tests {
         let view = camera(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, 64, 64);
         let p = params(0.01);
         let scale = pixels_per_metre(&view);
-        let reach = filter_reach(&p, scale, 2.0) as u32;
-        assert!(reach >= 2 && reach < 16, "{reach}");
+        let reach = filter_reach(&p, scale, 2.0);
+        assert!((2..16).contains(&reach), "{reach}");
         let mut maps = FluidMaps::empty(64, 64);
         for y in 0..64 {
             for x in 0..64 {

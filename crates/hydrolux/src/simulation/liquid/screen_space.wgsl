@@ -265,28 +265,35 @@ fn fs_shade(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
     }
     // Through the liquid: bent in at the front, across its thickness, bent
     // out at the back (or reflected there, past the critical angle). What
-    // lies that way: its distance guessed from the scene's depth under the
-    // exit point, then looked up where it projects in the image as it was
-    // before the liquid.
+    // lies that way: its distance guessed from the scene's depth under this
+    // pixel, then looked up in the image as it was before the liquid.
     let inside = refract(dir, n, 1.0 / ior);
-    let exit = world + inside * thickness;
     let refracted_out = refract(inside, -n_back, ior);
     let tir = dot(refracted_out, refracted_out) < 0.5;
     let out_dir = select(refracted_out, reflect(inside, -n_back), tir);
     let leaving = select(fresnel_exact(max(dot(inside, n_back), 0.0), ior, 1.0), 0.0, tir);
+    // Where that lies on the screen, as an offset from this pixel: the
+    // refracted path's lateral departure from the straight ray, at the
+    // distance of the scene behind this pixel, in pixels by the world
+    // step one pixel makes at this depth (scaled to that distance).
+    // Offsets from the pixel rather than projections of world points:
+    // lavapipe keeps a copy of the shader per frame where a texture lookup
+    // follows a projected point (about 2.5 MB a frame; tests/memory.rs).
+    let across = pixel_point(p.xy + vec2<f32>(1.0, 0.0), w) - world;
+    let down = pixel_point(p.xy + vec2<f32>(0.0, 1.0), w) - world;
+    let to_world = distance(world, eye);
+    let to_scene = scene_w(p.xy, z_scene) * to_world / w;
+    let gap = clamp(to_scene - to_world - thickness, 0.05, 100.0);
+    let seen_at = world + inside * thickness + out_dir * gap;
+    let straight = world + dir * dot(seen_at - world, dir);
+    let lateral = seen_at - straight;
+    let scale = to_world / distance(straight, eye);
+    let offset = vec2<f32>(dot(lateral, across) / dot(across, across), dot(lateral, down) / dot(down, down)) * scale;
     let size = vec2<f32>(textureDimensions(behind_tex));
-    let at_exit = screen_uv(exit);
-    let exit_texel = texel_at(at_exit.xy, size);
-    let z_exit = textureLoad(scene_depth, exit_texel, 0).r;
-    let beyond_w = scene_w(vec2<f32>(exit_texel) + 0.5, z_exit);
-    let exit_w = (frame.view.view_proj * vec4<f32>(exit, 1.0)).w;
-    let gap = clamp(beyond_w - exit_w, 0.05, 100.0);
-    let q = screen_uv(exit + out_dir * gap);
-    var behind = sky_towards(out_dir);
-    if (q.z > 0.5) {
-        behind = textureLoad(behind_tex, texel_at(q.xy, size), 0).rgb;
-    }
-    behind *= 1.0 - leaving;
+    let q = p.xy + offset;
+    let on_screen = all(q >= vec2<f32>(0.0)) & all(q < size);
+    let seen = textureLoad(behind_tex, vec2<i32>(clamp(select(p.xy, q, on_screen), vec2<f32>(0.0), size - 1.0)), 0).rgb;
+    let behind = select(sky_towards(out_dir), seen, on_screen) * (1.0 - leaving);
     let through = behind * transmittance(thickness);
     // Light the water itself scatters towards the eye over its thickness.
     let scatter = frame.water.scattering * thickness * air_irradiance(n, vec3<f32>(visibility)) / PI;
