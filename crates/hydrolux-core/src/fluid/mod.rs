@@ -22,4 +22,6 @@ pub use solids::{BodyLoad, LiquidBody};
 #[cfg(test)]
 mod solids_tests;
 #[cfg(test)]
+mod surface_reference_tests;
+#[cfg(test)]
 mod tests;
