@@ -713,3 +713,128 @@ fn the_liquid_screen_space_images_are_drawn_as_their_cpu_twin_draws_them() {
         thickness_error
     );
 }
+
+/// A camera inside the liquid (its lens under the meshed surface of a block
+/// at rest, 0.6 m square and 0.4 m deep) looking down at the floor: every
+/// pixel's near-plane point is inside (the stencil's face count), the floor
+/// lies against the liquid (no air between), so each pixel is the image
+/// behind the liquid carried through the water alone. With a purely
+/// absorbing medium that is Beer–Lambert exactly: the image behind times
+/// e^(−a·d), d the distance to the floor along the pixel's ray.
+#[test]
+fn a_camera_inside_the_liquid_sees_the_floor_through_the_water() {
+    use hydrolux::core::scene::FluidSurface;
+    let absorption = [1.5f32, 3.0, 6.0];
+    let sets = ["water.absorption=[1.5, 3.0, 6.0]".into(), "water.scattering=[0, 0, 0]".into()];
+    let mut s = Scene::load("dam_break", &sets).expect("built-in");
+    s.objects.clear();
+    s.fluid.min = [-0.3, 0.0, -0.3];
+    s.fluid.max = [0.3, 0.6, 0.3];
+    s.fluid.resolution = 12;
+    s.fluid.surface_resolution = 24;
+    s.fluid.sources = vec![FluidSource {
+        min: [-0.3, 0.0, -0.3],
+        max: [0.3, 0.4, 0.3],
+        ..FluidSource::default()
+    }];
+    s.fluid.surface = FluidSurface::MarchingCubes;
+    s.camera.position = [0.0, 0.25, 0.0];
+    s.camera.look_at = [0.0, 0.0, -0.02];
+    s.validate().expect("valid");
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let mut r = renderer(&ctx, &s);
+    let target = HeadlessTarget::new(&ctx.device, (64, 48));
+    target.render(&mut r, s.camera(), 0.0).expect("frame");
+    let (w, h, seen) = r.read_hdr().expect("an image");
+    let (_, _, behind) = r.read_behind_water_objects().expect("the liquid is drawn");
+    let inverse = s.camera().view_projection(w as f32 / h as f32).inverse();
+    let eye = glam::Vec3::from(s.camera.position);
+    let floor = -s.floor.depth;
+    let (mut worst, mut checked) = (0.0f32, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let ndc =
+                [2.0 * (x as f32 + 0.5) / w as f32 - 1.0, 1.0 - 2.0 * (y as f32 + 0.5) / h as f32];
+            let far = inverse.project_point3(glam::Vec3::new(ndc[0], ndc[1], 0.5));
+            let dir = (far - eye).normalize();
+            let d = (floor - eye.y) / dir.y;
+            let i = (y * w + x) as usize;
+            for c in 0..3 {
+                let expected = behind[i][c] * (-absorption[c] * d).exp();
+                // Half-float images: a relative 1e-3, and a floor
+                // absolute for the dimmest channel.
+                let error = (seen[i][c] - expected).abs() / (expected.abs() + 1e-3);
+                worst = worst.max(error);
+            }
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, w * h);
+    eprintln!("{checked} pixels, worst relative error {worst}");
+    assert!(worst < 0.02, "a pixel differs from Beer–Lambert through the water by {worst}");
+    // And the water was there: even red, the least absorbed, loses a third.
+    let mean =
+        |img: &[[f32; 4]], c: usize| img.iter().map(|p| p[c]).sum::<f32>() / img.len() as f32;
+    assert!(mean(&seen, 0) < 0.7 * mean(&behind, 0), "red barely absorbed");
+}
+
+/// From inside the same block, looking up at its flat top through strongly
+/// absorbing water: within the critical angle (48.6° from the normal for
+/// n = 1.333) the sky comes through Snell's window, n² brighter; beyond it
+/// the surface reflects totally and only light that went twice as far
+/// through the water remains. The window's edge is where Snell puts it.
+#[test]
+fn a_camera_inside_the_liquid_sees_snells_window() {
+    use hydrolux::core::scene::FluidSurface;
+    let sets = ["water.absorption=[40, 40, 40]".into(), "water.scattering=[0, 0, 0]".into()];
+    let mut s = Scene::load("dam_break", &sets).expect("built-in");
+    s.objects.clear();
+    s.fluid.min = [-0.3, 0.0, -0.3];
+    s.fluid.max = [0.3, 0.6, 0.3];
+    s.fluid.resolution = 12;
+    s.fluid.surface_resolution = 24;
+    s.fluid.sources = vec![FluidSource {
+        min: [-0.3, 0.0, -0.3],
+        max: [0.3, 0.4, 0.3],
+        ..FluidSource::default()
+    }];
+    s.fluid.surface = FluidSurface::MarchingCubes;
+    s.camera.position = [0.0, 0.34, 0.0];
+    s.camera.look_at = [0.0, 1.0, -0.02];
+    s.camera.fov_y_deg = 100.0;
+    s.validate().expect("valid");
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let mut r = renderer(&ctx, &s);
+    let target = HeadlessTarget::new(&ctx.device, (64, 48));
+    target.render(&mut r, s.camera(), 0.0).expect("frame");
+    let (w, h, seen) = r.read_hdr().expect("an image");
+    let inverse = s.camera().view_projection(w as f32 / h as f32).inverse();
+    let eye = glam::Vec3::from(s.camera.position);
+    let critical = (1.0 / s.water.ior).asin().to_degrees();
+    let (mut window, mut mirror) = (Vec::new(), Vec::new());
+    for y in 0..h {
+        for x in 0..w {
+            let ndc =
+                [2.0 * (x as f32 + 0.5) / w as f32 - 1.0, 1.0 - 2.0 * (y as f32 + 0.5) / h as f32];
+            let far = inverse.project_point3(glam::Vec3::new(ndc[0], ndc[1], 0.5));
+            let from_up = (far - eye).normalize().y.acos().to_degrees();
+            let p = seen[(y * w + x) as usize];
+            let luminance = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            if from_up < critical - 3.0 {
+                window.push(luminance);
+            } else if from_up > critical + 3.0 {
+                mirror.push(luminance);
+            }
+        }
+    }
+    assert!(window.len() > 300 && mirror.len() > 100, "{} {}", window.len(), mirror.len());
+    let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
+    let dimmest_window = window.iter().copied().fold(f32::MAX, f32::min);
+    let brightest_mirror = mirror.iter().copied().fold(0.0f32, f32::max);
+    eprintln!(
+        "critical {critical:.1}°: window mean {} (least {dimmest_window}), mirror mean {} (most {brightest_mirror})",
+        mean(&window),
+        mean(&mirror)
+    );
+    assert!(dimmest_window > 2.0 * brightest_mirror, "no edge at the critical angle");
+}

@@ -36,6 +36,11 @@ const FACES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// The camera's back-face record: outward normal and distance.
 const BACK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The camera-inside pass's depth and stencil (the stencil counts faces).
+const INSIDE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24PlusStencil8;
+/// How far outside the clear objects' and the liquid's box the camera may
+/// be and still have its lens in them (the near plane's reach).
+const INSIDE_MARGIN: f32 = 0.1;
 /// Fixed point of the splat: 2¹⁶ per unit of relative irradiance.
 pub const FIXED_POINT_SCALE: f32 = 65536.0;
 /// Samples of each march (before bisection).
@@ -110,7 +115,17 @@ pub struct ObjectTargets {
     back_depth: wgpu::TextureView,
     front_depth: wgpu::TextureView,
     behind: wgpu::Texture,
+    /// Depth and the face count for a camera inside.
+    inside_depth: wgpu::TextureView,
     inputs: wgpu::BindGroup,
+}
+
+/// The passes that draw a camera's view from inside the clear objects or
+/// the liquid (`shade.wgsl`: `fs_count`, `fs_inside`, `fs_inside_medium`).
+struct InsidePipelines {
+    count: wgpu::RenderPipeline,
+    faces: wgpu::RenderPipeline,
+    medium: wgpu::RenderPipeline,
 }
 
 pub struct WaterObjectPass {
@@ -124,6 +139,7 @@ pub struct WaterObjectPass {
     inputs_layout: wgpu::BindGroupLayout,
     camera_back: wgpu::RenderPipeline,
     camera_front: wgpu::RenderPipeline,
+    inside: InsidePipelines,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -133,8 +149,8 @@ fn mesh_pipeline(
     module: &wgpu::ShaderModule,
     (vs, fs): (&str, &str),
     layouts: &[&wgpu::BindGroupLayout],
-    format: wgpu::TextureFormat,
-    cull: wgpu::Face,
+    target: impl Into<wgpu::ColorTargetState>,
+    cull: Option<wgpu::Face>,
     depth: wgpu::DepthStencilState,
 ) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -146,14 +162,14 @@ fn mesh_pipeline(
             compilation_options: Default::default(),
             buffers: &[Some(meshes::vertex_layout())],
         },
-        primitive: wgpu::PrimitiveState { cull_mode: Some(cull), ..Default::default() },
+        primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
         depth_stencil: Some(depth),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
             entry_point: Some(fs),
             compilation_options: Default::default(),
-            targets: &[Some(format.into())],
+            targets: &[Some(target.into())],
         }),
         multiview_mask: None,
         cache: None,
@@ -191,7 +207,7 @@ impl WaterObjectPass {
             ("vs_light", "fs_light"),
             &mesh_layouts,
             FACES_FORMAT,
-            wgpu::Face::Back,
+            Some(wgpu::Face::Back),
             depth_state(d32, wgpu::CompareFunction::Less),
         );
         let light_back = mesh_pipeline(
@@ -201,7 +217,7 @@ impl WaterObjectPass {
             ("vs_light", "fs_light"),
             &mesh_layouts,
             FACES_FORMAT,
-            wgpu::Face::Front,
+            Some(wgpu::Face::Front),
             depth_state(d32, wgpu::CompareFunction::Greater),
         );
         let paths_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -239,7 +255,7 @@ impl WaterObjectPass {
             ("vs_object", "fs_back"),
             &shade_layouts[..3],
             BACK_FORMAT,
-            wgpu::Face::Front,
+            Some(wgpu::Face::Front),
             depth_state(d32, wgpu::CompareFunction::Less),
         );
         // Its own depth (nearest front face); the scene's depth is tested in
@@ -252,9 +268,10 @@ impl WaterObjectPass {
             ("vs_object", "fs_front"),
             &shade_layouts,
             crate::targets::HDR_FORMAT,
-            wgpu::Face::Back,
+            Some(wgpu::Face::Back),
             depth_state(d32, wgpu::CompareFunction::Greater),
         );
+        let inside = Self::inside_pipelines(device, &shade_module, &shade_layouts);
         let (clear, trace, resolve) = (p("clear"), p("trace"), p("resolve"));
         WaterObjectPass {
             params: uniform_buffer(device, "water object params", &ObjectLightUniforms::default()),
@@ -267,7 +284,84 @@ impl WaterObjectPass {
             inputs_layout,
             camera_back,
             camera_front,
+            inside,
         }
+    }
+
+    fn inside_pipelines(
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        layouts: &[&wgpu::BindGroupLayout; 4],
+    ) -> InsidePipelines {
+        let stencil = |compare, front, back, write_mask| wgpu::StencilState {
+            front: wgpu::StencilFaceState { compare, pass_op: front, ..Default::default() },
+            back: wgpu::StencilFaceState { compare, pass_op: back, ..Default::default() },
+            read_mask: 0xff,
+            write_mask,
+        };
+        let state = |write, compare, stencil| wgpu::DepthStencilState {
+            format: INSIDE_DEPTH_FORMAT,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(compare),
+            stencil,
+            bias: Default::default(),
+        };
+        use wgpu::{CompareFunction as C, StencilOperation as S};
+        let keep = S::Keep;
+        // Every face, no depth test: −1 entering (front), +1 leaving (back).
+        let count = mesh_pipeline(
+            device,
+            "water object inside count",
+            module,
+            ("vs_object", "fs_count"),
+            layouts,
+            wgpu::ColorTargetState {
+                format: crate::targets::HDR_FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::empty(),
+            },
+            None,
+            state(false, C::Always, stencil(C::Always, S::DecrementWrap, S::IncrementWrap, 0xff)),
+        );
+        // The nearest back face where the count is 1 (reversed Z).
+        let faces = mesh_pipeline(
+            device,
+            "water object inside",
+            module,
+            ("vs_object", "fs_inside"),
+            layouts,
+            crate::targets::HDR_FORMAT,
+            Some(wgpu::Face::Front),
+            state(true, C::Greater, stencil(C::Equal, keep, keep, 0)),
+        );
+        // Where no back face was drawn: the opaque scene in the water. Its
+        // layout is the faces' (groups 1 and 2 stay bound from their draws,
+        // unread): one with the middle groups left empty reads the wrong
+        // textures on lavapipe.
+        let label = "water object inside medium";
+        let layout = pipeline_layout(device, label, layouts);
+        let medium = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("vs_far"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(state(false, C::Greater, stencil(C::Equal, keep, keep, 0))),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("fs_inside_medium"),
+                compilation_options: Default::default(),
+                targets: &[Some(crate::targets::HDR_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        InsidePipelines { count, faces, medium }
     }
 
     /// The light-view targets for `resolution`² paths (1 when there are no
@@ -370,9 +464,15 @@ impl WaterObjectPass {
             "behind water objects",
             size,
             crate::targets::HDR_FORMAT,
-            wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
+            // COPY_SRC: `Renderer::read_behind_water_objects`.
+            wgpu::TextureUsages::COPY_DST
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
         );
         let behind_view = behind.create_view(&Default::default());
+        let inside_depth =
+            texture_2d(device, "water object inside depth", size, INSIDE_DEPTH_FORMAT, att)
+                .create_view(&Default::default());
         let tv = wgpu::BindingResource::TextureView;
         let inputs = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("water object inputs"),
@@ -383,7 +483,7 @@ impl WaterObjectPass {
                 wgpu::BindGroupEntry { binding: 2, resource: tv(&back_view) },
             ],
         });
-        ObjectTargets { back_view, back_depth, front_depth, behind, inputs }
+        ObjectTargets { back_view, back_depth, front_depth, behind, inside_depth, inputs }
     }
 
     pub fn prepare(&self, queue: &wgpu::Queue, uniforms: &ObjectLightUniforms) {
@@ -512,6 +612,7 @@ impl WaterObjectPass {
         targets: &ObjectTargets,
         (hdr, hdr_view): (&wgpu::Texture, &wgpu::TextureView),
         liquid: Option<&LiquidMesh>,
+        camera_may_be_inside: bool,
         timer: Option<&mut GpuTimer>,
     ) {
         encoder.copy_texture_to_texture(
@@ -550,8 +651,67 @@ impl WaterObjectPass {
                 geometry_pass.draw_liquid(&mut pass, view, mesh);
             }
         }
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("water object front"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: hdr_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &targets.front_depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.camera_front);
+            pass.set_bind_group(0, globals, &[]);
+            pass.set_bind_group(3, &targets.inputs, &[]);
+            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+            if let Some(mesh) = liquid {
+                geometry_pass.draw_liquid(&mut pass, view, mesh);
+            }
+        }
+        if camera_may_be_inside {
+            self.record_inside(
+                encoder,
+                globals,
+                geometry_pass,
+                geometry,
+                view,
+                targets,
+                hdr_view,
+                liquid,
+            );
+        }
+    }
+
+    /// A camera whose lens may be inside a clear object or the liquid: the
+    /// pixels whose near-plane point is inside (a stencil face count of
+    /// one) are drawn as seen from within the water, over what the front
+    /// faces drew.
+    #[allow(clippy::too_many_arguments)]
+    fn record_inside(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        globals: &wgpu::BindGroup,
+        geometry_pass: &GeometryPass,
+        geometry: &SceneGeometry,
+        view: &ViewSlot,
+        targets: &ObjectTargets,
+        hdr_view: &wgpu::TextureView,
+        liquid: Option<&LiquidMesh>,
+    ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("water object front"),
+            label: Some("water object inside"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: hdr_view,
                 depth_slice: None,
@@ -559,24 +719,33 @@ impl WaterObjectPass {
                 ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &targets.front_depth,
+                view: &targets.inside_depth,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(0.0),
                     store: wgpu::StoreOp::Discard,
                 }),
-                stencil_ops: None,
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0),
+                    store: wgpu::StoreOp::Discard,
+                }),
             }),
             timestamp_writes: None,
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.camera_front);
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(3, &targets.inputs, &[]);
-        geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
-        if let Some(mesh) = liquid {
-            geometry_pass.draw_liquid(&mut pass, view, mesh);
+        let p = &self.inside;
+        for pipeline in [&p.count, &p.faces] {
+            pass.set_pipeline(pipeline);
+            pass.set_stencil_reference(1);
+            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
+            if let Some(mesh) = liquid {
+                geometry_pass.draw_liquid(&mut pass, view, mesh);
+            }
         }
+        pass.set_pipeline(&p.medium);
+        pass.draw(0..3, 0..1);
     }
 }
 
@@ -622,6 +791,19 @@ pub fn refractive_bounds(
         (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
         (a, b) => a.or(b),
     }
+}
+
+/// Whether the camera's lens can be inside a clear object or the liquid's
+/// mesh: within their box (and a margin for the near plane).
+fn camera_may_be_inside(frame: &FrameContext, liquid: bool) -> bool {
+    let geometry = &frame.shared.geometry;
+    let liquid = liquid.then(|| frame.scene.liquid_mesh_bounds()).flatten();
+    let boxes = [geometry.refractive_bounds, liquid.map(|(lo, hi)| (lo.into(), hi.into()))];
+    let eye = frame.plan.camera.position;
+    boxes.into_iter().flatten().any(|(lo, hi): (glam::Vec3, glam::Vec3)| {
+        let margin = glam::Vec3::splat(INSIDE_MARGIN);
+        eye.cmpge(lo - margin).all() && eye.cmple(hi + margin).all()
+    })
 }
 
 impl WaterObjects {
@@ -713,6 +895,7 @@ impl Technique for WaterObjects {
                         object_targets,
                         (&targets.hdr, &targets.hdr_view),
                         liquid,
+                        camera_may_be_inside(frame, liquid.is_some()),
                         timer,
                     );
                 }

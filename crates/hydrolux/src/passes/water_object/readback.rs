@@ -40,6 +40,15 @@ impl Renderer {
         self.techniques.water_objects.read_caustic_map(self.device(), self.queue())
     }
 
+    /// The image the clear objects and the liquid's mesh were drawn over in
+    /// the last frame (linear HDR, rows top to bottom: the main view before
+    /// the `water_objects` technique drew), `None` without them.
+    pub fn read_behind_water_objects(&self) -> Option<(u32, u32, Vec<[f32; 4]>)> {
+        let behind = &self.techniques.water_objects.targets.as_ref()?.behind;
+        let size = behind.size();
+        Some((size.width, size.height, read_rgba16f(self.device(), self.queue(), behind)))
+    }
+
     /// The refractive objects' light view (world → clip) and its texels per
     /// side; `None` without refractive objects or with the sun down.
     pub fn object_light_view(&self) -> Option<(glam::Mat4, u32)> {

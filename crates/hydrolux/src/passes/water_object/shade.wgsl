@@ -6,7 +6,17 @@
 // — in at the front face, out at the back face found by the thickness the
 // back-face pass measured — attenuated by the water inside, then through
 // the fog.
-#import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common, lighting, screen_lookup
+//
+// From inside (a camera whose lens is in the liquid or in a clear object):
+// `fs_count` counts every face into the stencil (+1 leaving, −1 entering,
+// no depth test: the above/below division of the surface water, seed 000
+// §4.2, for closed meshes), so 1 marks the pixels whose near-plane point is
+// inside. There `fs_inside` shades the nearest back face as the surface
+// seen from below (Fresnel from water to air: Snell's window, total
+// internal reflection beyond it), and `fs_inside_medium` the pixels where
+// the opaque scene comes first (a floor under the liquid); both carry the
+// light back to the eye through the water (attenuated, in-scattered).
+#import constants, frame, optics, sky_model, sky_bindings, medium, fog, geometry_common, lighting, screen_lookup, fullscreen
 
 @group(3) @binding(0) var behind_tex: texture_2d<f32>;
 @group(3) @binding(1) var scene_depth: texture_2d<f32>;
@@ -98,4 +108,121 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     // `through_fog`).
     let normals_view = frame.modes.debug_view == VIEW_NORMALS;
     return vec4<f32>(select(shaded, n0 * 0.5 + 0.5, normals_view), 1.0);
+}
+
+// The stencil count needs no colour (the pipeline writes none).
+@fragment
+fn fs_count() -> @location(0) vec4<f32> {
+    return vec4<f32>(0.0);
+}
+
+// The distance from the eye to the opaque scene under `px` (far where the
+// buffer is empty).
+fn scene_distance(px: vec2<i32>) -> f32 {
+    let z = textureLoad(scene_depth, px, 0).r;
+    let size = vec2<f32>(textureDimensions(scene_depth));
+    let uv = (vec2<f32>(px) + 0.5) / size;
+    let h = frame.view.inv_view_proj * vec4<f32>(2.0 * uv.x - 1.0, 1.0 - 2.0 * uv.y, max(z, 1e-7), 1.0);
+    return select(1e5, distance(h.xyz / h.w, frame.view.position), z > 0.0);
+}
+
+// Where a ray from `start` along `dir` meets the opaque scene, found in
+// the image: from a first guess of its length, three rounds of projecting
+// the point, reading the scene's depth there and taking the distance to
+// that scene point along the ray. (uv, 1 where it found the scene, length.)
+fn along_to_scene(start: vec3<f32>, dir: vec3<f32>, guess: f32) -> vec4<f32> {
+    let size = vec2<f32>(textureDimensions(scene_depth));
+    var gap = guess;
+    var found = false;
+    var q = screen_uv(start + dir * gap);
+    for (var i = 0; i < 3; i++) {
+        let z = textureLoad(scene_depth, texel_at(q.xy, size), 0).r;
+        found = (q.z > 0.5) & (z > 0.0);
+        let ndc = vec2<f32>(2.0 * q.x - 1.0, 1.0 - 2.0 * q.y);
+        let h = frame.view.inv_view_proj * vec4<f32>(ndc, max(z, 1e-7), 1.0);
+        gap = select(gap, clamp(dot(h.xyz / h.w - start, dir), 0.02, 1e4), found);
+        q = screen_uv(start + dir * gap);
+    }
+    let z = textureLoad(scene_depth, texel_at(q.xy, size), 0).r;
+    found = (q.z > 0.5) & (z > 0.0);
+    return vec4<f32>(q.xy, select(0.0, 1.0, found), gap);
+}
+
+// What a ray from `start` along `dir` inside the water sees: the scene
+// where it meets it, carried back through the water. Where the lookup
+// leaves the screen or finds the sky, the ray leaves the liquid (a body in
+// the air, not an ocean) after about `guess` metres and sees the sky or
+// the ground that way.
+fn seen_in_water(start: vec3<f32>, dir: vec3<f32>, guess: f32) -> vec3<f32> {
+    let hit = along_to_scene(start, dir, guess);
+    let seen = textureSampleLevel(behind_tex, sky_sampler, clamp(hit.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
+    let found = hit.z > 0.5;
+    let length = select(guess, hit.w, found);
+    return to_eye_in_water(select(sky_towards(dir), seen, found), dir, length);
+}
+
+// Light reaching the eye through `d` metres of water along `dir`: `l`
+// attenuated, plus what the water scatters into the path. The light in the
+// liquid is that just under a flat surface in the sun (depth 0): a liquid
+// in a tank is shallow.
+fn to_eye_in_water(l: vec3<f32>, dir: vec3<f32>, d: f32) -> vec3<f32> {
+    return l * transmittance(d) + view_in_scatter(0.0, dir, d);
+}
+
+// A back face closer than this (m, along the ray) to the opaque scene
+// behind it is the liquid lying against it (a liquid's mesh stands off a
+// wall or floor by up to half a particle spacing): there is no air between,
+// so the scene is seen through the water alone (`fs_inside_medium`).
+const CONTACT: f32 = 0.02;
+
+@fragment
+fn fs_inside(in: ShadeOut) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(in.clip.xy);
+    let eye = frame.view.position;
+    let d = distance(in.world, eye);
+    if (scene_distance(px) < d + CONTACT) {
+        discard;
+    }
+    let v = (in.world - eye) / max(d, 1e-6);
+    // Outward: away from the eye on a back face.
+    let n = normalize(in.normal);
+    let ior = object.ior;
+    let cos_i = max(dot(v, n), 0.0);
+    // Water to air: 1 beyond the critical angle (total internal reflection).
+    let r = fresnel_exact(cos_i, ior, 1.0);
+    // Back into the water, mirrored (first guess: as far again as the eye).
+    let reflected = seen_in_water(in.world, reflect(v, n), d);
+    // Out through Snell's window into the image as it was in the air; the
+    // radiance gains n² entering the denser medium (as under the surface
+    // water). Branch-free: beyond the critical angle r is 1 and t zero.
+    let t = refract(v, -n, ior);
+    let out = along_to_scene(in.world, t, max(scene_distance(px) - d, 0.05));
+    let seen = textureSampleLevel(behind_tex, sky_sampler, clamp(out.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
+    let air = select(sky_towards(t), seen, out.z > 0.5);
+    let through = (1.0 - r) * air * ior * ior;
+    let color = to_eye_in_water(r * reflected + through, v, d);
+    let shaded = clamp(color, vec3<f32>(0.0), vec3<f32>(60000.0));
+    let normals_view = frame.modes.debug_view == VIEW_NORMALS;
+    return vec4<f32>(select(shaded, n * 0.5 + 0.5, normals_view), 1.0);
+}
+
+// A triangle over the screen just off the far plane (reversed Z: depth 0),
+// drawn where no back face was: the depth test Greater passes only where
+// the cleared 0 is left. (An Equal test against 0 fails on lavapipe.)
+@vertex
+fn vs_far(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    return vec4<f32>(fullscreen_ndc(i), 1e-6, 1.0);
+}
+
+// The opaque scene inside the water: seen through it.
+@fragment
+fn fs_inside_medium(@builtin(position) clip: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(clip.xy);
+    let uv = clip.xy / vec2<f32>(textureDimensions(behind_tex));
+    let eye = frame.view.position;
+    let h = frame.view.inv_view_proj * vec4<f32>(2.0 * uv.x - 1.0, 1.0 - 2.0 * uv.y, 1.0, 1.0);
+    let v = normalize(h.xyz / h.w - eye);
+    let d = scene_distance(px);
+    let color = to_eye_in_water(textureLoad(behind_tex, px, 0).rgb, v, d);
+    return vec4<f32>(clamp(color, vec3<f32>(0.0), vec3<f32>(60000.0)), 1.0);
 }
