@@ -36,7 +36,8 @@ pub struct SceneArgs {
     pub set: Vec<String>,
     /// Show a debug view instead of the final image (= --set render.view=KIND): final,
     /// reflection, refraction, depth, normals, shadow, medium, caustics, ripples, foam, fresnel, or
-    /// error (the per-pixel ΔE of the projective water against ray tracing, as heat).
+    /// error (the per-pixel ΔE, as heat, of the projective water against ray tracing, or with a
+    /// liquid and no water, of its surface against marching cubes on the finest grid).
     #[arg(long, value_name = "KIND")]
     pub view: Option<String>,
 }

@@ -150,6 +150,9 @@ pub(crate) struct FramePlan {
     pub shafts_from_above: f32,
     /// The surface's culling margin (m).
     pub cull_margin: f32,
+    /// The error view's reference drawing of the liquid's surface
+    /// (`error_view::is_surface_reference`).
+    pub liquid_reference: bool,
     /// What stateful simulations do to reach this frame's time (set by the
     /// renderer from its simulation clock).
     pub simulation: hydrolux_core::clock::Advance,
@@ -211,6 +214,7 @@ impl FramePlan {
             object_light,
             shafts_from_above,
             cull_margin: world.cull_margin,
+            liquid_reference: crate::error_view::is_surface_reference(s),
             simulation: hydrolux_core::clock::Advance { reset: false, from: 0, steps: 0 },
             frame: FrameUniforms::default(),
         };

@@ -164,6 +164,10 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
             "it is a view of the water, and the scene has none",
         ),
         (
+            &["render", "--scene", "water_dragon", "--view", "error"],
+            "it compares the water's methods or the liquid's surfaces, and the scene has neither",
+        ),
+        (
             &["render", "--scene", "pool", "--set", "ripples.resolution=4294967296"],
             "bad --set `ripples.resolution=4294967296`: out of range: must be a power of two from 16 to 512",
         ),

@@ -687,12 +687,19 @@ impl Scene {
         if !f.enabled() {
             return None;
         }
+        let cubes = |cells| crate::fluid::surface::SurfaceGrid::over(f.min, f.max, cells).h;
+        // Vertices of a screen-space mesh are on the particles' spheres.
+        let spheres = f.screen_radius * f.particle_spacing();
+        // The error view comparing surfaces draws it two ways a frame, both
+        // in one light view (the frame's uniforms are shared): the same
+        // margin whichever drawing asks, its own grid's cell (at least the
+        // finest's; with the defaults as wide as a screen mesh's spheres).
+        let compared = self.render.view == super::DebugView::Error
+            && self.water.model == super::WaterModel::None;
         let margin = match f.surface {
-            FluidSurface::MarchingCubes => {
-                crate::fluid::surface::SurfaceGrid::over(f.min, f.max, f.surface_resolution).h
-            }
-            // Vertices are on the particles' spheres.
-            FluidSurface::ScreenMesh => f.screen_radius * f.particle_spacing(),
+            _ if compared => cubes(f.surface_resolution),
+            FluidSurface::MarchingCubes => cubes(f.surface_resolution),
+            FluidSurface::ScreenMesh => spheres,
             FluidSurface::Points | FluidSurface::ScreenSpace | FluidSurface::None => return None,
         };
         Some((f.min.map(|v| v - margin), f.max.map(|v| v + margin)))

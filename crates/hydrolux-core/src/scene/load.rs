@@ -529,7 +529,12 @@ impl Scene {
         // A view of what the scene does not have would draw something else.
         use super::{Choice, DebugView};
         let missing = match self.render.view {
-            DebugView::Error | DebugView::Fresnel if self.water.model == WaterModel::None => {
+            DebugView::Error if self.water.model == WaterModel::None && !self.fluid.enabled() => {
+                Some(
+                    "it compares the water's methods or the liquid's surfaces, and the scene has neither (water.model = \"none\", no [[fluid.sources]])",
+                )
+            }
+            DebugView::Fresnel if self.water.model == WaterModel::None => {
                 Some("it is a view of the water, and the scene has none (water.model = \"none\")")
             }
             DebugView::Ripples if self.ripple_settings().is_none() => Some(

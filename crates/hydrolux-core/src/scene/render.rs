@@ -31,6 +31,11 @@ pub struct RenderDesc {
     /// Quality tier (`Quality`): caps on the costly settings and the
     /// internal rendering resolution; `auto` picks by adapter.
     pub quality: Quality,
+    /// Not a key: set on the error view's second drawing of a liquid
+    /// without surface water, which shows the liquid meshed by marching
+    /// cubes on the finest grid (the renderer's `error_view::traced`).
+    #[serde(skip)]
+    pub surface_reference: bool,
 }
 
 /// What a quality tier keeps; see [`Quality::apply`].
@@ -140,6 +145,7 @@ impl Default for RenderDesc {
             reflection_resolution: 0.5,
             fov_margin: 0.5,
             quality: Quality::Auto,
+            surface_reference: false,
         }
     }
 }

@@ -3,7 +3,9 @@
 //! the frame twice from the same published state — as the scene is drawn
 //! ([`projective`]: `water.method` set to `projective`) and as [`traced`]
 //! (the water technique keeps a twin built for `raytrace` and draws it when
-//! the frame's scene asks) — each tone mapped into an image of the target's
+//! the frame's scene asks; for a liquid without surface water, issue #30,
+//! the liquid meshed by marching cubes on its finest grid, which the liquid
+//! keeps while the view is on) — each tone mapped into an image of the target's
 //! format ([`ErrorView::images`]), and `error.wgsl` writes their per-pixel
 //! ΔE*ab as heat into the caller's target. The simulation advances once:
 //! the second drawing is at the same time, so it takes no steps. CPU twin:
@@ -13,7 +15,9 @@
 use crate::gpu_util::*;
 use crate::shaders;
 use crate::technique::Shared;
-use hydrolux_core::scene::{DebugView, Scene, WaterMethod};
+use hydrolux_core::scene::{
+    DebugView, FluidSurface, MAX_SURFACE_RESOLUTION, Scene, WaterMethod, WaterModel,
+};
 
 pub fn source(srgb_target: bool) -> String {
     let c = format!("const SRGB_TARGET: bool = {srgb_target};\n");
@@ -29,11 +33,39 @@ pub fn projective(scene: &Scene) -> Scene {
     s
 }
 
-/// The scene as the error view's second drawing takes it: traced water.
+/// Whether the error view compares the liquid's surfaces (a scene with the
+/// volumetric liquid and no surface water) rather than the water's methods.
+pub fn compares_surfaces(scene: &Scene) -> bool {
+    scene.water.model == WaterModel::None && scene.fluid.enabled()
+}
+
+/// The scene as the error view's second drawing takes it: traced water,
+/// or (comparing surfaces) the liquid meshed by marching cubes on its
+/// finest grid, `hydrolux compare --surfaces`' reference, which the liquid
+/// keeps while the view is on. (Its own keys stay: the two drawings share
+/// the frame's light view, fitted to them.)
 pub fn traced(scene: &Scene) -> Scene {
     let mut s = scene.clone();
-    s.water.method = WaterMethod::Raytrace;
+    if compares_surfaces(scene) {
+        s.fluid.surface = FluidSurface::MarchingCubes;
+        s.render.surface_reference = true;
+    } else {
+        s.water.method = WaterMethod::Raytrace;
+    }
     s
+}
+
+/// Whether `scene` draws the liquid as the surfaces' reference: the error
+/// view's second drawing.
+pub fn is_surface_reference(scene: &Scene) -> bool {
+    scene.render.surface_reference && compares_surfaces(scene)
+}
+
+/// Whether the liquid's own surface is already the reference: marching
+/// cubes on the finest grid.
+pub fn is_finest_mesh(scene: &Scene) -> bool {
+    scene.fluid.surface == FluidSurface::MarchingCubes
+        && scene.fluid.surface_resolution == MAX_SURFACE_RESOLUTION
 }
 
 /// The two drawings' images, for one output size.

@@ -100,6 +100,12 @@ pub(crate) trait Simulation {
     /// Bind what earlier simulations publish (after any of them was made anew).
     fn connect(&mut self, _shared: &Shared, _published: &Published) {}
 
+    /// The scene was edited and this simulation kept (it [`fits`]): take what
+    /// does not touch its state (how it is drawn).
+    ///
+    /// [`fits`]: Simulation::fits
+    fn adjust(&mut self, _shared: &Shared, _scene: &Scene) {}
+
     /// Put what others and the techniques read into `published`.
     fn publish(&self, published: &mut Published);
 
@@ -239,6 +245,7 @@ macro_rules! simulations {
                             if remade {
                                 s.connect(shared, &published);
                             }
+                            s.adjust(shared, scene);
                             Some(s)
                         }
                         None => <$ty as Simulation>::create(shared, scene, &published)?,

@@ -84,6 +84,23 @@ pub(crate) struct LiquidState {
     pub landings: Option<wgpu::Buffer>,
     /// Its surface as a mesh (`fluid.surface = "marching_cubes"`).
     pub mesh: Option<LiquidMesh>,
+    /// While the error view compares surfaces: the liquid meshed by
+    /// marching cubes on the finest grid, the reference drawing's
+    /// (`FramePlan::liquid_reference`).
+    pub reference_mesh: Option<LiquidMesh>,
+}
+
+impl LiquidState {
+    /// The mesh a drawing shows: the reference in the error view's
+    /// reference drawing, the liquid's own otherwise.
+    pub fn mesh_for(&self, plan: &crate::plan::FramePlan) -> Option<&LiquidMesh> {
+        // (No reference of its own: the liquid's mesh already is one.)
+        if plan.liquid_reference {
+            self.reference_mesh.as_ref().or(self.mesh.as_ref())
+        } else {
+            self.mesh.as_ref()
+        }
+    }
 }
 
 /// The liquid's surface mesh, made on the GPU (liquid/surface.rs): drawn

@@ -838,3 +838,49 @@ fn a_camera_inside_the_liquid_sees_snells_window() {
     );
     assert!(dimmest_window > 2.0 * brightest_mirror, "no edge at the critical angle");
 }
+
+/// The error view of a liquid without surface water compares its surface
+/// with marching cubes on the finest grid (`hydrolux compare --surfaces`'
+/// reference), live: the heat of ΔE*ab between the frame as drawn (here in
+/// screen space) and the reference, per pixel, as hydrolux-core `compare`
+/// computes it from the two frames rendered apart.
+#[test]
+fn the_error_view_compares_the_liquids_surface_with_the_finest_mesh() {
+    use hydrolux::core::compare::{delta_e, heat};
+    use hydrolux::core::scene::{DebugView, FluidSurface, MAX_SURFACE_RESOLUTION};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let mut base = Scene::load("dam_break", &[]).expect("built-in");
+    base.fluid.resolution = 16;
+    // The error view fits the sun's view of the liquid to both drawings by
+    // its own grid's cell: at the finest, as the reference rendered apart.
+    base.fluid.surface_resolution = MAX_SURFACE_RESOLUTION;
+    base.validate().expect("valid");
+    let (size, t) = ((96, 64), 0.3);
+    let frame = |s: &Scene| {
+        let mut r = renderer(&ctx, s);
+        let target = HeadlessTarget::new(&ctx.device, size);
+        target.render(&mut r, s.camera(), t).expect("frame")
+    };
+    let mut s = base.clone();
+    s.fluid.surface = FluidSurface::ScreenSpace;
+    let drawn = frame(&s);
+    let mut reference = base.clone();
+    reference.fluid.surface = FluidSurface::MarchingCubes;
+    let finest = frame(&reference);
+    s.render.view = DebugView::Error;
+    s.validate().expect("the error view of a liquid without water");
+    let error = frame(&s);
+    let (mut off, mut hot, n) = (0, 0, (size.0 * size.1) as usize);
+    for p in 0..n {
+        let rgb = |v: &[u8]| [v[4 * p], v[4 * p + 1], v[4 * p + 2]];
+        let e = delta_e(rgb(&drawn), rgb(&finest));
+        let got = rgb(&error);
+        if heat(e).iter().zip(&got).any(|(a, b)| a.abs_diff(*b) > 2) {
+            off += 1;
+        }
+        hot += (e > 3.0) as usize;
+    }
+    eprintln!("{hot} of {n} pixels differ by more than ΔE 3; {off} off the CPU's heat");
+    assert!(hot > n / 100, "the surfaces differ somewhere: {hot} of {n} pixels");
+    assert!(off <= n / 200, "{off} of {n} pixels off the CPU's heat");
+}

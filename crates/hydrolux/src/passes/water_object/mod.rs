@@ -486,8 +486,27 @@ impl WaterObjectPass {
         ObjectTargets { back_view, back_depth, front_depth, behind, inside_depth, inputs }
     }
 
-    pub fn prepare(&self, queue: &wgpu::Queue, uniforms: &ObjectLightUniforms) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(uniforms));
+    /// The light's uniforms, written in `encoder`'s order rather than at
+    /// submission: the error view draws a frame twice in one submission,
+    /// and its two drawings may fit the light differently (the liquid
+    /// meshed two ways), so a queue write of the second would land before
+    /// the first drawing's paths.
+    pub fn prepare(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        uniforms: &ObjectLightUniforms,
+    ) {
+        let bytes = bytemuck::bytes_of(uniforms);
+        let staged = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("water object params (staged)"),
+                contents: bytes,
+                usage: wgpu::BufferUsages::COPY_SRC,
+            },
+        );
+        encoder.copy_buffer_to_buffer(&staged, 0, &self.params, 0, bytes.len() as u64);
     }
 
     /// Everything from the light: faces, scene depth, paths and the map.
@@ -850,12 +869,6 @@ impl Technique for WaterObjects {
             .then(|| self.pass.create_targets(&shared.device, t.size, &t.depth_view));
     }
 
-    fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
-        if let Some(o) = &frame.plan.object_light {
-            self.pass.prepare(queue, &light_uniforms(o));
-        }
-    }
-
     fn record(
         &mut self,
         stage: Stage,
@@ -864,12 +877,13 @@ impl Technique for WaterObjects {
         timer: Option<&mut GpuTimer>,
     ) {
         let shared = frame.shared;
-        let liquid = frame.published.liquid.as_ref().and_then(|l| l.mesh.as_ref());
+        let liquid = frame.published.liquid.as_ref().and_then(|l| l.mesh_for(frame.plan));
         // The fluid view draws the particles instead.
         let liquid =
             liquid.filter(|_| !crate::simulation::liquid::draw::drawn_as_points(frame.scene));
         match stage {
-            Stage::Light if frame.plan.object_light.is_some_and(|o| o.due) => {
+            Stage::Light if let Some(o) = frame.plan.object_light.filter(|o| o.due) => {
+                self.pass.prepare(&shared.device, encoder, &light_uniforms(&o));
                 self.pass.record_light(
                     encoder,
                     &shared.frame_only,
@@ -881,7 +895,11 @@ impl Technique for WaterObjects {
                     timer,
                 );
                 // The liquid's mesh changes every frame; the objects do not.
-                self.current = liquid.is_none();
+                // The error view comparing surfaces draws the liquid two
+                // ways a frame: each drawing traces its own.
+                let compared = frame.scene.render.view == hydrolux_core::scene::DebugView::Error
+                    && crate::error_view::compares_surfaces(frame.scene);
+                self.current = liquid.is_none() && !compared;
             }
             Stage::Composite => {
                 let targets = frame.targets();

@@ -253,6 +253,9 @@ pub struct Liquid {
     pub(crate) surface: Option<surface::LiquidSurface>,
     /// …or as a screen-space mesh.
     pub(crate) screen_mesh: Option<screen_mesh::ScreenMeshSurface>,
+    /// While the error view compares surfaces: marching cubes on the finest
+    /// grid, the reference drawing's mesh (unless its own already is).
+    reference: Option<surface::LiquidSurface>,
 }
 
 impl Liquid {
@@ -535,6 +538,7 @@ impl Liquid {
             bodies_desc: scene.liquid_bodies(),
             surface: None,
             screen_mesh: None,
+            reference: None,
         };
         let spacing = liquid.uniforms.h / desc.particles_per_axis() as f32;
         let (particles, count) = (&liquid.particles, liquid.particle_count());
@@ -549,8 +553,28 @@ impl Liquid {
             }
             FluidSurface::Points | FluidSurface::ScreenSpace | FluidSurface::None => {}
         }
+        liquid.keep_reference(shared, scene);
         liquid.write_start(&shared.queue);
         Ok(Some(liquid))
+    }
+
+    /// Make the error view's reference mesh while `scene` asks for it (the
+    /// view on, comparing surfaces, the liquid's own surface not already the
+    /// reference) and drop it when it does not.
+    fn keep_reference(&mut self, shared: &Shared, scene: &Scene) {
+        let mut reference = crate::error_view::traced(scene);
+        reference.fluid.surface_resolution = hydrolux_core::scene::MAX_SURFACE_RESOLUTION;
+        let wanted = scene.render.view == hydrolux_core::scene::DebugView::Error
+            && crate::error_view::compares_surfaces(scene)
+            && !crate::error_view::is_finest_mesh(scene);
+        if !wanted {
+            self.reference = None;
+        } else if self.reference.is_none() {
+            let spacing = self.uniforms.h / self.desc.particles_per_axis() as f32;
+            let (particles, count) = (&self.particles, self.particle_count());
+            self.reference =
+                Some(surface::LiquidSurface::new(shared, &reference, particles, count, spacing));
+        }
     }
 
     /// The particles at rest where the sources put them, a still grid.
@@ -679,6 +703,10 @@ impl crate::simulation::Simulation for Liquid {
         true
     }
 
+    fn adjust(&mut self, shared: &Shared, scene: &Scene) {
+        self.keep_reference(shared, scene);
+    }
+
     fn publish(&self, published: &mut crate::simulation::Published) {
         published.liquid = Some(crate::simulation::published::LiquidState {
             particles: self.particles.clone(),
@@ -690,6 +718,7 @@ impl crate::simulation::Simulation for Liquid {
                 (_, Some(s)) => s.mesh(),
                 _ => None,
             },
+            reference_mesh: self.reference.as_ref().map(|s| s.mesh()),
         });
         if let Some(b) = &self.bodies {
             published.bodies.extend(b.transforms());
@@ -713,7 +742,10 @@ impl crate::simulation::Simulation for Liquid {
         plan: &crate::plan::FramePlan,
         timer: Option<&mut crate::timing::GpuTimer>,
     ) {
-        if let Some(s) = &self.surface {
+        // The error view's reference drawing meshes the finest grid.
+        if let Some(r) = self.reference.as_ref().filter(|_| plan.liquid_reference) {
+            r.record(encoder, timer);
+        } else if let Some(s) = &self.surface {
             s.record(encoder, timer);
         } else if let Some(s) = &mut self.screen_mesh {
             s.record(&shared.queue, encoder, plan.matrices.view_proj, timer);
