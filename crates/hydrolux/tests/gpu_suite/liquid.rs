@@ -714,19 +714,11 @@ fn the_liquid_screen_space_images_are_drawn_as_their_cpu_twin_draws_them() {
     );
 }
 
-/// A camera inside the liquid (its lens under the meshed surface of a block
-/// at rest, 0.6 m square and 0.4 m deep) looking down at the floor: every
-/// pixel's near-plane point is inside (the stencil's face count), the floor
-/// lies against the liquid (no air between), so each pixel is the image
-/// behind the liquid carried through the water alone. With a purely
-/// absorbing medium that is Beer–Lambert exactly: the image behind times
-/// e^(−a·d), d the distance to the floor along the pixel's ray.
-#[test]
-fn a_camera_inside_the_liquid_sees_the_floor_through_the_water() {
+/// A block of liquid at rest, 0.6 m square and 0.4 m deep on the floor,
+/// meshed by marching cubes, in water with the medium `sets` give.
+fn block_at_rest(sets: &[String]) -> Scene {
     use hydrolux::core::scene::FluidSurface;
-    let absorption = [1.5f32, 3.0, 6.0];
-    let sets = ["water.absorption=[1.5, 3.0, 6.0]".into(), "water.scattering=[0, 0, 0]".into()];
-    let mut s = Scene::load("dam_break", &sets).expect("built-in");
+    let mut s = Scene::load("dam_break", sets).expect("built-in");
     s.objects.clear();
     s.fluid.min = [-0.3, 0.0, -0.3];
     s.fluid.max = [0.3, 0.6, 0.3];
@@ -738,6 +730,21 @@ fn a_camera_inside_the_liquid_sees_the_floor_through_the_water() {
         ..FluidSource::default()
     }];
     s.fluid.surface = FluidSurface::MarchingCubes;
+    s
+}
+
+/// A camera inside the liquid (its lens under the meshed surface of a block
+/// at rest, 0.6 m square and 0.4 m deep) looking down at the floor: every
+/// pixel's near-plane point is inside (the stencil's face count), the floor
+/// lies against the liquid (no air between), so each pixel is the image
+/// behind the liquid carried through the water alone. With a purely
+/// absorbing medium that is Beer–Lambert exactly: the image behind times
+/// e^(−a·d), d the distance to the floor along the pixel's ray.
+#[test]
+fn a_camera_inside_the_liquid_sees_the_floor_through_the_water() {
+    let absorption = [1.5f32, 3.0, 6.0];
+    let sets = ["water.absorption=[1.5, 3.0, 6.0]".into(), "water.scattering=[0, 0, 0]".into()];
+    let mut s = block_at_rest(&sets);
     s.camera.position = [0.0, 0.25, 0.0];
     s.camera.look_at = [0.0, 0.0, -0.02];
     s.validate().expect("valid");
@@ -785,20 +792,8 @@ fn a_camera_inside_the_liquid_sees_the_floor_through_the_water() {
 /// through the water remains. The window's edge is where Snell puts it.
 #[test]
 fn a_camera_inside_the_liquid_sees_snells_window() {
-    use hydrolux::core::scene::FluidSurface;
     let sets = ["water.absorption=[40, 40, 40]".into(), "water.scattering=[0, 0, 0]".into()];
-    let mut s = Scene::load("dam_break", &sets).expect("built-in");
-    s.objects.clear();
-    s.fluid.min = [-0.3, 0.0, -0.3];
-    s.fluid.max = [0.3, 0.6, 0.3];
-    s.fluid.resolution = 12;
-    s.fluid.surface_resolution = 24;
-    s.fluid.sources = vec![FluidSource {
-        min: [-0.3, 0.0, -0.3],
-        max: [0.3, 0.4, 0.3],
-        ..FluidSource::default()
-    }];
-    s.fluid.surface = FluidSurface::MarchingCubes;
+    let mut s = block_at_rest(&sets);
     s.camera.position = [0.0, 0.34, 0.0];
     s.camera.look_at = [0.0, 1.0, -0.02];
     s.camera.fov_y_deg = 100.0;

@@ -176,6 +176,37 @@ fn mesh_pipeline(
     })
 }
 
+/// A pass drawing over the camera's image with a depth (and stencil)
+/// attachment of its own, cleared to the far plane and not kept.
+fn over_image<'a>(
+    encoder: &'a mut wgpu::CommandEncoder,
+    label: &str,
+    image: &wgpu::TextureView,
+    depth: &wgpu::TextureView,
+    stencil: bool,
+) -> wgpu::RenderPass<'a> {
+    fn cleared<T>(value: T) -> wgpu::Operations<T> {
+        wgpu::Operations { load: wgpu::LoadOp::Clear(value), store: wgpu::StoreOp::Discard }
+    }
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: image,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(cleared(0.0)),
+            stencil_ops: stencil.then_some(cleared(0u32)),
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
 fn depth_state(
     format: wgpu::TextureFormat,
     compare: wgpu::CompareFunction,
@@ -671,26 +702,8 @@ impl WaterObjectPass {
             }
         }
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("water object front"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: hdr_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &targets.front_depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass =
+                over_image(encoder, "water object front", hdr_view, &targets.front_depth, false);
             pass.set_pipeline(&self.camera_front);
             pass.set_bind_group(0, globals, &[]);
             pass.set_bind_group(3, &targets.inputs, &[]);
@@ -729,29 +742,8 @@ impl WaterObjectPass {
         hdr_view: &wgpu::TextureView,
         liquid: Option<&LiquidMesh>,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("water object inside"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: hdr_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &targets.inside_depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass =
+            over_image(encoder, "water object inside", hdr_view, &targets.inside_depth, true);
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(3, &targets.inputs, &[]);
         let p = &self.inside;
