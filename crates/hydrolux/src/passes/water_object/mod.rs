@@ -176,6 +176,25 @@ fn mesh_pipeline(
     })
 }
 
+/// What is drawn as clear water (the refractive objects and the liquid's
+/// mesh), in one view.
+pub struct ClearThings<'a> {
+    pub meshes: &'a GeometryPass,
+    pub geometry: &'a SceneGeometry,
+    pub view: &'a ViewSlot,
+    pub liquid: Option<&'a LiquidMesh>,
+}
+
+impl ClearThings<'_> {
+    /// Draw them all with the pass's pipeline (groups 1 and 2 set here).
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        self.meshes.draw_objects(pass, self.view, self.geometry, Objects::Refractive);
+        if let Some(mesh) = self.liquid {
+            self.meshes.draw_liquid(pass, self.view, mesh);
+        }
+    }
+}
+
 /// A pass drawing over the camera's image with a depth (and stencil)
 /// attachment of its own, cleared to the far plane and not kept.
 fn over_image<'a>(
@@ -517,40 +536,41 @@ impl WaterObjectPass {
         ObjectTargets { back_view, back_depth, front_depth, behind, inside_depth, inputs }
     }
 
-    /// The light's uniforms, written in `encoder`'s order rather than at
-    /// submission: the error view draws a frame twice in one submission,
-    /// and its two drawings may fit the light differently (the liquid
-    /// meshed two ways), so a queue write of the second would land before
-    /// the first drawing's paths.
+    /// The light's uniforms. The error view comparing surfaces (`staged`)
+    /// draws a frame twice in one submission, each drawing fitting the light
+    /// to its own mesh, so there they are copied in the encoder's order: a
+    /// queue write of the second drawing's would land before the first's
+    /// paths.
     pub fn prepare(
         &self,
-        device: &wgpu::Device,
+        shared: &crate::technique::Shared,
         encoder: &mut wgpu::CommandEncoder,
         uniforms: &ObjectLightUniforms,
+        staged: bool,
     ) {
         let bytes = bytemuck::bytes_of(uniforms);
-        let staged = wgpu::util::DeviceExt::create_buffer_init(
-            device,
+        if !staged {
+            shared.queue.write_buffer(&self.params, 0, bytes);
+            return;
+        }
+        let staging = wgpu::util::DeviceExt::create_buffer_init(
+            &shared.device,
             &wgpu::util::BufferInitDescriptor {
                 label: Some("water object params (staged)"),
                 contents: bytes,
                 usage: wgpu::BufferUsages::COPY_SRC,
             },
         );
-        encoder.copy_buffer_to_buffer(&staged, 0, &self.params, 0, bytes.len() as u64);
+        encoder.copy_buffer_to_buffer(&staging, 0, &self.params, 0, bytes.len() as u64);
     }
 
     /// Everything from the light: faces, scene depth, paths and the map.
-    #[allow(clippy::too_many_arguments)]
     pub fn record_light(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame_only: &wgpu::BindGroup,
-        geometry_pass: &GeometryPass,
-        geometry: &SceneGeometry,
-        view: &ViewSlot,
+        things: &ClearThings,
         light: &ObjectLight,
-        liquid: Option<&LiquidMesh>,
         mut timer: Option<&mut GpuTimer>,
     ) {
         let faces = |encoder: &mut wgpu::CommandEncoder,
@@ -592,10 +612,7 @@ impl WaterObjectPass {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, frame_only, &[]);
-            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
-            if let Some(mesh) = liquid {
-                geometry_pass.draw_liquid(&mut pass, view, mesh);
-            }
+            things.draw(&mut pass);
         };
         // Empty texels: front beyond the far plane (2), back before the near one (−1).
         faces(
@@ -634,7 +651,13 @@ impl WaterObjectPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            geometry_pass.record_shadow(&mut pass, frame_only, view, geometry, Objects::Opaque);
+            things.meshes.record_shadow(
+                &mut pass,
+                frame_only,
+                things.view,
+                things.geometry,
+                Objects::Opaque,
+            );
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("water object paths"),
@@ -656,12 +679,9 @@ impl WaterObjectPass {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         globals: &wgpu::BindGroup,
-        geometry_pass: &GeometryPass,
-        geometry: &SceneGeometry,
-        view: &ViewSlot,
+        things: &ClearThings,
         targets: &ObjectTargets,
         (hdr, hdr_view): (&wgpu::Texture, &wgpu::TextureView),
-        liquid: Option<&LiquidMesh>,
         camera_may_be_inside: bool,
         timer: Option<&mut GpuTimer>,
     ) {
@@ -696,10 +716,7 @@ impl WaterObjectPass {
             });
             pass.set_pipeline(&self.camera_back);
             pass.set_bind_group(0, globals, &[]);
-            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
-            if let Some(mesh) = liquid {
-                geometry_pass.draw_liquid(&mut pass, view, mesh);
-            }
+            things.draw(&mut pass);
         }
         {
             let mut pass =
@@ -707,22 +724,10 @@ impl WaterObjectPass {
             pass.set_pipeline(&self.camera_front);
             pass.set_bind_group(0, globals, &[]);
             pass.set_bind_group(3, &targets.inputs, &[]);
-            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
-            if let Some(mesh) = liquid {
-                geometry_pass.draw_liquid(&mut pass, view, mesh);
-            }
+            things.draw(&mut pass);
         }
         if camera_may_be_inside {
-            self.record_inside(
-                encoder,
-                globals,
-                geometry_pass,
-                geometry,
-                view,
-                targets,
-                hdr_view,
-                liquid,
-            );
+            self.record_inside(encoder, globals, things, targets, hdr_view);
         }
     }
 
@@ -730,17 +735,13 @@ impl WaterObjectPass {
     /// pixels whose near-plane point is inside (a stencil face count of
     /// one) are drawn as seen from within the water, over what the front
     /// faces drew.
-    #[allow(clippy::too_many_arguments)]
     fn record_inside(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         globals: &wgpu::BindGroup,
-        geometry_pass: &GeometryPass,
-        geometry: &SceneGeometry,
-        view: &ViewSlot,
+        things: &ClearThings,
         targets: &ObjectTargets,
         hdr_view: &wgpu::TextureView,
-        liquid: Option<&LiquidMesh>,
     ) {
         let mut pass =
             over_image(encoder, "water object inside", hdr_view, &targets.inside_depth, true);
@@ -750,10 +751,7 @@ impl WaterObjectPass {
         for pipeline in [&p.count, &p.faces] {
             pass.set_pipeline(pipeline);
             pass.set_stencil_reference(1);
-            geometry_pass.draw_objects(&mut pass, view, geometry, Objects::Refractive);
-            if let Some(mesh) = liquid {
-                geometry_pass.draw_liquid(&mut pass, view, mesh);
-            }
+            things.draw(&mut pass);
         }
         pass.set_pipeline(&p.medium);
         pass.draw(0..3, 0..1);
@@ -875,36 +873,36 @@ impl Technique for WaterObjects {
             liquid.filter(|_| !crate::simulation::liquid::draw::drawn_as_points(frame.scene));
         match stage {
             Stage::Light if let Some(o) = frame.plan.object_light.filter(|o| o.due) => {
-                self.pass.prepare(&shared.device, encoder, &light_uniforms(&o));
-                self.pass.record_light(
-                    encoder,
-                    &shared.frame_only,
-                    &shared.meshes,
-                    &shared.geometry,
-                    &shared.views.object_light,
-                    &self.light,
-                    liquid,
-                    timer,
-                );
-                // The liquid's mesh changes every frame; the objects do not.
                 // The error view comparing surfaces draws the liquid two
-                // ways a frame: each drawing traces its own.
+                // ways a frame: each drawing traces its own light.
                 let compared = frame.scene.render.view == hydrolux_core::scene::DebugView::Error
                     && crate::error_view::compares_surfaces(frame.scene);
+                self.pass.prepare(shared, encoder, &light_uniforms(&o), compared);
+                let things = ClearThings {
+                    meshes: &shared.meshes,
+                    geometry: &shared.geometry,
+                    view: &shared.views.object_light,
+                    liquid,
+                };
+                self.pass.record_light(encoder, &shared.frame_only, &things, &self.light, timer);
+                // The liquid's mesh changes every frame; the objects do not.
                 self.current = liquid.is_none() && !compared;
             }
             Stage::Composite => {
                 let targets = frame.targets();
                 if let Some(object_targets) = &self.targets {
+                    let things = ClearThings {
+                        meshes: &shared.meshes,
+                        geometry: &shared.geometry,
+                        view: &shared.views.main,
+                        liquid,
+                    };
                     self.pass.record_camera(
                         encoder,
                         &frame.bound.globals,
-                        &shared.meshes,
-                        &shared.geometry,
-                        &shared.views.main,
+                        &things,
                         object_targets,
                         (&targets.hdr, &targets.hdr_view),
-                        liquid,
                         camera_may_be_inside(frame, liquid.is_some()),
                         timer,
                     );
