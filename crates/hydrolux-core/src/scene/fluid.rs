@@ -51,6 +51,19 @@ pub enum FluidSurface {
     None,
 }
 
+/// The field marching cubes meshes (`fluid::surface::level`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceField {
+    /// The distance to the nearby particles' weighted mean less a radius
+    /// (Zhu & Bridson 2005): flat where the liquid is flat, however its
+    /// particles clump.
+    #[default]
+    MeanPosition,
+    /// The particles' summed kernels: blobby, bumped by their clumps.
+    Density,
+}
+
 /// What a source is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -150,6 +163,9 @@ pub struct FluidDesc {
     /// 0 to 8 (`fluid::surface::smooth`): the particles' jitter smoothed
     /// out of the surface.
     pub surface_smoothing: u32,
+    /// The field marching cubes meshes: "mean_position" (the default) or
+    /// "density".
+    pub surface_field: SurfaceField,
     /// Screen-space meshes' Table 1 (seed 003 §3.2): h, pixels between the
     /// depth map's nodes (1 to 10).
     pub screen_spacing: f32,
@@ -192,6 +208,7 @@ impl Default for FluidDesc {
             surface: FluidSurface::MarchingCubes,
             surface_resolution: 96,
             surface_smoothing: 1,
+            surface_field: SurfaceField::MeanPosition,
             screen_spacing: 2.0,
             screen_radius: 1.0,
             screen_filter: 3,

@@ -29,7 +29,7 @@ pub use caustics::*;
 pub use floor::*;
 pub use fluid::{
     FluidDesc, FluidSource, FluidSourceKind, FluidSurface, MAX_FLUID_CELLS, MAX_FLUID_DRAINS,
-    MAX_FLUID_NOZZLES, MAX_LIQUID_BODIES, MAX_SURFACE_RESOLUTION, is_fluid_solid,
+    MAX_FLUID_NOZZLES, MAX_LIQUID_BODIES, MAX_SURFACE_RESOLUTION, SurfaceField, is_fluid_solid,
 };
 pub use godrays::*;
 pub use material::*;

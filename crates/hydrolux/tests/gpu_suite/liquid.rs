@@ -537,9 +537,10 @@ fn the_liquid_surface_is_meshed_as_its_cpu_twin_meshes_it() {
     let spacing = liquid.h / s.fluid.particles_per_axis() as f32;
     let grid = mc::SurfaceGrid::over(s.fluid.min, s.fluid.max, s.fluid.surface_resolution);
     assert_eq!(grid, gpu.grid);
-    let mut fixed = mc::splat(&grid, &positions, spacing);
-    mc::smooth(&grid, &mut fixed, s.fluid.surface_smoothing);
-    let twin = mc::marching_cubes(&grid, &mc::density(&fixed), mc::ISO_LEVEL);
+    let field = s.fluid.surface_field;
+    let mut values = mc::level(&grid, &mc::splat(&grid, &positions, spacing), spacing, field);
+    mc::smooth(&grid, &mut values, s.fluid.surface_smoothing);
+    let twin = mc::marching_cubes(&grid, &values, mc::ISO_LEVEL);
     let (nt, ng) = (twin.indices.len() as f64, gpu.mesh.indices.len() as f64);
     assert!(nt > 300.0 && (ng - nt).abs() <= 0.005 * nt, "{ng} indices, twin {nt}");
     let (at, ag) = (twin.area(), gpu.mesh.area());
@@ -562,7 +563,7 @@ fn the_liquid_surface_is_meshed_as_its_cpu_twin_meshes_it() {
     let particles = positions.len() as f64 * (spacing as f64).powi(3);
     let raw = mc::marching_cubes(
         &grid,
-        &mc::density(&mc::splat(&grid, &positions, spacing)),
+        &mc::level(&grid, &mc::splat(&grid, &positions, spacing), spacing, field),
         mc::ISO_LEVEL,
     )
     .volume();

@@ -85,9 +85,16 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     n1 = select(n1, -n0, dot(t1, n1) <= 0.0);
     let refracted_out = refract(t1, -n1, ior);
     let tir = dot(refracted_out, refracted_out) < 0.5;
+    // The liquid lying on the opaque scene (a floor, a table): where the
+    // ray leaves, the back face is within CONTACT of the scene behind it, so
+    // there is no air between and no second interface — the ray goes on
+    // through the water until it meets the scene. (Otherwise a mesh that
+    // stands off the floor by half a particle spacing would reflect the
+    // floor totally at its bumpy underside: a chrome puddle.)
+    let on_scene = (at_exit.z > 0.5) & (b.w > 0.0) & (b.w + CONTACT > scene_distance(exit_texel));
     // Totally reflected at the back: follow the reflected ray instead.
-    let t2 = select(refracted_out, reflect(t1, -n1), tir);
-    let r1 = select(fresnel_exact(max(dot(t1, n1), 0.0), ior, 1.0), 0.0, tir);
+    let t2 = select(select(refracted_out, reflect(t1, -n1), tir), t1, on_scene);
+    let r1 = select(select(fresnel_exact(max(dot(t1, n1), 0.0), ior, 1.0), 0.0, tir), 0.0, on_scene);
     // What lies behind along t2: guess its distance from the scene's depth
     // under the exit point, then look it up where that point projects.
     let z = textureLoad(scene_depth, exit_texel, 0).r;
@@ -100,8 +107,14 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     // Where the lookup fails: the sky that way, or, over the opaque scene,
     // what lies straight behind this pixel.
     let fallback = select(sky_towards(t2), textureLoad(behind_tex, px, 0).rgb, z_here > 0.0);
-    let behind = select(fallback, seen, (at_exit.z > 0.5) & (z > 0.0) & (q.z > 0.5) & (zq > 0.0));
-    let inside = exp(-frame.water.absorption * thickness);
+    let found = (at_exit.z > 0.5) & (z > 0.0) & (q.z > 0.5) & (zq > 0.0);
+    // In contact, the scene where the refracted ray meets it, through the
+    // water all the way.
+    let through = along_to_scene(in.world, t1, thickness);
+    let seen_through = textureSampleLevel(behind_tex, sky_sampler, clamp(through.xy, vec2<f32>(0.0), vec2<f32>(1.0)), 0.0).rgb;
+    let behind = select(select(fallback, seen, found), select(fallback, seen_through, through.z > 0.5), on_scene);
+    let depth_inside = select(thickness, through.w, on_scene & (through.z > 0.5));
+    let inside = exp(-frame.water.absorption * depth_inside);
     let color = r0 * reflected + (1.0 - r0) * (1.0 - r1) * inside * behind;
     let shaded = clamp(through_fog(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0));
     // The normals debug view as a select, not a branch on the uniform (see

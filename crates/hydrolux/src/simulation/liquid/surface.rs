@@ -12,7 +12,7 @@ use crate::simulation::published::LiquidMesh;
 use crate::technique::Shared;
 use crate::uniforms::uniform;
 use hydrolux_core::fluid::surface::{self as mc, SurfaceGrid};
-use hydrolux_core::scene::Scene;
+use hydrolux_core::scene::{Scene, SurfaceField};
 
 uniform! { SurfaceParams;
     /// WGSL `SurfaceParams` (simulation/liquid/surface.wgsl).
@@ -29,6 +29,10 @@ uniform! { SurfaceParams;
         pub vertex_capacity: u32,
         pub index_capacity: u32,
         pub row: u32,
+        pub radius: f32,
+        pub mean_position: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
     }
 }
 
@@ -63,7 +67,8 @@ pub(crate) struct LiquidSurface {
     /// Rounds of smoothing (`fluid.surface_smoothing`).
     smoothing: u32,
     field: wgpu::Buffer,
-    smoothed: wgpu::Buffer,
+    level_values: wgpu::Buffer,
+    levels: wgpu::ComputePipeline,
     emit_vertices: wgpu::ComputePipeline,
     emit_triangles: wgpu::ComputePipeline,
     finish: wgpu::ComputePipeline,
@@ -103,12 +108,16 @@ impl LiquidSurface {
             vertex_capacity,
             index_capacity,
             row: ROW * WG,
+            radius: mc::PARTICLE_RADIUS_SPACINGS * spacing,
+            mean_position: u32::from(desc.surface_field == SurfaceField::MeanPosition),
+            _pad0: 0,
+            _pad1: 0,
         };
         let params = uniform_buffer(device, "liquid surface", &uniforms);
         let none = wgpu::BufferUsages::empty();
-        let field = storage_buffer(device, "liquid density", node_count as u64 * 4, none);
-        let smoothed =
-            storage_buffer(device, "liquid density smoothed", node_count as u64 * 4, none);
+        let channels = mc::CHANNELS as u64 * node_count as u64 * 4;
+        let field = storage_buffer(device, "liquid density", channels, none);
+        let level_values = storage_buffer(device, "liquid levels", node_count as u64 * 4, none);
         let edge_vertex =
             storage_buffer(device, "liquid edge vertices", node_count as u64 * 12, none);
         let vertices = storage_buffer(
@@ -153,7 +162,7 @@ impl LiquidSurface {
                 &indices,
                 &counters,
                 &table,
-                &smoothed,
+                &level_values,
             ],
         );
         let module = shader(device, "liquid surface", &source());
@@ -167,7 +176,8 @@ impl LiquidSurface {
             smooth: [p("smooth_x"), p("smooth_y"), p("smooth_z")],
             smoothing: desc.surface_smoothing,
             field,
-            smoothed,
+            level_values,
+            levels: p("levels"),
             emit_vertices: p("emit_vertices"),
             emit_triangles: p("emit_triangles"),
             finish: p("finish"),
@@ -186,6 +196,7 @@ impl LiquidSurface {
         timer: Option<&mut crate::timing::GpuTimer>,
     ) {
         let nodes = groups(self.uniforms.node_count);
+        let words = groups(mc::CHANNELS as u32 * self.uniforms.node_count);
         let particles = groups(self.uniforms.particle_count);
         let run = |encoder: &mut wgpu::CommandEncoder,
                    timer: Option<&mut crate::timing::GpuTimer>,
@@ -206,15 +217,16 @@ impl LiquidSurface {
             encoder,
             timer.as_deref_mut(),
             "liquid density",
-            &[(&self.clear, nodes), (&self.splat, particles)],
+            &[(&self.clear, words), (&self.splat, particles), (&self.levels, nodes)],
         );
-        // Each axis's round reads the field whole, so it goes back over the
-        // field between dispatches.
+        // Each axis's round reads the levels whole, so it writes into the
+        // field's first channel and goes back over the levels between
+        // dispatches.
         let bytes = self.uniforms.node_count as u64 * 4;
         for _ in 0..self.smoothing {
             for axis in &self.smooth {
                 run(encoder, None, "liquid density smoothing", &[(axis, nodes)]);
-                encoder.copy_buffer_to_buffer(&self.smoothed, 0, &self.field, 0, bytes);
+                encoder.copy_buffer_to_buffer(&self.field, 0, &self.level_values, 0, bytes);
             }
         }
         run(

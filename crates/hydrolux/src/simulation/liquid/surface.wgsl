@@ -1,8 +1,11 @@
 // The liquid's surface by marching cubes on the GPU (seed 003 §3.1; the
 // CPU twin is hydrolux_core::fluid::surface, step for step), with no read
-// back: clear → splat (each particle's kernel added to the nodes in fixed
-// point, so the sum does not depend on the particles' order) → smooth
-// (`fluid.surface_smoothing` rounds of a binomial filter per axis) → vertices
+// back: clear → splat (each particle's kernel, and the kernel times its
+// position, added to the nodes in fixed point, so the sums do not depend on
+// the particles' order) → levels (the field meshed: the density, or Zhu &
+// Bridson's distance to the particles' weighted mean less a radius,
+// `fluid.surface_field`) → smooth (`fluid.surface_smoothing` rounds of a
+// binomial filter per axis over the levels) → vertices
 // (one per grid edge the level crosses, eq. 18, its normal from the field's
 // central differences, eq. 19–20) → triangles (each cell's case from the
 // derived table, indices into the edges' shared vertices) → finish (the
@@ -27,10 +30,19 @@ struct SurfaceParams {
     index_capacity: u32,
     // Threads per row of a two-dimensional dispatch.
     row: u32,
+    // The mean-position field's radius r (m); 1 to mesh that field, 0 the
+    // density.
+    radius: f32,
+    mean_position: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: SurfaceParams;
 @group(0) @binding(1) var<storage, read> particles: array<LiquidParticle>;
+// The splat's four channels, node_count each: the density, then its
+// moments along x, y, z (the kernel times the particle's place as a
+// fraction of the grid's extent).
 @group(0) @binding(2) var<storage, read_write> field: array<atomic<u32>>;
 @group(0) @binding(3) var<storage, read_write> edge_vertex: array<u32>;
 // Eight floats a vertex: position, normal, uv (the meshes' layout).
@@ -39,8 +51,10 @@ struct SurfaceParams {
 @group(0) @binding(6) var<storage, read_write> counters: MeshCounters;
 // Per case: its triangle count, then three cube edges per triangle.
 @group(0) @binding(7) var<storage, read> cases: array<u32>;
-// A smoothing round's output (copied back over the field after each axis).
-@group(0) @binding(8) var<storage, read_write> smoothed: array<u32>;
+// Each node's level (f32 bits), in the first node_count words.
+@group(0) @binding(8) var<storage, read_write> level_values: array<u32>;
+
+const CHANNELS: u32 = 4u;
 
 const WG: u32 = 64u;
 const MAX_CASE_TRIANGLES: u32 = 5u;
@@ -65,7 +79,11 @@ fn node_position(p: vec3<u32>) -> vec3<f32> {
 }
 
 fn value(p: vec3<u32>) -> f32 {
-    return f32(atomicLoad(&field[node_index(p)])) / params.fixed_point;
+    return bitcast<f32>(level_values[node_index(p)]);
+}
+
+fn extent() -> vec3<f32> {
+    return params.h * vec3<f32>(params.nodes - 1u);
 }
 
 @compute @workgroup_size(64)
@@ -74,7 +92,7 @@ fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
     if (i == 0u) {
         reset_mesh_counters();
     }
-    if (i < params.node_count) {
+    if (i < CHANNELS * params.node_count) {
         atomicStore(&field[i], 0u);
     }
 }
@@ -86,6 +104,7 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = particles[i].position;
+    let u = clamp((p - params.origin) / extent(), vec3<f32>(0.0), vec3<f32>(1.0));
     let r = params.reach;
     let n = vec3<f32>(params.nodes);
     let lo = vec3<u32>(clamp(ceil((p - r - params.origin) / params.h), vec3<f32>(0.0), n));
@@ -97,37 +116,41 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
                 let q2 = dot(d, d) / (r * r);
                 if (q2 < 1.0) {
                     let w = (1.0 - q2) * (1.0 - q2) * (1.0 - q2);
-                    let units = u32(w * params.scale * params.fixed_point + 0.5);
-                    atomicAdd(&field[node_index(vec3<u32>(x, y, z))], units);
+                    let units = w * params.scale * params.fixed_point;
+                    let at = node_index(vec3<u32>(x, y, z));
+                    let n = params.node_count;
+                    atomicAdd(&field[at], u32(units + 0.5));
+                    atomicAdd(&field[n + at], u32(units * u.x + 0.5));
+                    atomicAdd(&field[2u * n + at], u32(units * u.y + 0.5));
+                    atomicAdd(&field[3u * n + at], u32(units * u.z + 0.5));
                 }
             }
         }
     }
 }
 
-// The binomial filter (¼, ½, ¼) along `axis` in fixed point, zero beyond
-// the grid (the twin's `smooth` and `filtered`).
+// The binomial filter (¼, ½, ¼) along `axis` over the levels, zero beyond
+// the grid (the twin's `smooth` and `filtered`): read from `level_values`,
+// written to the field's first channel (copied back after each axis).
 fn smooth_along(i: u32, axis: u32) {
     if (i >= params.node_count) {
         return;
     }
     let p = node_of(i);
-    var lo = 0u;
-    var hi = 0u;
+    var lo = 0.0;
+    var hi = 0.0;
     if (p[axis] > 0u) {
         var q = p;
         q[axis] -= 1u;
-        lo = atomicLoad(&field[node_index(q)]);
+        lo = bitcast<f32>(level_values[node_index(q)]);
     }
     if (p[axis] + 1u < params.nodes[axis]) {
         var q = p;
         q[axis] += 1u;
-        hi = atomicLoad(&field[node_index(q)]);
+        hi = bitcast<f32>(level_values[node_index(q)]);
     }
-    let mid = atomicLoad(&field[i]);
-    // (lo + 2·mid + hi + 2) / 4 without overflowing 32 bits.
-    let sum_low = (lo & 3u) + 2u * (mid & 3u) + (hi & 3u) + 2u;
-    smoothed[i] = (lo >> 2u) + 2u * (mid >> 2u) + (hi >> 2u) + sum_low / 4u;
+    let mid = bitcast<f32>(level_values[i]);
+    atomicStore(&field[i], bitcast<u32>(0.25 * (lo + hi) + 0.5 * mid));
 }
 
 @compute @workgroup_size(64)
@@ -143,6 +166,37 @@ fn smooth_y(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(64)
 fn smooth_z(@builtin(global_invocation_id) id: vec3<u32>) {
     smooth_along(thread(id), 2u);
+}
+
+// Each node's level, the field meshed at `iso` (the twin's `node_level`):
+// the density, or ½ − φ/R with φ = |x − x̄| − r from the particles'
+// weighted mean x̄ (0 where no particle reaches).
+@compute @workgroup_size(64)
+fn levels(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = thread(id);
+    if (i >= params.node_count) {
+        return;
+    }
+    let n = params.node_count;
+    let weight = atomicLoad(&field[i]);
+    var level = f32(weight) / params.fixed_point;
+    if (params.mean_position != 0u) {
+        // Held within r/R of the level (the twin's `node_level`).
+        let span = params.radius / params.reach;
+        level = params.iso - span;
+        if (weight != 0u) {
+            let w = f32(weight);
+            let moments = vec3<f32>(
+                f32(atomicLoad(&field[n + i])),
+                f32(atomicLoad(&field[2u * n + i])),
+                f32(atomicLoad(&field[3u * n + i])),
+            );
+            let mean = params.origin + extent() * (moments / w);
+            let x = node_position(node_of(i));
+            level = max(params.iso - (distance(x, mean) - params.radius) / params.reach, params.iso - span);
+        }
+    }
+    level_values[i] = bitcast<u32>(level);
 }
 
 // ∇ of the field at a node, by central differences (one-sided at the
