@@ -178,19 +178,38 @@ fn mesh_pipeline(
 
 /// What is drawn as clear water (the refractive objects and the liquid's
 /// mesh), in one view.
+#[derive(Clone, Copy)]
 pub struct ClearThings<'a> {
     pub meshes: &'a GeometryPass,
     pub geometry: &'a SceneGeometry,
     pub view: &'a ViewSlot,
     pub liquid: Option<&'a LiquidMesh>,
+    /// Whether the refractive objects are drawn (a layer may leave them).
+    pub objects: bool,
 }
 
-impl ClearThings<'_> {
+impl<'a> ClearThings<'a> {
     /// Draw them all with the pass's pipeline (groups 1 and 2 set here).
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        self.meshes.draw_objects(pass, self.view, self.geometry, Objects::Refractive);
+        if self.objects {
+            self.meshes.draw_objects(pass, self.view, self.geometry, Objects::Refractive);
+        }
         if let Some(mesh) = self.liquid {
             self.meshes.draw_liquid(pass, self.view, mesh);
+        }
+    }
+
+    /// The layers the camera draws one over the other: with both, the
+    /// liquid first (it lies in its glass), then the clear objects
+    /// refracting the image with the liquid in it, so water is seen
+    /// through a glass's walls; one layer otherwise.
+    fn layers(&self) -> Vec<ClearThings<'a>> {
+        let objects = self.objects && self.geometry.refractive_bounds.is_some();
+        match (objects, self.liquid) {
+            (true, Some(_)) => {
+                vec![ClearThings { objects: false, ..*self }, ClearThings { liquid: None, ..*self }]
+            }
+            _ => vec![*self],
         }
     }
 }
@@ -204,9 +223,23 @@ fn over_image<'a>(
     depth: &wgpu::TextureView,
     stencil: bool,
 ) -> wgpu::RenderPass<'a> {
-    fn cleared<T>(value: T) -> wgpu::Operations<T> {
-        wgpu::Operations { load: wgpu::LoadOp::Clear(value), store: wgpu::StoreOp::Discard }
-    }
+    over_image_keeping(encoder, label, image, depth, stencil, cleared(0.0))
+}
+
+fn cleared<T>(value: T) -> wgpu::Operations<T> {
+    wgpu::Operations { load: wgpu::LoadOp::Clear(value), store: wgpu::StoreOp::Discard }
+}
+
+/// As [`over_image`], with the depth's load and store given (layers drawn
+/// in turn keep the nearer layers' depth).
+fn over_image_keeping<'a>(
+    encoder: &'a mut wgpu::CommandEncoder,
+    label: &str,
+    image: &wgpu::TextureView,
+    depth: &wgpu::TextureView,
+    stencil: bool,
+    depth_ops: wgpu::Operations<f32>,
+) -> wgpu::RenderPass<'a> {
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -217,7 +250,7 @@ fn over_image<'a>(
         })],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: depth,
-            depth_ops: Some(cleared(0.0)),
+            depth_ops: Some(depth_ops),
             stencil_ops: stencil.then_some(cleared(0u32)),
         }),
         timestamp_writes: None,
@@ -685,6 +718,40 @@ impl WaterObjectPass {
         camera_may_be_inside: bool,
         timer: Option<&mut GpuTimer>,
     ) {
+        // A camera that may be inside sees all as one layer: from within,
+        // the image behind must be the scene before any of them.
+        let layers = if camera_may_be_inside { vec![*things] } else { things.layers() };
+        let mut timer = timer;
+        let count = layers.len();
+        for (i, layer) in layers.iter().enumerate() {
+            self.record_layer(encoder, globals, layer, targets, (hdr, hdr_view), timer.take(), {
+                // Each layer keeps its depth for the next, so that a far
+                // layer's faces (a glass's back wall) do not cover a nearer
+                // one's (the water in front of it).
+                let load = if i == 0 { wgpu::LoadOp::Clear(0.0) } else { wgpu::LoadOp::Load };
+                let store =
+                    if i + 1 < count { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard };
+                wgpu::Operations { load, store }
+            });
+        }
+        if camera_may_be_inside {
+            self.record_inside(encoder, globals, things, targets, hdr_view);
+        }
+    }
+
+    /// One layer of clear things over the image: their back faces, then
+    /// their front faces refracting a copy of the image as it is.
+    #[allow(clippy::too_many_arguments)]
+    fn record_layer(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        globals: &wgpu::BindGroup,
+        things: &ClearThings,
+        targets: &ObjectTargets,
+        (hdr, hdr_view): (&wgpu::Texture, &wgpu::TextureView),
+        timer: Option<&mut GpuTimer>,
+        depth_ops: wgpu::Operations<f32>,
+    ) {
         encoder.copy_texture_to_texture(
             hdr.as_image_copy(),
             targets.behind.as_image_copy(),
@@ -718,17 +785,18 @@ impl WaterObjectPass {
             pass.set_bind_group(0, globals, &[]);
             things.draw(&mut pass);
         }
-        {
-            let mut pass =
-                over_image(encoder, "water object front", hdr_view, &targets.front_depth, false);
-            pass.set_pipeline(&self.camera_front);
-            pass.set_bind_group(0, globals, &[]);
-            pass.set_bind_group(3, &targets.inputs, &[]);
-            things.draw(&mut pass);
-        }
-        if camera_may_be_inside {
-            self.record_inside(encoder, globals, things, targets, hdr_view);
-        }
+        let mut pass = over_image_keeping(
+            encoder,
+            "water object front",
+            hdr_view,
+            &targets.front_depth,
+            false,
+            depth_ops,
+        );
+        pass.set_pipeline(&self.camera_front);
+        pass.set_bind_group(0, globals, &[]);
+        pass.set_bind_group(3, &targets.inputs, &[]);
+        things.draw(&mut pass);
     }
 
     /// A camera whose lens may be inside a clear object or the liquid: the
@@ -883,6 +951,7 @@ impl Technique for WaterObjects {
                     geometry: &shared.geometry,
                     view: &shared.views.object_light,
                     liquid,
+                    objects: true,
                 };
                 self.pass.record_light(encoder, &shared.frame_only, &things, &self.light, timer);
                 // The liquid's mesh changes every frame; the objects do not.
@@ -896,6 +965,7 @@ impl Technique for WaterObjects {
                         geometry: &shared.geometry,
                         view: &shared.views.main,
                         liquid,
+                        objects: true,
                     };
                     self.pass.record_camera(
                         encoder,
