@@ -235,14 +235,15 @@ pub struct SurfaceGrid {
 
 impl SurfaceGrid {
     /// A grid over the box `min..max` with `cells` along its longest side,
-    /// widened by a cell all round so that its outer nodes are outside the
-    /// liquid and the mesh is closed.
+    /// widened by two cells all round: its outer nodes are outside the
+    /// liquid, so the mesh is closed, and the nodes between them and the
+    /// box carry the liquid through a closed wall ([`Walls`]).
     pub fn over(min: [f32; 3], max: [f32; 3], cells: u32) -> SurfaceGrid {
         let extent = [0, 1, 2].map(|a| max[a] - min[a]);
         let longest = extent.iter().fold(0.0f32, |m, &e| m.max(e));
         let h = longest / cells.max(1) as f32;
-        let nodes = extent.map(|e| (e / h).ceil() as u32 + 3);
-        SurfaceGrid { origin: [0, 1, 2].map(|a| min[a] - h), h, nodes }
+        let nodes = extent.map(|e| (e / h).ceil() as u32 + 5);
+        SurfaceGrid { origin: [0, 1, 2].map(|a| min[a] - 2.0 * h), h, nodes }
     }
 
     pub fn node_count(&self) -> usize {
@@ -378,29 +379,171 @@ pub fn density(fixed: &[u32]) -> Vec<f32> {
     fixed[..fixed.len() / CHANNELS].iter().map(|&v| v as f32 / DENSITY_FIXED_POINT).collect()
 }
 
+/// The domain's closed walls as the level sees them. A liquid's particles
+/// stop half a spacing short of a wall, so a surface of them alone stands
+/// off it, rounded and bumped: an air gap between water and its glass,
+/// which the eye reads as a crumpled mirror. Instead the liquid is carried
+/// through a closed wall: a node nearer the wall than
+/// [`WALL_BAND_SPACINGS`] has at least the level of the node that far
+/// inside (`inner_lo`..`inner_hi`); a node beyond the wall is inside where
+/// that node is and outside where it is not; the outermost node is outside. So the liquid meets the wall
+/// square and ends flat beyond it, halfway between the last two nodes: in
+/// a glass's wall, under a floor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Walls {
+    pub inner_lo: [u32; 3],
+    pub inner_hi: [u32; 3],
+    /// The first node past the box's high side per axis (the nodes below
+    /// 2 are past its low side: the grid starts two cells out).
+    pub beyond_hi: [u32; 3],
+    /// Bit 2a: the low side along axis a is closed; bit 2a + 1: the high.
+    pub closed: u32,
+}
+
+/// How far inside a closed wall (in particle spacings) the level that is
+/// carried through it is read: past the voids a FLIP liquid leaves along
+/// its walls a spacing in, which would dimple the face.
+pub const WALL_BAND_SPACINGS: f32 = 2.0;
+
+/// How a node's level is found (`Walls::source`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LevelSource {
+    /// Its own.
+    Own,
+    /// Outside (an outermost node past a closed wall).
+    Outside,
+    /// Past a closed wall: inside where node q is, outside elsewhere.
+    Beyond([u32; 3]),
+    /// Near a closed wall: at least node q's.
+    AtLeast([u32; 3]),
+}
+
+impl Walls {
+    /// The walls of the box `min..max` (all closed but `open`, per axis
+    /// low and high) for particles `spacing` apart, on `grid`.
+    pub fn of(
+        grid: &SurfaceGrid,
+        [min, max]: [[f32; 3]; 2],
+        open: [[bool; 2]; 3],
+        spacing: f32,
+    ) -> Walls {
+        let last = grid.nodes.map(|n| n.saturating_sub(1) as f32);
+        let node = |x: f32, a: usize| (x - grid.origin[a]) / grid.h;
+        let band = WALL_BAND_SPACINGS * spacing;
+        let inner_lo = [0, 1, 2].map(|a| node(min[a] + band, a).ceil().clamp(2.0, last[a]));
+        let inner_hi = [0, 1, 2].map(|a| node(max[a] - band, a).floor().clamp(0.0, last[a]));
+        // A node within a thousandth of a cell of the wall is on it.
+        let beyond_hi = [0, 1, 2].map(|a| (node(max[a], a) + 1e-3).floor() as u32 + 1);
+        let mut closed = 0;
+        for (a, sides) in open.iter().enumerate() {
+            for (side, &is_open) in sides.iter().enumerate() {
+                if !is_open {
+                    closed |= 1 << (2 * a + side);
+                }
+            }
+        }
+        Walls {
+            inner_lo: inner_lo.map(|v| v as u32),
+            inner_hi: [0, 1, 2].map(|a| inner_hi[a].max(inner_lo[a]) as u32),
+            beyond_hi,
+            closed,
+        }
+    }
+
+    /// How node `p` of a grid of `nodes` finds its level.
+    pub fn source(&self, nodes: [u32; 3], p: [u32; 3]) -> LevelSource {
+        if self.closed == 0 {
+            return LevelSource::Own;
+        }
+        let mut q = p;
+        let mut beyond = false;
+        for a in 0..3 {
+            let (low, high) =
+                (self.closed >> (2 * a) & 1 != 0, self.closed >> (2 * a + 1) & 1 != 0);
+            if (low && p[a] == 0) || (high && p[a] + 1 == nodes[a]) {
+                return LevelSource::Outside;
+            }
+            if low {
+                beyond |= p[a] < 2;
+                q[a] = q[a].max(self.inner_lo[a]);
+            }
+            if high {
+                beyond |= p[a] >= self.beyond_hi[a];
+                q[a] = q[a].min(self.inner_hi[a]);
+            }
+        }
+        match (beyond, q != p) {
+            (true, _) => LevelSource::Beyond(q),
+            (false, true) => LevelSource::AtLeast(q),
+            (false, false) => LevelSource::Own,
+        }
+    }
+}
+
+/// The level outside the liquid (where no particle reaches).
+pub fn outside_level(field: SurfaceField, spacing: f32) -> f32 {
+    match field {
+        SurfaceField::Density => 0.0,
+        // As `node_level` holds it (the same arithmetic).
+        SurfaceField::MeanPosition => {
+            ISO_LEVEL - (PARTICLE_RADIUS_SPACINGS * spacing) / (KERNEL_SUPPORT_SPACINGS * spacing)
+        }
+    }
+}
+
+/// The level deep inside the liquid: a full liquid's density, or the mean
+/// position's ½ + r/R.
+pub fn inside_level(field: SurfaceField, spacing: f32) -> f32 {
+    match field {
+        SurfaceField::Density => 1.0,
+        SurfaceField::MeanPosition => {
+            ISO_LEVEL + (PARTICLE_RADIUS_SPACINGS * spacing) / (KERNEL_SUPPORT_SPACINGS * spacing)
+        }
+    }
+}
+
 /// The field that is meshed at [`ISO_LEVEL`], per node, from the splat of
 /// particles `spacing` apart: the density, or ½ − φ/R with φ = |x − x̄| − r
-/// from the particles' weighted mean x̄ (0, outside, where no particle
-/// reaches).
-pub fn level(grid: &SurfaceGrid, fixed: &[u32], spacing: f32, field: SurfaceField) -> Vec<f32> {
+/// from the particles' weighted mean x̄ (held within r/R of ½), carried
+/// through the closed `walls`.
+pub fn level(
+    grid: &SurfaceGrid,
+    fixed: &[u32],
+    spacing: f32,
+    field: SurfaceField,
+    walls: &Walls,
+) -> Vec<f32> {
     let n = grid.node_count();
     let reach = KERNEL_SUPPORT_SPACINGS * spacing;
     let radius = PARTICLE_RADIUS_SPACINGS * spacing;
     let extent = grid.extent();
+    let own = |p: [u32; 3]| {
+        let [i, j, k] = p.map(|v| v as usize);
+        let at = grid.index(i, j, k);
+        let moments = [fixed[n + at], fixed[2 * n + at], fixed[3 * n + at]];
+        node_level(
+            grid.position(i, j, k),
+            fixed[at],
+            moments,
+            [grid.origin, extent],
+            [reach, radius],
+            field,
+        )
+    };
     let mut out = vec![0.0; n];
-    for k in 0..grid.nodes[2] as usize {
-        for j in 0..grid.nodes[1] as usize {
-            for i in 0..grid.nodes[0] as usize {
-                let at = grid.index(i, j, k);
-                let moments = [fixed[n + at], fixed[2 * n + at], fixed[3 * n + at]];
-                out[at] = node_level(
-                    grid.position(i, j, k),
-                    fixed[at],
-                    moments,
-                    [grid.origin, extent],
-                    [reach, radius],
-                    field,
-                );
+    for k in 0..grid.nodes[2] {
+        for j in 0..grid.nodes[1] {
+            for i in 0..grid.nodes[0] {
+                let p = [i, j, k];
+                out[grid.index(i as usize, j as usize, k as usize)] = match walls
+                    .source(grid.nodes, p)
+                {
+                    LevelSource::Own => own(p),
+                    LevelSource::Outside => outside_level(field, spacing),
+                    LevelSource::Beyond(q) if own(q) > ISO_LEVEL => inside_level(field, spacing),
+                    LevelSource::Beyond(_) => outside_level(field, spacing),
+                    LevelSource::AtLeast(q) => own(p).max(own(q)),
+                };
             }
         }
     }
@@ -742,7 +885,7 @@ mod tests {
             (spread, mesh.volume())
         };
         for field in [SurfaceField::Density, SurfaceField::MeanPosition] {
-            let values = level(&grid, &fixed, s, field);
+            let values = level(&grid, &fixed, s, field, &Walls::default());
             let (rough, v0) = top_spread(&values);
             let mut smoothed = values.clone();
             smooth(&grid, &mut smoothed, 2);
@@ -787,7 +930,11 @@ mod tests {
         let centre = rho[grid.index(20, 13, 17)];
         assert!((centre - 1.0).abs() < 0.02, "{centre}");
         for field in [SurfaceField::Density, SurfaceField::MeanPosition] {
-            let mesh = marching_cubes(&grid, &level(&grid, &fixed, s, field), ISO_LEVEL);
+            let mesh = marching_cubes(
+                &grid,
+                &level(&grid, &fixed, s, field, &Walls::default()),
+                ISO_LEVEL,
+            );
             assert_closed(&mesh);
             let volume = 0.2 * 0.12 * 0.16;
             // The kernel rounds the edges and corners a little.
@@ -800,6 +947,76 @@ mod tests {
                 assert!((y - 0.12).abs() < 0.1 * s, "{field:?}: {y}");
             }
         }
+    }
+
+    #[test]
+    fn a_liquid_is_carried_flat_through_its_closed_walls() {
+        // A block 20 × 6 × 16 cm filling the floor of a closed 20 × 12 ×
+        // 16 cm domain, its particles jittered and a fifth of them taken
+        // out (the voids a FLIP liquid leaves along its walls), open only
+        // at the top. Carried through the walls, its sides and bottom are
+        // flat planes past the walls (every vertex beyond a wall within
+        // 0.15 cells of one plane), between the last two nodes; its top
+        // still ends at 6 cm (a tenth of a spacing), right up to the walls;
+        // the mesh is closed. Without walls the sides end at the box.
+        let s = 0.01f32;
+        let mut rng = SplitMix64::new(5);
+        let mut particles = Vec::new();
+        for k in 0..16 {
+            for j in 0..6 {
+                for i in 0..20 {
+                    let mut jitter = || 0.2 * s * (rng.unit() as f32 - 0.5);
+                    let p = [i, j, k].map(|c| (c as f32 + 0.5) * s);
+                    let q = [p[0] + jitter(), p[1] + jitter(), p[2] + jitter()];
+                    if rng.unit() > 0.2 || j == 5 {
+                        particles.push(q);
+                    }
+                }
+            }
+        }
+        let (min, max) = ([0.0; 3], [0.2, 0.12, 0.16]);
+        let grid = SurfaceGrid::over(min, max, 40);
+        let fixed = splat(&grid, &particles, s);
+        let field = SurfaceField::MeanPosition;
+        let open_top = [[false; 2], [false, true], [false; 2]];
+        let walls = Walls::of(&grid, [min, max], open_top, s);
+        let mesh = marching_cubes(&grid, &level(&grid, &fixed, s, field, &walls), ISO_LEVEL);
+        assert_closed(&mesh);
+        let h = grid.h;
+        // Past the −x wall: one plane, between the nodes at −2h and −h.
+        // (Away from its rim, where it turns into the top and the other
+        // walls' faces.)
+        let away = |p: &&[f32; 3], a: usize| p[a] > 0.01 && p[a] < [0.19, 0.05, 0.15][a];
+        let past: Vec<f32> = (mesh.positions.iter())
+            .filter(|p| p[0] < -0.1 * h && away(p, 1) && away(p, 2))
+            .map(|p| p[0])
+            .collect();
+        assert!(past.len() > 50, "{} vertices past the wall", past.len());
+        let (lo, hi) = past.iter().fold((f32::MAX, f32::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(hi - lo < 0.15 * h && lo > -2.0 * h && hi < -h, "{lo}..{hi} (h = {h})");
+        // Under the floor: the same.
+        let under: Vec<f32> = (mesh.positions.iter())
+            .filter(|p| p[1] < -0.1 * h && away(p, 0) && away(p, 2))
+            .map(|p| p[1])
+            .collect();
+        let (lo, hi) = under.iter().fold((f32::MAX, f32::MIN), |(a, b), &y| (a.min(y), b.max(y)));
+        assert!(hi - lo < 0.15 * h && lo > -2.0 * h && hi < -h, "{lo}..{hi} (h = {h})");
+        // The top at 6 cm, near the walls as well as away from them.
+        let top: Vec<f32> = mesh
+            .positions
+            .iter()
+            .filter(|p| p[1] > 0.045 && p[0] > -0.1 * h && p[0] < 0.2 && p[2] > 0.02 && p[2] < 0.14)
+            .map(|p| p[1])
+            .collect();
+        assert!(top.len() > 100);
+        let worst = top.iter().fold(0.0f32, |m, y| m.max((y - 0.06).abs()));
+        assert!(worst < 0.25 * s, "the top strays {worst} m from 6 cm");
+        // No walls: the sides end where the particles' volume does (within
+        // a fifth of a spacing of the box, their jitter), not past it.
+        let free =
+            marching_cubes(&grid, &level(&grid, &fixed, s, field, &Walls::default()), ISO_LEVEL);
+        let x_min = free.positions.iter().fold(f32::MAX, |m, p| m.min(p[0]));
+        assert!(x_min > -0.2 * s, "{x_min}");
     }
 
     #[test]
@@ -832,7 +1049,11 @@ mod tests {
         let grid = SurfaceGrid::over([-0.03; 3], [0.23, 0.15, 0.19], 52);
         let fixed = splat(&grid, &particles, s);
         let roughness = |field| {
-            let mesh = marching_cubes(&grid, &level(&grid, &fixed, s, field), ISO_LEVEL);
+            let mesh = marching_cubes(
+                &grid,
+                &level(&grid, &fixed, s, field, &Walls::default()),
+                ISO_LEVEL,
+            );
             assert_closed(&mesh);
             let top = top_heights(&mesh);
             assert!(top.len() > 20);
@@ -859,16 +1080,22 @@ mod tests {
         let grid = SurfaceGrid::over([0.0; 3], [0.04; 3], 40);
         let centre = [0.0203, 0.0197, 0.021];
         let fixed = splat(&grid, &[centre], s);
-        let mesh =
-            marching_cubes(&grid, &level(&grid, &fixed, s, SurfaceField::MeanPosition), ISO_LEVEL);
+        let mesh = marching_cubes(
+            &grid,
+            &level(&grid, &fixed, s, SurfaceField::MeanPosition, &Walls::default()),
+            ISO_LEVEL,
+        );
         assert_closed(&mesh);
         let r = (PARTICLE_RADIUS_SPACINGS * s) as f64;
         let sphere = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
         assert!((mesh.volume() / sphere - 1.0).abs() < 0.03, "{} vs {sphere}", mesh.volume());
         // The density of one particle peaks at 0.196 (its weight): under
         // the level, so that field has no drop at all.
-        let blob =
-            marching_cubes(&grid, &level(&grid, &fixed, s, SurfaceField::Density), ISO_LEVEL);
+        let blob = marching_cubes(
+            &grid,
+            &level(&grid, &fixed, s, SurfaceField::Density, &Walls::default()),
+            ISO_LEVEL,
+        );
         assert!(blob.indices.is_empty());
     }
 }

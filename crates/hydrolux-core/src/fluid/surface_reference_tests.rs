@@ -20,7 +20,7 @@
 use super::flip::{Liquid, LiquidSettings};
 use super::grid::MacGrid;
 use super::surface::{
-    ISO_LEVEL, KERNEL_SUPPORT_SPACINGS, SurfaceGrid, level, marching_cubes, splat,
+    ISO_LEVEL, KERNEL_SUPPORT_SPACINGS, SurfaceGrid, Walls, level, marching_cubes, splat,
 };
 use crate::scene::SurfaceField;
 use splashsurf_lib::nalgebra::Vector3;
@@ -52,7 +52,7 @@ fn ours(
     let longest = (0..3).map(|a| hi[a] - lo[a]).fold(0.0f32, f32::max);
     let grid = SurfaceGrid::over(lo, hi, (2.0 * longest / spacing).round() as u32);
     assert!((grid.h - spacing / 2.0).abs() < 1e-6);
-    let values = level(&grid, &splat(&grid, particles, spacing), spacing, field);
+    let values = level(&grid, &splat(&grid, particles, spacing), spacing, field, &Walls::default());
     let mesh = marching_cubes(&grid, &values, ISO_LEVEL);
     area_and_volume(mesh.triangles().map(|t| t.map(|v| v.map(f64::from))))
 }

@@ -704,7 +704,9 @@ impl Scene {
         if !f.enabled() {
             return None;
         }
-        let cubes = |cells| crate::fluid::surface::SurfaceGrid::over(f.min, f.max, cells).h;
+        // A marching-cubes mesh reaches two of its cells past a closed wall
+        // (`fluid::surface::Walls`).
+        let cubes = |cells| 2.0 * crate::fluid::surface::SurfaceGrid::over(f.min, f.max, cells).h;
         // Vertices of a screen-space mesh are on the particles' spheres.
         let spheres = f.screen_radius * f.particle_spacing();
         // The error view comparing surfaces draws it two ways a frame, both

@@ -31,8 +31,15 @@ uniform! { SurfaceParams;
         pub row: u32,
         pub radius: f32,
         pub mean_position: u32,
+        /// The closed walls (`hydrolux_core::fluid::surface::Walls`).
+        pub closed: u32,
         pub _pad0: u32,
+        pub inner_lo: [u32; 3],
         pub _pad1: u32,
+        pub inner_hi: [u32; 3],
+        pub _pad2: u32,
+        pub beyond_hi: [u32; 3],
+        pub _pad3: u32,
     }
 }
 
@@ -90,6 +97,7 @@ impl LiquidSurface {
         let desc = &scene.fluid;
         let grid = SurfaceGrid::over(desc.min, desc.max, desc.surface_resolution);
         let node_count = grid.node_count() as u32;
+        let walls = mc::Walls::of(&grid, [desc.min, desc.max], desc.open_sides(), spacing);
         // About one vertex per two nodes is far more than a liquid's
         // surface takes (its area over the cell's); triangles are about
         // twice the vertices.
@@ -110,8 +118,14 @@ impl LiquidSurface {
             row: ROW * WG,
             radius: mc::PARTICLE_RADIUS_SPACINGS * spacing,
             mean_position: u32::from(desc.surface_field == SurfaceField::MeanPosition),
+            closed: walls.closed,
             _pad0: 0,
+            inner_lo: walls.inner_lo,
             _pad1: 0,
+            inner_hi: walls.inner_hi,
+            _pad2: 0,
+            beyond_hi: walls.beyond_hi,
+            _pad3: 0,
         };
         let params = uniform_buffer(device, "liquid surface", &uniforms);
         let none = wgpu::BufferUsages::empty();

@@ -34,8 +34,16 @@ struct SurfaceParams {
     // density.
     radius: f32,
     mean_position: u32,
+    // The closed walls (bit 2a: low side of axis a, 2a + 1: high) and the
+    // nodes at least a spacing inside them (the twin's `Walls`).
+    closed: u32,
     _pad0: u32,
+    inner_lo: vec3<u32>,
     _pad1: u32,
+    inner_hi: vec3<u32>,
+    _pad2: u32,
+    beyond_hi: vec3<u32>,
+    _pad3: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: SurfaceParams;
@@ -168,20 +176,14 @@ fn smooth_z(@builtin(global_invocation_id) id: vec3<u32>) {
     smooth_along(thread(id), 2u);
 }
 
-// Each node's level, the field meshed at `iso` (the twin's `node_level`):
+// A node's own level, the field meshed at `iso` (the twin's `node_level`):
 // the density, or ½ − φ/R with φ = |x − x̄| − r from the particles'
-// weighted mean x̄ (0 where no particle reaches).
-@compute @workgroup_size(64)
-fn levels(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = thread(id);
-    if (i >= params.node_count) {
-        return;
-    }
+// weighted mean x̄, held within r/R of ½.
+fn own_level(i: u32) -> f32 {
     let n = params.node_count;
     let weight = atomicLoad(&field[i]);
     var level = f32(weight) / params.fixed_point;
     if (params.mean_position != 0u) {
-        // Held within r/R of the level (the twin's `node_level`).
         let span = params.radius / params.reach;
         level = params.iso - span;
         if (weight != 0u) {
@@ -195,6 +197,54 @@ fn levels(@builtin(global_invocation_id) id: vec3<u32>) {
             let x = node_position(node_of(i));
             level = max(params.iso - (distance(x, mean) - params.radius) / params.reach, params.iso - span);
         }
+    }
+    return level;
+}
+
+// The level outside the liquid, and deep inside (the twin's
+// `outside_level` and `inside_level`).
+fn outside_level() -> f32 {
+    return select(0.0, params.iso - params.radius / params.reach, params.mean_position != 0u);
+}
+
+fn inside_level() -> f32 {
+    return select(1.0, params.iso + params.radius / params.reach, params.mean_position != 0u);
+}
+
+// Each node's level, carried through the closed walls (the twin's `level`
+// and `Walls::source`): an outermost node past a closed wall is outside; a
+// node past a wall is inside where the node a spacing inside is; a node
+// nearer a wall than a spacing has at least that node's level.
+@compute @workgroup_size(64)
+fn levels(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = thread(id);
+    if (i >= params.node_count) {
+        return;
+    }
+    let p = node_of(i);
+    var q = p;
+    var outermost = false;
+    var beyond = false;
+    for (var a = 0u; a < 3u; a++) {
+        let low = ((params.closed >> (2u * a)) & 1u) != 0u;
+        let high = ((params.closed >> (2u * a + 1u)) & 1u) != 0u;
+        outermost = outermost | (low & (p[a] == 0u)) | (high & (p[a] + 1u == params.nodes[a]));
+        if (low) {
+            beyond = beyond | (p[a] < 2u);
+            q[a] = max(q[a], params.inner_lo[a]);
+        }
+        if (high) {
+            beyond = beyond | (p[a] >= params.beyond_hi[a]);
+            q[a] = min(q[a], params.inner_hi[a]);
+        }
+    }
+    var level = own_level(i);
+    if (outermost) {
+        level = outside_level();
+    } else if (beyond) {
+        level = select(outside_level(), inside_level(), own_level(node_index(q)) > params.iso);
+    } else if (any(q != p)) {
+        level = max(level, own_level(node_index(q)));
     }
     level_values[i] = bitcast<u32>(level);
 }
