@@ -1,8 +1,9 @@
 //! Light through a refractive object (seed 004, after Hu et al. 2010): the
 //! path of a sunbeam that enters a closed object at p0, refracts, leaves at
 //! p1, refracts again and travels on. CPU reference of
-//! `passes/water_object`, exact for a sphere (where the GPU marches depth
-//! maps from the light instead of intersecting analytically).
+//! `passes/water_object`, exact for a sphere and for a flat plate (a glass's
+//! wall), where the GPU marches depth maps from the light instead of
+//! intersecting analytically.
 
 use crate::optics::{IOR_AIR, fresnel_exact, refract};
 use glam::Vec3;
@@ -59,9 +60,66 @@ pub fn sphere_path(
     Some(LightPath { p0, p1, exit_dir, transmitted, inside: t1 })
 }
 
+/// The path of the sunbeam travelling along `travel` (unit) through
+/// `origin` across a flat plate of index of refraction `ior` (a glass
+/// tank's wall): faces at ±`half_thickness` along the unit `normal` from
+/// `centre`, unbounded across them. A parallel plate hands the beam on in
+/// its own direction, shifted sideways by d·sin(θ − θt)/cos θt; `None` if
+/// the beam runs along the faces.
+pub fn plate_path(
+    centre: Vec3,
+    normal: Vec3,
+    half_thickness: f32,
+    ior: f32,
+    origin: Vec3,
+    travel: Vec3,
+) -> Option<LightPath> {
+    // The face the beam meets first is the one facing against it.
+    let front = if normal.dot(travel) < 0.0 { normal } else { -normal };
+    let cos0 = -front.dot(travel);
+    if cos0 < 1e-4 {
+        return None;
+    }
+    let t0 = front.dot(centre + front * half_thickness - origin) / -cos0;
+    let p0 = origin + travel * t0;
+    let inside_dir = refract(travel, front, IOR_AIR, ior)?;
+    let cos1 = -front.dot(inside_dir);
+    let inside = 2.0 * half_thickness / cos1;
+    let p1 = p0 + inside_dir * inside;
+    let exit_dir = refract(inside_dir, front, ior, IOR_AIR)?;
+    let transmitted =
+        (1.0 - fresnel_exact(cos0, IOR_AIR, ior)) * (1.0 - fresnel_exact(cos1, ior, IOR_AIR));
+    Some(LightPath { p0, p1, exit_dir, transmitted, inside })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A parallel plate: the beam leaves as it came, shifted sideways by
+    /// the textbook d·sin(θ − θt)/cos θt, and the two faces let through
+    /// (1 − R)² of it, R the Fresnel reflectance at each (equal by Stokes).
+    #[test]
+    fn a_plate_hands_the_beam_on_unbent_and_shifted() {
+        let travel = Vec3::new(0.6, -0.5, 0.2).normalize();
+        let (d, ior) = (0.014, 1.5);
+        let p = plate_path(Vec3::ZERO, Vec3::X, 0.5 * d, ior, Vec3::new(-1.0, 0.3, 0.1), travel)
+            .expect("crosses");
+        assert!((p.exit_dir - travel).length() < 1e-5, "{}", p.exit_dir);
+        assert!((p.p0.x + 0.5 * d).abs() < 1e-6 && (p.p1.x - 0.5 * d).abs() < 1e-6);
+        let theta = travel.x.acos();
+        let theta_t = (theta.sin() / ior).asin();
+        let shift = d * (theta - theta_t).sin() / theta_t.cos();
+        // The exit's distance from the unbent line through p0.
+        let off = (p.p1 - p.p0).reject_from(travel).length();
+        assert!((off - shift).abs() < 1e-6, "shift {off} vs {shift}");
+        let r = fresnel_exact(travel.x, IOR_AIR, ior);
+        assert!((p.transmitted - (1.0 - r) * (1.0 - r)).abs() < 1e-5, "{}", p.transmitted);
+        // Normal incidence: (1 − 0.04)² for glass.
+        let n = plate_path(Vec3::ZERO, Vec3::X, 0.5 * d, ior, -Vec3::X, Vec3::X).expect("crosses");
+        assert!((n.transmitted - 0.96f32.powi(2)).abs() < 1e-4, "{}", n.transmitted);
+        assert!(plate_path(Vec3::ZERO, Vec3::X, d, ior, Vec3::ZERO, Vec3::Y).is_none());
+    }
 
     #[test]
     fn a_central_beam_goes_straight_through() {

@@ -101,8 +101,6 @@ pub(crate) struct ObjectLightPlan {
     pub resolution: u32,
     /// Area (m²) of one light-view texel: the light one path carries.
     pub texel_area: f32,
-    /// The objects' index of refraction.
-    pub ior: f32,
     /// Height (m) of the floor the paths land on, and whether there is one.
     pub floor_y: f32,
     pub floor: bool,
@@ -375,12 +373,10 @@ fn object_light(s: &Scene, world: &World, sun: Vec3) -> Option<ObjectLightPlan> 
     let radius = (0.5 * (hi - lo)).length();
     let k = world.object_light_resolution;
     let texel = 2.0 * radius / k as f32;
-    let ior = s.objects.iter().map(|o| o.material.ior).find(|&n| n > 0.0).unwrap_or(1.333);
     Some(ObjectLightPlan {
         view_proj,
         resolution: k,
         texel_area: texel * texel,
-        ior,
         floor_y,
         floor,
         reach: 4.0 * radius,

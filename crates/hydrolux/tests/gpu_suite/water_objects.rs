@@ -103,3 +103,97 @@ fn water_sphere_exit_points_match_the_analytic_refraction() {
     );
     assert!(p5 > 0.9 && p95 < 1.1, "flux ratio 5th–95th percentile {p5}–{p95}");
 }
+
+/// A glass wall (ior 1.5) in the sunlight, a water ball (1.333) behind it
+/// along the light, the ball listed first: the light through the wall
+/// leaves it as it came (a parallel plate, `plate_path`), carrying the
+/// glass's Fresnel transmittance, not the water's, even where the ball lies
+/// further along its line. Each face carries its own index of refraction,
+/// and the light leaves at the first thing's back face, not at the
+/// farthest one (which turned a glass tank with water in it dark).
+#[test]
+fn light_through_a_glass_wall_leaves_it_unbent_with_the_glass_transmittance() {
+    use hydrolux::core::optics::{IOR_AIR, fresnel_exact};
+    use hydrolux::core::water_object::{plate_path, sphere_path};
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let (elevation, azimuth) = (40.0f32, 35.0f32);
+    let sun = hydrolux::core::sky::sun_direction(elevation, azimuth);
+    let ball = glam::Vec3::new(0.0, 1.2, 0.0) - sun * 0.9;
+    let (half, glass) = (0.02f32, 1.5f32);
+    let text = format!(
+        "[water]\nmodel = \"none\"\n[floor]\ndepth = 0.001\n[sun]\nelevation_deg = {elevation}\nazimuth_deg = {azimuth}\n\
+         [camera]\nposition = [3.0, 2.0, 3.0]\nlook_at = [0.0, 0.6, 0.0]\n[godrays]\nobject_resolution = 256\n\
+         [[objects]]\nprimitive = \"sphere\"\nposition = [{}, {}, {}]\nmaterial = {{ ior = 1.333 }}\n\
+         [[objects]]\nprimitive = \"box\"\nposition = [0.0, 0.8, 0.0]\nscale = [{}, 1.6, 1.6]\nmaterial = {{ ior = {glass} }}\n",
+        ball.x,
+        ball.y,
+        ball.z,
+        2.0 * half
+    );
+    let s = Scene::from_toml(&text, "test", &[]).expect("valid scene");
+    let mut r = renderer(&ctx, &s);
+    HeadlessTarget::new(&ctx.device, (48, 32)).render(&mut r, s.camera(), 0.0).expect("frame");
+    let (view_proj, k) = r.object_light_view().expect("refractive objects under the sun");
+    let paths = r.read_object_paths();
+    let inv = view_proj.inverse();
+    let texel = (inv.project_point3(glam::Vec3::new(1.0, 0.0, 0.5))
+        - inv.project_point3(glam::Vec3::new(1.0 - 2.0 / k as f32, 0.0, 0.5)))
+    .length();
+    let (mut checked, mut behind_ball) = (0, 0);
+    let (mut ratios, mut dir_errors) = (Vec::new(), Vec::new());
+    for j in 0..k {
+        for i in 0..k {
+            let ndc = glam::Vec2::new(
+                (i as f32 + 0.5) / k as f32 * 2.0 - 1.0,
+                1.0 - (j as f32 + 0.5) / k as f32 * 2.0,
+            );
+            let origin = inv.project_point3(ndc.extend(0.0));
+            let Some(want) = plate_path(
+                glam::Vec3::new(0.0, 0.8, 0.0),
+                glam::Vec3::X,
+                half,
+                glass,
+                origin,
+                -sun,
+            ) else {
+                continue;
+            };
+            // On the wall's sunlit face and out of its far one, four texels
+            // clear of its edges, and not behind the ball from the sun.
+            let inside = |p: glam::Vec3| {
+                p.y > 4.0 * texel && p.y < 1.6 - 4.0 * texel && p.z.abs() < 0.8 - 4.0 * texel
+            };
+            if !inside(want.p0)
+                || !inside(want.p1)
+                || sphere_path(ball, 0.5, 1.333, origin, -sun)
+                    .is_some_and(|b| (b.p0 - origin).length() < (want.p0 - origin).length())
+            {
+                continue;
+            }
+            let g = paths[(j * k + i) as usize];
+            assert!(g[7] > 0.0, "texel ({i}, {j}) should carry a path");
+            let dir = glam::Vec3::new(g[4], g[5], g[6]);
+            dir_errors.push((dir - want.exit_dir).length());
+            ratios.push(g[7] / (want.transmitted * texel * texel));
+            behind_ball += sphere_path(ball, 0.5, 1.333, want.p1, -sun).is_some() as u32;
+            checked += 1;
+        }
+    }
+    assert!(
+        checked > 1000 && behind_ball > 300,
+        "{checked} paths checked, {behind_ball} on to the ball"
+    );
+    ratios.sort_by(|a, b| a.total_cmp(b));
+    dir_errors.sort_by(|a, b| a.total_cmp(b));
+    let median = ratios[ratios.len() / 2];
+    let worst_dir = dir_errors[dir_errors.len() * 99 / 100];
+    let cos0 = sun.dot(glam::Vec3::X);
+    let water = (1.0 - fresnel_exact(cos0, IOR_AIR, 1.333)).powi(2);
+    let glass_t = (1.0 - fresnel_exact(cos0, IOR_AIR, glass)).powi(2);
+    eprintln!(
+        "{checked} paths ({behind_ball} on to the ball): flux / glass's {median:.4} (water's would be {:.4}); exit direction error 99th percentile {worst_dir:.5}",
+        water / glass_t
+    );
+    assert!((median - 1.0).abs() < 0.01, "median flux ratio {median}");
+    assert!(worst_dir < 0.01, "the wall bends the light: 99th percentile error {worst_dir}");
+}

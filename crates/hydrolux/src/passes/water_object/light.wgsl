@@ -1,7 +1,9 @@
 // Refractive objects seen from the light (seed 004 §3.1): their front faces
-// (nearest the sun) and back faces (farthest), each as outward normal and
-// depth in the objects' orthographic light view (a view slot whose matrix
-// is frame.objects.light_view_proj).
+// and back faces nearest the sun (where the light enters the first thing on
+// its way and where it leaves it), each as outward normal × that thing's
+// index of refraction (a glass's, the liquid's) and depth in the objects'
+// orthographic light view (a view slot whose matrix is
+// frame.objects.light_view_proj).
 #import constants, frame, geometry_common
 
 struct LightOut {
@@ -20,6 +22,8 @@ fn vs_light(v: VsIn) -> LightOut {
 
 @fragment
 fn fs_light(in: LightOut) -> @location(0) vec4<u32> {
-    // Stored as the floats' bits (an Rgba32Uint target renders everywhere).
-    return bitcast<vec4<u32>>(vec4<f32>(normalize(in.normal), in.clip.z));
+    // Stored as the floats' bits (an Rgba32Uint target renders everywhere);
+    // the normal's length is the index of refraction (object.ior ≥ 1 for
+    // everything drawn here).
+    return bitcast<vec4<u32>>(vec4<f32>(normalize(in.normal) * max(object.ior, 1.0), in.clip.z));
 }

@@ -4,7 +4,8 @@
 //!
 //! From the light (`record_light`), in an orthographic view fitted to the
 //! refractive objects and what lies below them:
-//! 1. `light.wgsl`: their front faces and back faces (outward normal, depth);
+//! 1. `light.wgsl`: their front faces and the back faces where that light
+//!    leaves them (outward normal × the thing's index of refraction, depth);
 //!    the opaque scene's depth (the geometry pass's shadow pipeline).
 //! 2. `paths.wgsl`: per texel, refract in, march to the exit p1 against the
 //!    back depth, refract out, march to p2 against the scene depth; write
@@ -67,7 +68,7 @@ crate::uniforms::uniform! { ObjectLightParams;
         pub _pad0: u32,
         pub _pad1: u32,
         pub texel_area: f32,
-        pub ior: f32,
+        pub _pad4: f32,
         pub floor_y: f32,
         pub reach: f32,
         pub fixed_point_scale: f32,
@@ -84,7 +85,6 @@ fn light_uniforms(o: &crate::plan::ObjectLightPlan) -> ObjectLightUniforms {
         resolution: o.resolution,
         march_steps: MARCH_STEPS,
         texel_area: o.texel_area,
-        ior: o.ior,
         floor_y: o.floor_y,
         reach: o.reach,
         fixed_point_scale: FIXED_POINT_SCALE,
@@ -301,7 +301,7 @@ impl WaterObjectPass {
             &mesh_layouts,
             FACES_FORMAT,
             Some(wgpu::Face::Front),
-            depth_state(d32, wgpu::CompareFunction::Greater),
+            depth_state(d32, wgpu::CompareFunction::Less),
         );
         let paths_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("water object paths"),
@@ -647,7 +647,10 @@ impl WaterObjectPass {
             pass.set_bind_group(0, frame_only, &[]);
             things.draw(&mut pass);
         };
-        // Empty texels: front beyond the far plane (2), back before the near one (−1).
+        // Empty texels: front beyond the far plane (2), back before the near
+        // one (−1). Both keep the face nearest the sun: the back face is where
+        // the light leaves the first thing it entered (a glass's wall, then the
+        // water in it: each its own exit, not the farthest face of them all).
         faces(
             encoder,
             "water object faces",
@@ -664,7 +667,7 @@ impl WaterObjectPass {
             &light.back_view,
             &light.back_depth,
             -1.0,
-            0.0,
+            1.0,
             &self.light_back,
             None,
         );

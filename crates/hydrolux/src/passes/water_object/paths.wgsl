@@ -1,7 +1,10 @@
 // Light through refractive objects (seed 004 §3.2, after Hu et al. 2010 and
 // Wyman 2005): one thread per texel of the objects' light view. Where the
 // texel sees an object's front face at p0, the sunlight refracts in (Snell,
-// Fresnel), is marched against the back-face depth to its exit point p1,
+// Fresnel, the face's own index of refraction), is marched against the
+// depth of the nearest back faces (where it leaves that object: a glass
+// tank's wall hands its light on straight, not through the water beside
+// it as if one body) to its exit point p1,
 // refracts out (rays that would be totally reflected are dropped), and is
 // marched against the opaque scene's depth from the light to where it lands,
 // p2 (or meets the floor plane). The path p1 → p2 becomes a beam tube for
@@ -18,10 +21,11 @@ struct ObjectLightParams {
     march_steps: u32,
     _pad0: u32,
     _pad1: u32,
-    // Texel area across the beam (m²), index of refraction, height of the
-    // floor plane (m), longest path to march (m).
+    // Texel area across the beam (m²), height of the floor plane (m),
+    // longest path to march (m). (Each face carries its index of refraction
+    // as its normal's length.)
     texel_area: f32,
-    ior: f32,
+    _pad4: f32,
     floor_y: f32,
     reach: f32,
     // Fixed-point scale of the splat; 1 if there is a floor plane.
@@ -151,8 +155,8 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
     tube.tint = vec4<f32>(0.0);
     let front = bitcast<vec4<f32>>(textureLoad(front_tex, vec2<i32>(id.xy), 0));
     let l = frame.light.sun_dir;
-    let ior = params.ior;
-    let n0 = normalize(front.xyz);
+    let ior = length(front.xyz);
+    let n0 = front.xyz / max(ior, 1e-6);
     let cos0 = dot(n0, l);
     if (front.w <= 1.0 && cos0 > 0.0) {
         let uv = (vec2<f32>(id.xy) + 0.5) / f32(k);
