@@ -122,6 +122,7 @@ pub(crate) fn wgsl() -> String {
         ("PARTICLE_DEAD", hydrolux_core::whitewater::DEAD),
         ("PARTICLE_BUBBLE", hydrolux_core::whitewater::BUBBLE),
         ("PARTICLE_SPRAY", hydrolux_core::whitewater::SPRAY),
+        ("PARTICLE_FOAM", hydrolux_core::whitewater::FOAM),
         ("STENCIL_AIR", crate::formats::STENCIL_AIR),
         ("STENCIL_WATER", crate::formats::STENCIL_WATER),
     ];

@@ -96,6 +96,8 @@ pub struct Liquid {
     /// a body is first placed.
     pub(crate) static_solid: Vec<bool>,
     pub(crate) owner: Vec<u32>,
+    /// Its white water (foam, spray and bubbles where it breaks), if shed.
+    pub white_water: Option<super::white_water::WhiteWater>,
 }
 
 /// Where the liquid meets the surface water below it.
@@ -139,6 +141,7 @@ impl Liquid {
             loads: Vec::new(),
             static_solid: Vec::new(),
             owner: Vec::new(),
+            white_water: None,
         }
     }
 
@@ -222,7 +225,7 @@ impl Liquid {
     }
 
     /// The cell a world point lies in (clamped to the grid).
-    fn cell_of(&self, p: [f64; 3]) -> [usize; 3] {
+    pub(crate) fn cell_of(&self, p: [f64; 3]) -> [usize; 3] {
         let g = &self.grid;
         [0, 1, 2].map(|a| (((p[a] - g.origin[a]) / g.h).floor().max(0.0) as usize).min(g.n[a] - 1))
     }
@@ -233,6 +236,7 @@ impl Liquid {
         self.place_bodies();
         self.particles_to_grid();
         self.mark_cells();
+        let counts = self.white_water.is_some().then(|| self.cell_counts());
         let old = self.grid.vel.clone();
         for a in 0..3 {
             let dv = self.settings.gravity[a] * dt;
@@ -245,6 +249,9 @@ impl Liquid {
         self.extrapolate();
         self.grid_to_particles(&old);
         self.advect(dt);
+        if let Some(counts) = counts {
+            self.white_water_step(&counts, dt, self.steps);
+        }
         self.steps += 1;
     }
 

@@ -12,12 +12,14 @@ pub mod screen_mesh;
 pub mod screen_space;
 pub mod solids;
 pub mod surface;
+pub mod white_water;
 
 pub use coupled::{LiquidBodies, LiquidWithBodies};
 pub use flip::{Emitter, Landing, LandingSurface, Liquid, LiquidSettings};
 pub use grid::{Cell, MacGrid};
 pub use pressure::{Projection, project};
 pub use solids::{BodyLoad, LiquidBody};
+pub use white_water::{Diffuse, WhiteWater, WhiteWaterSettings};
 
 #[cfg(test)]
 mod solids_tests;

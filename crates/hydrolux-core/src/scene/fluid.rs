@@ -5,7 +5,9 @@
 use super::rules::{range, vec3_range};
 use super::{ObjectDesc, Primitive, Scene};
 use super::{SceneError, WORLD_EXTENT_M};
-use crate::fluid::{Cell, LandingSurface, Liquid, LiquidSettings, MacGrid};
+use crate::fluid::{
+    Cell, LandingSurface, Liquid, LiquidSettings, MacGrid, WhiteWater, WhiteWaterSettings,
+};
 use crate::geometry::load::AssetError;
 use serde::{Deserialize, Serialize};
 
@@ -186,6 +188,13 @@ pub struct FluidDesc {
     /// Where a sample beyond the range counts from the centre's depth, in
     /// particle radii (0 to 4; at most `screen_depth_threshold`).
     pub screen_space_clamp: f32,
+    /// White water where it breaks (`fluid::white_water`): diffuse
+    /// particles (spray, foam, bubbles) a fully breaking liquid particle
+    /// sheds per second, 0 (none) to 1000.
+    pub white_water: f32,
+    /// Foam's lifetime on it (s, 0.1 to 60): Monahan's for fresh water
+    /// (2.54 s) unless set.
+    pub foam_life: f32,
     /// Where the liquid starts; no sources, no liquid.
     pub sources: Vec<FluidSource>,
 }
@@ -216,6 +225,8 @@ impl Default for FluidDesc {
             screen_depth_threshold: 4.0,
             screen_space_filter: 3.0,
             screen_space_clamp: 1.0,
+            white_water: 0.0,
+            foam_life: crate::whitewater::FOAM_LIFE_FRESH_S as f32,
             sources: Vec::new(),
         }
     }
@@ -311,6 +322,11 @@ impl FluidDesc {
         }
         let mut liquid = Liquid::new(grid, self.settings());
         liquid.surface = surface;
+        let white_water = (self.white_water > 0.0).then_some(WhiteWaterSettings {
+            rate: self.white_water as f64,
+            foam_life: self.foam_life as f64,
+            particles_per_cell: self.particles_per_cell as f64,
+        });
         for s in &self.sources {
             match s.kind {
                 FluidSourceKind::Block => liquid.fill_box(
@@ -343,6 +359,7 @@ impl FluidDesc {
             let velocity = (d * s.speed as f64).to_array();
             liquid.add_emitter(points, velocity, first..end, layers);
         }
+        liquid.white_water = white_water.map(|w| WhiteWater::new(w, liquid.positions.len()));
         liquid
     }
 
@@ -438,7 +455,7 @@ impl FluidDesc {
                 allowed: "must be 0 to 8 rounds of the filter".into(),
             });
         }
-        let ranges: [(&str, f32, bool, f32, f32, &str); 7] = [
+        let ranges: [(&str, f32, bool, f32, f32, &str); 9] = [
             ("screen_spacing", f.screen_spacing, true, 1.0, 10.0, "pixels between nodes"),
             ("screen_radius", f.screen_radius, true, 0.5, 4.0, "particle spacings"),
             ("screen_filter", f.screen_filter as f32, true, 0.0, 10.0, "nodes of half length"),
@@ -460,6 +477,8 @@ impl FluidDesc {
             ),
             ("screen_space_filter", f.screen_space_filter, true, 0.0, 10.0, "particle radii"),
             ("screen_space_clamp", f.screen_space_clamp, true, 0.0, 4.0, "particle radii"),
+            ("white_water", f.white_water, true, 0.0, 1000.0, "particles per second"),
+            ("foam_life", f.foam_life, true, 0.1, 60.0, "seconds"),
         ];
         for (key, value, from_included, low, high, unit) in ranges {
             let above = if from_included { value >= low } else { value > low };

@@ -55,6 +55,8 @@ pub const WHITECAP_FOAM: f32 = std::f32::consts::LN_2;
 pub const DEAD: u32 = 0;
 pub const BUBBLE: u32 = 1;
 pub const SPRAY: u32 = 2;
+/// Foam on the volumetric liquid's surface (`fluid::white_water`).
+pub const FOAM: u32 = 3;
 
 /// Foam's e-folding lifetime (s) at `salinity` (PSU): Monahan's fresh- and
 /// sea-water values, linear between (and held beyond sea water).
