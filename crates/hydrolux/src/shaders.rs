@@ -8,6 +8,7 @@
 /// Shared modules, by the name they are imported as.
 const MODULES: &[(&str, &str)] = &[
     ("constants", include_str!("shaders/constants.wgsl")),
+    ("hash", include_str!("shaders/hash.wgsl")),
     ("frame", include_str!("shaders/frame.wgsl")),
     ("optics", include_str!("shaders/optics.wgsl")),
     ("lighting", include_str!("shaders/lighting.wgsl")),

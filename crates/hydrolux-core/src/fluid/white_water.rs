@@ -9,7 +9,7 @@
 //!
 //! - **Where it forms.** A liquid particle moving fast enough to entrain
 //!   air ([`ENTRAINMENT_SPEED`]: plunging jets and breaking fronts draw air
-//!   in from about 0.8 m/s, Ervine, McKeogh & Elsawy 1980; Chanson 1997)
+//!   in from about 1 m/s, Ervine, McKeogh & Elsawy 1980; Chanson 1997)
 //!   sheds in proportion to the larger of two potentials, each ramped
 //!   between two thresholds as Ihmsen's Φ: *trapped air*, the flow's
 //!   vorticity |∇×u| (shear that rolls air under), and *crest*, the speed
@@ -41,8 +41,9 @@ use bytemuck::{Pod, Zeroable};
 
 /// Slots of the white-water pool each liquid particle owns.
 pub const SLOTS_PER_PARTICLE: usize = 2;
-/// Speeds (m/s) over which the energy potential ramps from 0 to 1.
-pub const ENTRAINMENT_SPEED: [f32; 2] = [0.8, 2.5];
+/// Speeds (m/s) over which the energy potential ramps from 0 to 1: from
+/// the onset of air entrainment the plunging liquid's landings use.
+pub const ENTRAINMENT_SPEED: [f32; 2] = [whitewater::ENTRAINMENT_ONSET_SPEED, 2.5];
 /// Vorticities (1/s) over which the trapped-air potential ramps.
 pub const TRAPPED_AIR_VORTICITY: [f32; 2] = [8.0, 40.0];
 /// Outward speeds (m/s) through the surface over which the crest
@@ -56,8 +57,8 @@ pub const BUBBLE_FILL: f32 = 0.6;
 /// scale, a millimetre (Deane & Stokes 2002).
 pub const BUBBLE_RADIUS: f32 = 1.0e-3;
 /// Salts of the hash, one per random number drawn.
-const SALT_CHANCE: u32 = 0x5157;
-const SALT_JITTER: [u32; 3] = [0x5158, 0x5159, 0x515A];
+pub const SALT_CHANCE: u32 = 0x5157;
+pub const SALT_JITTER: [u32; 3] = [0x5158, 0x5159, 0x515A];
 
 /// One particle of the pool (WGSL `Diffuse`, 32 bytes).
 #[repr(C)]

@@ -302,7 +302,7 @@ pub fn sample_bubble_radius(u: f32) -> f32 {
 }
 
 /// A 32-bit integer hash (PCG output permutation), identical in WGSL
-/// (`hash_u32` in `particles.wgsl`).
+/// (`hash_u32` in the shared WGSL module `hash`).
 pub fn hash_u32(v: u32) -> u32 {
     let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
     let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);

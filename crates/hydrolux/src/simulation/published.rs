@@ -88,6 +88,18 @@ pub(crate) struct LiquidState {
     /// marching cubes on the finest grid, the reference drawing's
     /// (`FramePlan::liquid_reference`).
     pub reference_mesh: Option<LiquidMesh>,
+    /// Its white water (`fluid.white_water`), drawn by `liquid_white_water`.
+    pub white_water: Option<LiquidWhiteWater>,
+}
+
+/// The liquid's white water: a pool of `fluid::white_water::Diffuse`
+/// records, the dead ones among them.
+#[derive(Clone)]
+pub(crate) struct LiquidWhiteWater {
+    pub particles: wgpu::Buffer,
+    pub slots: u32,
+    /// How wide a particle is drawn (m).
+    pub size: f32,
 }
 
 impl LiquidState {

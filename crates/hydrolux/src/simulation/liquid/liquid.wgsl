@@ -48,6 +48,18 @@ struct LiquidParams {
     landing_level: f32,
     landing_capacity: u32,
     substeps: u32,
+    // White water (white_water.wgsl): 1 while shed; particles a fully
+    // breaking particle sheds per second; foam's lifetime (s); the
+    // particles a full cell holds; the spray drops' quadratic drag (1/m);
+    // the bubbles' rise (m/s) and the time they take to reach it (s).
+    white_water: u32,
+    white_water_rate: f32,
+    foam_life: f32,
+    particles_per_cell: f32,
+    drop_drag: f32,
+    bubble_rise: f32,
+    bubble_relaxation: f32,
+    _pad0: u32,
 }
 
 

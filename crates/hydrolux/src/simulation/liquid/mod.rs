@@ -59,6 +59,14 @@ uniform! { LiquidParams;
         pub landing_level: f32,
         pub landing_capacity: u32,
         pub substeps: u32,
+        pub white_water: u32,
+        pub white_water_rate: f32,
+        pub foam_life: f32,
+        pub particles_per_cell: f32,
+        pub drop_drag: f32,
+        pub bubble_rise: f32,
+        pub bubble_relaxation: f32,
+        pub _pad0: u32,
     }
 }
 
@@ -173,9 +181,38 @@ pub struct SolveState {
     pub steps: u32,
 }
 
+/// The step's kernels: liquid.wgsl, continued by the white water's
+/// (white_water.wgsl) under the core's constants.
 pub fn source() -> String {
-    shaders::compose("", include_str!("liquid.wgsl"))
+    use hydrolux_core::fluid::white_water as w;
+    let floats = [
+        ("ENTRAINMENT_SPEED_MIN", w::ENTRAINMENT_SPEED[0]),
+        ("ENTRAINMENT_SPEED_MAX", w::ENTRAINMENT_SPEED[1]),
+        ("TRAPPED_AIR_VORTICITY_MIN", w::TRAPPED_AIR_VORTICITY[0]),
+        ("TRAPPED_AIR_VORTICITY_MAX", w::TRAPPED_AIR_VORTICITY[1]),
+        ("CREST_SPEED_MIN", w::CREST_SPEED[0]),
+        ("CREST_SPEED_MAX", w::CREST_SPEED[1]),
+        ("SPRAY_FILL", w::SPRAY_FILL),
+        ("BUBBLE_FILL", w::BUBBLE_FILL),
+    ];
+    let uints = [
+        ("SLOTS_PER_PARTICLE", w::SLOTS_PER_PARTICLE as u32),
+        ("SALT_CHANCE", w::SALT_CHANCE),
+        ("SALT_JITTER_X", w::SALT_JITTER[0]),
+        ("SALT_JITTER_Y", w::SALT_JITTER[1]),
+        ("SALT_JITTER_Z", w::SALT_JITTER[2]),
+    ];
+    let consts: String = floats
+        .iter()
+        .map(|(name, v)| format!("const {name}: f32 = {v:e};\n"))
+        .chain(uints.iter().map(|(name, v)| format!("const {name}: u32 = {v}u;\n")))
+        .collect();
+    let main = [include_str!("liquid.wgsl"), include_str!("white_water.wgsl")].join("\n");
+    shaders::compose(&consts, &main)
 }
+
+/// Bytes of one white-water particle (`Diffuse`).
+const WHITE_WATER_BYTES: u64 = std::mem::size_of::<hydrolux_core::fluid::Diffuse>() as u64;
 
 /// Threads per workgroup of every kernel (`WG` in liquid.wgsl).
 const WG: u32 = 256;
@@ -214,6 +251,8 @@ struct Pipelines {
     landing_dispatch: wgpu::ComputePipeline,
     place_bodies: wgpu::ComputePipeline,
     body_loads: wgpu::ComputePipeline,
+    white_water_move: wgpu::ComputePipeline,
+    white_water_shed: wgpu::ComputePipeline,
 }
 
 pub struct Liquid {
@@ -227,6 +266,9 @@ pub struct Liquid {
     initial: Vec<LiquidParticle>,
     pub(crate) particles: wgpu::Buffer,
     faces: wgpu::Buffer,
+    /// The white water's pool (`fluid::white_water::Diffuse` per slot).
+    pub(crate) white_water: wgpu::Buffer,
+    white_water_group: wgpu::BindGroup,
     solve: wgpu::Buffer,
     state: wgpu::Buffer,
     accum: wgpu::Buffer,
@@ -344,6 +386,17 @@ impl Liquid {
         let faces = [face_dims(0), face_dims(1), face_dims(2)];
         let face_count: u32 = faces.iter().sum();
         let count = initial.len() as u32;
+        let ww_motion = hydrolux_core::fluid::white_water::Motion::new(
+            start.settings.gravity,
+            desc.step_seconds(),
+        );
+        // The white water's pool: its slots per particle slot (one dead
+        // record where it sheds none: a binding is never empty).
+        let pool = if desc.white_water > 0.0 {
+            count as u64 * hydrolux_core::fluid::white_water::SLOTS_PER_PARTICLE as u64
+        } else {
+            1
+        };
         // The log holds what lands before the water takes it: every particle
         // there is, and every one the nozzles emit in the longest run of
         // steps (a batch, and the clock steps of a water step begun before).
@@ -372,6 +425,7 @@ impl Liquid {
                 "landings in the interactive water (fluid.budget)",
                 LANDINGS_AT + landing_capacity as u64 * 16,
             ),
+            ("white water (fluid.white_water, fluid.budget)", pool * WHITE_WATER_BYTES),
         ];
         for (what, bytes) in sizes {
             if bytes > limit {
@@ -409,6 +463,14 @@ impl Liquid {
             landing_level: landing.map_or(0.0, |l| l.level as f32),
             landing_capacity,
             substeps: desc.substeps.max(1),
+            white_water: (desc.white_water > 0.0) as u32,
+            white_water_rate: desc.white_water,
+            foam_life: desc.foam_life,
+            particles_per_cell: desc.particles_per_cell as f32,
+            drop_drag: ww_motion.drag,
+            bubble_rise: ww_motion.rise,
+            bubble_relaxation: ww_motion.relaxation,
+            _pad0: 0,
         };
         let storage = |label: &str, size: u64, extra: wgpu::BufferUsages| {
             storage_buffer(device, label, size, extra)
@@ -418,6 +480,7 @@ impl Liquid {
         let particles = storage("liquid particles", count as u64 * 32, none);
         let accum = storage("liquid splat", (2 * face_count + cell_count) as u64 * 4, none);
         let faces_buffer = storage("liquid faces", 3 * face_count as u64 * 4, none);
+        let white_water = storage("liquid white water", pool * WHITE_WATER_BYTES, none);
         let known = storage(
             "liquid known faces, solid cells, solve flags",
             2 * (face_count + cell_count) as u64 * 4,
@@ -484,9 +547,20 @@ impl Liquid {
             layout: &args_layout,
             entries: &[entry(0, &args)],
         });
+        let white_water_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("liquid white water"),
+            entries: &[storage_entry(1, cs, false)],
+        });
+        let white_water_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("liquid white water"),
+            layout: &white_water_layout,
+            entries: &[entry(1, &white_water)],
+        });
         let module = shader(device, "liquid", &source());
         let plain = |e: &str| compute_pipeline(device, e, &module, e, &[&layout]);
         let reduce = |e: &str| compute_pipeline(device, e, &module, e, &[&layout, &args_layout]);
+        let shed =
+            |e: &str| compute_pipeline(device, e, &module, e, &[&layout, &white_water_layout]);
         let pipelines = Pipelines {
             emit: plain("emit"),
             clear: plain("clear"),
@@ -506,6 +580,8 @@ impl Liquid {
             landing_dispatch: plain("landing_dispatch"),
             place_bodies: plain("place_bodies"),
             body_loads: plain("body_loads"),
+            white_water_move: shed("white_water_move"),
+            white_water_shed: shed("white_water_shed"),
         };
         let mut liquid = Liquid {
             desc: desc.clone(),
@@ -520,6 +596,8 @@ impl Liquid {
             initial,
             particles,
             faces: faces_buffer,
+            white_water,
+            white_water_group,
             solve,
             state,
             accum,
@@ -580,7 +658,8 @@ impl Liquid {
     /// The particles at rest where the sources put them, a still grid.
     fn write_start(&self, queue: &wgpu::Queue) {
         queue.write_buffer(&self.particles, 0, bytemuck::cast_slice(&self.initial));
-        for buffer in [&self.faces, &self.known, &self.solve, &self.accum, &self.state] {
+        let buffers = [&self.faces, &self.known, &self.solve, &self.accum, &self.state, &self.white_water];
+        for buffer in buffers {
             queue.write_buffer(buffer, 0, &vec![0u8; buffer.size() as usize]);
         }
         let solids_at = 2 * self.uniforms.face_count as u64 * 4;
@@ -595,6 +674,12 @@ impl Liquid {
     /// Particles simulated.
     pub fn particle_count(&self) -> u32 {
         self.uniforms.particle_count
+    }
+
+    /// Drawn size (m) of a white-water particle: a fleck of foam or a
+    /// parcel of spray as wide as the liquid particle it came from.
+    pub fn white_water_size(&self) -> f32 {
+        2.0 * self.particle_radius()
     }
 
     /// Drawn radius of a particle (m): its share of a cell's volume as a sphere.
@@ -673,6 +758,12 @@ impl Liquid {
             run(&mut pass, &p.extrapolate_out, faces);
             run(&mut pass, &p.extrapolate_back, faces);
             run(&mut pass, &p.advance, particles);
+            if u.white_water == 1 {
+                let pool = u.particle_count * hydrolux_core::fluid::white_water::SLOTS_PER_PARTICLE as u32;
+                pass.set_bind_group(1, &self.white_water_group, &[]);
+                run(&mut pass, &p.white_water_move, groups(pool));
+                run(&mut pass, &p.white_water_shed, particles);
+            }
         }
     }
 }
@@ -719,6 +810,14 @@ impl crate::simulation::Simulation for Liquid {
                 _ => None,
             },
             reference_mesh: self.reference.as_ref().map(|s| s.mesh()),
+            white_water: (self.uniforms.white_water == 1).then(|| {
+                crate::simulation::published::LiquidWhiteWater {
+                    particles: self.white_water.clone(),
+                    slots: self.particle_count()
+                        * hydrolux_core::fluid::white_water::SLOTS_PER_PARTICLE as u32,
+                    size: self.white_water_size(),
+                }
+            }),
         });
         if let Some(b) = &self.bodies {
             published.bodies.extend(b.transforms());
@@ -848,6 +947,11 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
                 std::mem::size_of::<EmitterRecord>(),
             ),
             crate::uniforms::Layout::sized("Drain", source(), std::mem::size_of::<DrainRecord>()),
+            crate::uniforms::Layout::sized(
+                "Diffuse",
+                source(),
+                std::mem::size_of::<hydrolux_core::fluid::Diffuse>(),
+            ),
             crate::uniforms::Layout::sized(
                 "LiquidBody",
                 source(),

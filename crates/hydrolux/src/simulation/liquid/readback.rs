@@ -17,7 +17,15 @@ pub(crate) const DUMPS: &[DumpKind] = &[
     DumpKind { name: "fluid", shape: DumpShape::List, missing: no_liquid },
     DumpKind { name: "fluid_grid", shape: DumpShape::Grid, missing: no_liquid },
     DumpKind { name: "fluid_mesh", shape: DumpShape::List, missing: no_mesh },
+    DumpKind { name: "fluid_white_water", shape: DumpShape::List, missing: no_white_water },
 ];
+
+fn no_white_water(scene: &Scene) -> Option<&'static str> {
+    no_liquid(scene).or_else(|| {
+        (scene.fluid.white_water <= 0.0)
+            .then_some("the liquid sheds no white water (it needs fluid.white_water > 0)")
+    })
+}
 
 fn no_mesh(scene: &Scene) -> Option<&'static str> {
     no_liquid(scene).or_else(|| {
@@ -118,8 +126,50 @@ impl Liquid {
         }
     }
 
+    /// The white water's pool, slot by slot (empty without it).
+    pub(crate) fn read_white_water(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Vec<hydrolux_core::fluid::Diffuse> {
+        if self.uniforms.white_water == 0 {
+            return Vec::new();
+        }
+        let bytes = read_buffer(device, queue, &self.white_water, self.white_water.size());
+        bytemuck::cast_slice(&bytes).to_vec()
+    }
+
     pub(crate) fn dump(&self, name: &str, ctx: &DumpContext) -> Option<Result<DumpData, String>> {
         match name {
+            "fluid_white_water" => {
+                let pool = self.read_white_water(ctx.device, ctx.queue);
+                let live: Vec<_> = pool.iter().filter(|d| d.kind != 0).collect();
+                let data = live
+                    .iter()
+                    .flat_map(|d| {
+                        let [x, y, z] = d.position;
+                        let [vx, vy, vz] = d.velocity;
+                        [x, y, z, d.kind as f32, vx, vy, vz, d.life]
+                    })
+                    .collect();
+                let count = |k: u32| live.iter().filter(|d| d.kind == k).count();
+                use hydrolux_core::whitewater::{BUBBLE, FOAM, SPRAY};
+                let note = format!(
+                    "{} white-water particles at t = {:.4} s ({} spray, {} foam, {} bubbles); columns x y z (m) kind ({SPRAY} spray, {FOAM} foam, {BUBBLE} bubble) vx vy vz (m/s) foam life left (s)",
+                    live.len(),
+                    ctx.time,
+                    count(SPRAY),
+                    count(FOAM),
+                    count(BUBBLE),
+                );
+                Some(Ok(DumpData::Floats {
+                    columns: 8,
+                    rows: live.len(),
+                    channels: 1,
+                    data,
+                    note: Some(note),
+                }))
+            }
             "fluid_mesh" => Some(self.dump_mesh(ctx)),
             "fluid" => {
                 let r = self.read(ctx.device, ctx.queue);
@@ -198,6 +248,13 @@ impl Renderer {
     pub fn read_liquid(&self) -> Option<LiquidReadback> {
         let l = self.simulations.liquid.as_ref()?;
         Some(l.read(self.device(), self.queue()))
+    }
+
+    /// The liquid's white-water pool, slot by slot (`fluid.white_water`;
+    /// empty without it); `None` without a liquid.
+    pub fn read_liquid_white_water(&self) -> Option<Vec<hydrolux_core::fluid::Diffuse>> {
+        let l = self.simulations.liquid.as_ref()?;
+        Some(l.read_white_water(self.device(), self.queue()))
     }
 
     /// Time `steps` liquid steps from the state now (for `hydrolux bench`):

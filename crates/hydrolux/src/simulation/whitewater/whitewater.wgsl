@@ -8,7 +8,7 @@
 // liquid falling into the water: froth and a plume of bubbles), `foam_step` (drift,
 // decay, sources; breaking crests emit particles), `emit` (the CPU's
 // splashes). Twin: hydrolux_core::whitewater, line by line.
-#import constants, surface, particle, ripple_texel, liquid_landing
+#import constants, surface, particle, ripple_texel, liquid_landing, hash
 
 struct WhitewaterParams {
     // The foam grid: world cell of the window's low corner, cells per
@@ -108,16 +108,6 @@ const FREE: u32 = 2u;
 const CHAIN: u32 = 3u;
 const TARGET: u32 = 4u;
 
-fn hash_u32(v: u32) -> u32 {
-    let state = v * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
-fn random(step: u32, index: u32, salt: u32) -> f32 {
-    let h = hash_u32(index ^ hash_u32((step * 0x9E3779B9u) ^ hash_u32(salt)));
-    return f32(h >> 8u) / 16777216.0;
-}
 
 fn bubble_terminal_velocity(r0: f32) -> f32 {
     let r = max(r0, 1e-6);
