@@ -11,6 +11,7 @@ use crate::passes::{caustics, geometry, godrays, sky, tonemap, water, water_obje
 use crate::plan::World;
 use crate::simulation::liquid::draw as liquid_points;
 use crate::simulation::liquid::screen_space as liquid_screen_space;
+use crate::simulation::liquid::white_water_draw as liquid_white_water;
 use crate::simulation::whitewater::draw as particles;
 use crate::technique::{Bound, Shared, Technique, TechniqueInfo};
 use hydrolux_core::scene::Scene;
@@ -88,6 +89,7 @@ registry! {
     liquid_points: liquid_points::LiquidPoints => liquid_points::INFO,
     liquid_screen_space: liquid_screen_space::LiquidScreenSpace => liquid_screen_space::INFO,
     water_objects: water_object::WaterObjects => water_object::INFO,
+    liquid_white_water: liquid_white_water::LiquidWhiteWaterDraw => liquid_white_water::INFO,
     water: water::WaterPass => water::INFO,
     godrays: godrays::GodRays => godrays::INFO,
     tonemap: tonemap::TonemapPass => tonemap::INFO,

@@ -244,6 +244,14 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
             "`fluid.screen_depth_threshold` = 0.5 is out of range: must be more than 1 and at most 20 particle radii (Table 1: z_max > r_z)",
         ),
         (
+            &["render", "--scene", "dam_break", "--set", "fluid.white_water=-1"],
+            "`fluid.white_water` = -1 is out of range: must be 0 to 1000 particles per second",
+        ),
+        (
+            &["render", "--scene", "dam_break", "--set", "fluid.foam_life=0"],
+            "`fluid.foam_life` = 0 is out of range: must be 0.1 to 60 seconds",
+        ),
+        (
             &["render", "--scene", "dam_break", "--set", "fluid.screen_spacing=0"],
             "`fluid.screen_spacing` = 0 is out of range: must be 1 to 10 pixels between nodes",
         ),

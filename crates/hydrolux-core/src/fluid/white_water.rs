@@ -11,10 +11,11 @@
 //!   air ([`ENTRAINMENT_SPEED`]: plunging jets and breaking fronts draw air
 //!   in from about 1 m/s, Ervine, McKeogh & Elsawy 1980; Chanson 1997)
 //!   sheds in proportion to the larger of two potentials, each ramped
-//!   between two thresholds as Ihmsen's Φ: *trapped air*, the flow's
-//!   vorticity |∇×u| (shear that rolls air under), and *crest*, the speed
-//!   at which the liquid leaves its own surface along the outward normal
-//!   (a crest overturning, a sheet or a jet breaking up; the normal is
+//!   between two thresholds as Ihmsen's Φ: *trapped air*, the shear the
+//!   grid resolves, |∇×u|·h across a cell (what rolls air under), and
+//!   *crest*, the speed at which the liquid leaves its own surface along
+//!   the outward normal where it moves out of it (v̂·n̂ ≥ 0.6, as Ihmsen's
+//!   wave crests: a crest overturning, a sheet thrown up; the normal is
 //!   the negated gradient of the particle counts around it).
 //! - **What it is.** By how full the 3×3×3 cells around it are (particles
 //!   over what they hold, solids left out): spray below [`SPRAY_FILL`],
@@ -44,11 +45,13 @@ pub const SLOTS_PER_PARTICLE: usize = 2;
 /// Speeds (m/s) over which the energy potential ramps from 0 to 1: from
 /// the onset of air entrainment the plunging liquid's landings use.
 pub const ENTRAINMENT_SPEED: [f32; 2] = [whitewater::ENTRAINMENT_ONSET_SPEED, 2.5];
-/// Vorticities (1/s) over which the trapped-air potential ramps.
-pub const TRAPPED_AIR_VORTICITY: [f32; 2] = [8.0, 40.0];
+/// Velocity differences across a cell, |∇×u|·h (m/s), over which the
+/// trapped-air potential ramps: shear the grid resolves, whatever its cell.
+pub const TRAPPED_AIR_SHEAR: [f32; 2] = [0.25, 1.0];
 /// Outward speeds (m/s) through the surface over which the crest
-/// potential ramps.
+/// potential ramps, for liquid moving out of it (Ihmsen's v̂·n̂ ≥ 0.6).
 pub const CREST_SPEED: [f32; 2] = [0.3, 1.5];
+pub const CREST_ALIGNMENT: f32 = 0.6;
 /// Fill of the 3×3×3 cells around under which a particle is spray.
 pub const SPRAY_FILL: f32 = 0.15;
 /// Fill over which it is a bubble.
@@ -100,9 +103,10 @@ pub fn classify(fill: f32) -> u32 {
 }
 
 /// The chance (0–1) a liquid particle sheds one diffuse particle in a step
-/// of `dt`: rate × Φ_energy × max(Φ_trapped air, Φ_crest) × dt.
-pub fn shed_chance(speed: f32, vorticity: f32, outward: f32, rate: f32, dt: f32) -> f32 {
-    let breaking = ramp(vorticity, TRAPPED_AIR_VORTICITY).max(ramp(outward, CREST_SPEED));
+/// of `dt`: rate × Φ_energy × max(Φ_trapped air, Φ_crest) × dt, from its
+/// speed, the shear across its cell (m/s) and its outward speed.
+pub fn shed_chance(speed: f32, shear: f32, outward: f32, rate: f32, dt: f32) -> f32 {
+    let breaking = ramp(shear, TRAPPED_AIR_SHEAR).max(ramp(outward, CREST_SPEED));
     (rate * dt * ramp(speed, ENTRAINMENT_SPEED) * breaking).min(1.0)
 }
 
@@ -270,13 +274,15 @@ impl Liquid {
             let (fill, normal) = self.fill_at(counts, s.particles_per_cell, p);
             let length =
                 (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
-            let outward = if fill < BUBBLE_FILL as f64 && length > 0.0 {
-                ((0..3).map(|a| v[a] as f64 * normal[a]).sum::<f64>() / length) as f32
-            } else {
-                0.0
-            };
-            let vorticity = self.vorticity_at(p) as f32;
-            let chance = shed_chance(speed, vorticity, outward, s.rate as f32, dt as f32);
+            let mut outward = 0.0;
+            if fill < BUBBLE_FILL as f64 && length > 0.0 {
+                let along = ((0..3).map(|a| v[a] as f64 * normal[a]).sum::<f64>() / length) as f32;
+                if along >= CREST_ALIGNMENT * speed {
+                    outward = along;
+                }
+            }
+            let shear = (self.vorticity_at(p) * self.grid.h) as f32;
+            let chance = shed_chance(speed, shear, outward, s.rate as f32, dt as f32);
             if random(step, slot as u32, SALT_CHANCE) >= chance {
                 continue;
             }
@@ -325,8 +331,8 @@ mod tests {
         assert_eq!(classify(0.9), whitewater::BUBBLE);
         // Slow water sheds nothing however it swirls; fast breaking water
         // sheds at the full rate.
-        assert_eq!(shed_chance(0.5, 100.0, 5.0, 200.0, 0.01), 0.0);
-        assert!((shed_chance(3.0, 100.0, 0.0, 50.0, 0.01) - 0.5).abs() < 1e-6);
+        assert_eq!(shed_chance(0.5, 5.0, 5.0, 200.0, 0.01), 0.0);
+        assert!((shed_chance(3.0, 5.0, 0.0, 50.0, 0.01) - 0.5).abs() < 1e-6);
         assert_eq!(shed_chance(3.0, 0.0, 0.0, 50.0, 0.01), 0.0);
     }
 

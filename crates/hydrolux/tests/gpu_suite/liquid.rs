@@ -181,7 +181,9 @@ fn the_liquids_white_water_follows_its_cpu_twin() {
     let count = |k: u32| cpu.iter().filter(|d| d.kind == k).count();
     use hydrolux::core::whitewater::{BUBBLE, FOAM, SPRAY};
     let (spray, foam, bubbles) = (count(SPRAY), count(FOAM), count(BUBBLE));
-    eprintln!("white water: {both} alive on both, {one} on one; {spray} spray, {foam} foam, {bubbles} bubbles; {kinds} kinds differ; {apart} m apart");
+    eprintln!(
+        "white water: {both} alive on both, {one} on one; {spray} spray, {foam} foam, {bubbles} bubbles; {kinds} kinds differ; {apart} m apart"
+    );
     assert!(both > 100, "only {both} white-water particles alive on both");
     assert!(foam > 0 && bubbles > 0, "foam {foam}, bubbles {bubbles}");
     assert!(one * 20 <= both, "{one} slots alive on one side only, {both} on both");

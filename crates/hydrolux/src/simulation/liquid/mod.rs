@@ -28,6 +28,7 @@ pub mod readback;
 pub mod screen_mesh;
 pub mod screen_space;
 pub mod surface;
+pub mod white_water_draw;
 
 use crate::error::RenderError;
 use crate::gpu_util::*;
@@ -188,8 +189,9 @@ pub fn source() -> String {
     let floats = [
         ("ENTRAINMENT_SPEED_MIN", w::ENTRAINMENT_SPEED[0]),
         ("ENTRAINMENT_SPEED_MAX", w::ENTRAINMENT_SPEED[1]),
-        ("TRAPPED_AIR_VORTICITY_MIN", w::TRAPPED_AIR_VORTICITY[0]),
-        ("TRAPPED_AIR_VORTICITY_MAX", w::TRAPPED_AIR_VORTICITY[1]),
+        ("TRAPPED_AIR_SHEAR_MIN", w::TRAPPED_AIR_SHEAR[0]),
+        ("TRAPPED_AIR_SHEAR_MAX", w::TRAPPED_AIR_SHEAR[1]),
+        ("CREST_ALIGNMENT", w::CREST_ALIGNMENT),
         ("CREST_SPEED_MIN", w::CREST_SPEED[0]),
         ("CREST_SPEED_MAX", w::CREST_SPEED[1]),
         ("SPRAY_FILL", w::SPRAY_FILL),
@@ -547,10 +549,11 @@ impl Liquid {
             layout: &args_layout,
             entries: &[entry(0, &args)],
         });
-        let white_water_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("liquid white water"),
-            entries: &[storage_entry(1, cs, false)],
-        });
+        let white_water_layout =
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("liquid white water"),
+                entries: &[storage_entry(1, cs, false)],
+            });
         let white_water_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("liquid white water"),
             layout: &white_water_layout,
@@ -658,7 +661,8 @@ impl Liquid {
     /// The particles at rest where the sources put them, a still grid.
     fn write_start(&self, queue: &wgpu::Queue) {
         queue.write_buffer(&self.particles, 0, bytemuck::cast_slice(&self.initial));
-        let buffers = [&self.faces, &self.known, &self.solve, &self.accum, &self.state, &self.white_water];
+        let buffers =
+            [&self.faces, &self.known, &self.solve, &self.accum, &self.state, &self.white_water];
         for buffer in buffers {
             queue.write_buffer(buffer, 0, &vec![0u8; buffer.size() as usize]);
         }
@@ -759,7 +763,8 @@ impl Liquid {
             run(&mut pass, &p.extrapolate_back, faces);
             run(&mut pass, &p.advance, particles);
             if u.white_water == 1 {
-                let pool = u.particle_count * hydrolux_core::fluid::white_water::SLOTS_PER_PARTICLE as u32;
+                let pool =
+                    u.particle_count * hydrolux_core::fluid::white_water::SLOTS_PER_PARTICLE as u32;
                 pass.set_bind_group(1, &self.white_water_group, &[]);
                 run(&mut pass, &p.white_water_move, groups(pool));
                 run(&mut pass, &p.white_water_shed, particles);

@@ -5,19 +5,9 @@
 // `white_water_shed` lets each breaking liquid particle shed into its own
 // empty slot. This file continues liquid.wgsl (its bindings and grid
 // helpers); the constants SLOTS_PER_PARTICLE, SPRAY_FILL, BUBBLE_FILL,
-// ENTRAINMENT_SPEED_*, TRAPPED_AIR_VORTICITY_*, CREST_SPEED_* and the
+// ENTRAINMENT_SPEED_*, TRAPPED_AIR_SHEAR_*, CREST_SPEED_*, CREST_ALIGNMENT and the
 // salts are the core's, written above it by `source()`.
-#import modes, hash
-
-// One particle of the pool (Rust: `fluid::white_water::Diffuse`).
-struct Diffuse {
-    position: vec3<f32>,
-    // PARTICLE_DEAD, PARTICLE_BUBBLE, PARTICLE_SPRAY, PARTICLE_FOAM.
-    kind: u32,
-    velocity: vec3<f32>,
-    // Seconds of foam left.
-    life: f32,
-}
+#import modes, hash, liquid_diffuse
 
 // In group 1 beside the solve's arguments (its kernels bind one or the
 // other: a stage binds at most 8 storage buffers, WebGPU's limit).
@@ -142,10 +132,13 @@ fn white_water_shed(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgrou
     let length_out = length(around.outward);
     var outward = 0.0;
     if (around.fill < BUBBLE_FILL && length_out > 0.0) {
-        outward = dot(v, around.outward) / length_out;
+        let along = dot(v, around.outward) / length_out;
+        if (along >= CREST_ALIGNMENT * speed) {
+            outward = along;
+        }
     }
     let breaking = max(
-        ramp(vorticity_at(p), TRAPPED_AIR_VORTICITY_MIN, TRAPPED_AIR_VORTICITY_MAX),
+        ramp(vorticity_at(p) * params.h, TRAPPED_AIR_SHEAR_MIN, TRAPPED_AIR_SHEAR_MAX),
         ramp(outward, CREST_SPEED_MIN, CREST_SPEED_MAX),
     );
     let energy = ramp(speed, ENTRAINMENT_SPEED_MIN, ENTRAINMENT_SPEED_MAX);

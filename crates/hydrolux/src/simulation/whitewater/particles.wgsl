@@ -7,7 +7,7 @@
 // what is behind, seen through the water above them. The scene's depth
 // is tested by hand: a bubble under the surface shows through it. Spray
 // sits in the scene's fog like everything else (`through_fog`).
-#import constants, frame, sky_bindings, medium, particle, fog
+#import constants, frame, sky_bindings, medium, particle, fog, white_water_light
 
 struct DrawParams {
     // Capacity C, which alive list is drawn (0, 1).
@@ -51,39 +51,14 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
     let c = corners[v];
     let is_bubble = p.kind == PARTICLE_BUBBLE;
     let size = select(params.spray_size, max(params.bubble_size, 2.0 * p.radius), is_bubble);
-    let eye = frame.view.position;
-    let dist = max(distance(p.position, eye), 1e-3);
-    // At least one pixel across; fainter by the area it lacks.
-    let pixel = 2.0 * dist / (frame.view.size.y * frame.view.view_proj[1][1]);
-    let drawn = max(size, 1.5 * pixel);
-    var weight = (size * size) / (drawn * drawn);
-    let forward = (p.position - eye) / dist;
-    var right = normalize(cross(forward, vec3<f32>(0.0, 1.0, 0.0)) + vec3<f32>(1e-6, 0.0, 0.0));
-    var up = cross(right, forward);
-    var half_length = 0.5 * drawn;
-    // A streak along the motion across the view over the shutter.
-    let across = p.velocity - forward * dot(p.velocity, forward);
-    let travel = length(across) * params.shutter;
-    if (travel > drawn) {
-        right = across / length(across);
-        up = normalize(cross(right, forward));
-        half_length = 0.5 * (drawn + travel);
-        weight *= drawn / (drawn + travel);
-    }
-    let world = p.position + right * c.x * half_length + up * c.y * 0.5 * drawn;
+    let q = particle_quad(p.position, p.velocity, size, params.shutter, c);
     var out: VertexOut;
-    out.clip = frame.view.view_proj * vec4<f32>(world, 1.0);
+    out.clip = frame.view.view_proj * vec4<f32>(q.world, 1.0);
     out.quad = c;
     out.kind = p.kind;
     out.centre = p.position;
-    out.weight = weight;
+    out.weight = q.weight;
     return out;
-}
-
-fn world_at(frag: vec2<f32>, depth: f32) -> vec3<f32> {
-    let ndc = vec2<f32>(frag.x * frame.view.inv_size.x * 2.0 - 1.0, 1.0 - frag.y * frame.view.inv_size.y * 2.0);
-    let h = frame.view.inv_view_proj * vec4<f32>(ndc, depth, 1.0);
-    return h.xyz / h.w;
 }
 
 @fragment
@@ -94,11 +69,10 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     let eye = frame.view.position;
     let d = textureLoad(scene_depth, vec2<i32>(in.clip.xy), 0).x;
-    let behind = world_at(in.clip.xy, d);
+    let behind = world_at_pixel(in.clip.xy, d);
     let scene_distance = select(distance(behind, eye), 1e9, d >= 1.0);
     let particle_distance = distance(in.centre, eye);
     let view = (in.centre - eye) / max(particle_distance, 1e-4);
-    let sun = frame.light.sun_illuminance;
     if (in.kind == PARTICLE_BUBBLE) {
         // Under the water the eye looks through: behind a surface point it
         // still shows, dimmed by the water between.
@@ -112,13 +86,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         }
         let depth = max(-in.centre.y, 0.0);
         let light = underwater_irradiance(depth, vec3<f32>(0.0, 1.0, 0.0), 1.0) / PI;
-        // A sphere of air: total internal reflection at its rim (grazing
-        // rays inside the water meet the air beyond the critical angle).
-        let rim = smoothstep(0.55, 0.95, r2) * (1.0 - smoothstep(0.95, 1.0, r2));
-        let glint = pow(max(1.0 - r2, 0.0), 8.0) * 0.5;
-        let alpha = (0.15 + 0.85 * rim) * in.weight;
-        let color = light * (0.6 + 2.5 * rim + glint) * through;
-        return vec4<f32>(color * alpha, alpha);
+        return bubble_look(r2, light * through, in.weight);
     }
     if (particle_distance > scene_distance + 0.05) {
         discard;
@@ -127,10 +95,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let soft = clamp((scene_distance - particle_distance) / 0.3, 0.0, 1.0);
     let density = (1.0 - r2) * (1.0 - r2);
     let alpha = 0.4 * density * soft * in.weight;
-    // Drops scatter mostly forward (g ≈ 0.8 for millimetre drops' halo).
-    let phase = henyey_greenstein(dot(view, frame.light.sun_dir), 0.8);
-    let sky = textureSampleLevel(sky_cube, sky_sampler, vec3<f32>(0.0, 1.0, 0.0), 6.0).rgb;
-    let color = sun * phase * 0.9 + sky * 0.85;
+    let color = spray_radiance(view);
     // In the scene's fog: dimmed by the air between, and the fog's own glow
     // in front of it put back over what the parcel hides.
     return vec4<f32>(through_fog(eye, in.centre, color) * alpha, alpha);
