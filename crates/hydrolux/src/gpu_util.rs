@@ -271,6 +271,19 @@ pub fn fullscreen_pipeline(
     layouts: &[&wgpu::BindGroupLayout],
     format: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
+    pulled_pipeline(device, label, module, layouts, format.into())
+}
+
+/// A pipeline whose vertex shader (`vs_main`) pulls what it draws from its
+/// bindings (no vertex buffers: a fullscreen triangle, instanced quads over
+/// particles) and whose `fs_main` writes `target`, without depth.
+pub fn pulled_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    layouts: &[&wgpu::BindGroupLayout],
+    target: wgpu::ColorTargetState,
+) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(&pipeline_layout(device, label, layouts)),
@@ -287,11 +300,20 @@ pub fn fullscreen_pipeline(
             module,
             entry_point: Some("fs_main"),
             compilation_options: Default::default(),
-            targets: &[Some(format.into())],
+            targets: &[Some(target)],
         }),
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// Premultiplied "over" blending into the HDR image (particles, sprites).
+pub fn over_hdr() -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format: crate::targets::HDR_FORMAT,
+        blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+        write_mask: wgpu::ColorWrites::ALL,
+    }
 }
 
 /// Draw a `fullscreen_pipeline` with its bind groups (group i = `groups[i]`)

@@ -76,36 +76,13 @@ impl Draw {
         let params =
             uniform_buffer(device, "liquid white water", &WhiteWaterDrawUniforms::default());
         let module = shader(device, "liquid white water", &source());
-        let draw_layout = pipeline_layout(
+        let pipeline = pulled_pipeline(
             device,
             "liquid white water",
+            &module,
             &[&shared.layouts.globals, &layout, &depth_layout],
+            over_hdr(),
         );
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("liquid white water"),
-            layout: Some(&draw_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: crate::targets::HDR_FORMAT,
-                    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
         let depth_module = shader(device, "liquid white water depth", &depth_source());
         let meshes = &shared.meshes;
         let depth_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

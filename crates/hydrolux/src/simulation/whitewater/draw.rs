@@ -67,36 +67,13 @@ impl ParticleDraw {
         });
         let params = uniform_buffer(device, "particles draw", &DrawUniforms::default());
         let module = shader(device, "particles", &source());
-        let pipeline_layout = pipeline_layout(
+        let pipeline = pulled_pipeline(
             device,
             "particles",
+            &module,
             &[&shared.layouts.globals, &layout, &depth_layout],
+            over_hdr(),
         );
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("particles"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: crate::targets::HDR_FORMAT,
-                    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
         ParticleDraw { params, layout, group: None, depth_layout, pipeline }
     }
 

@@ -4,6 +4,15 @@
 // forward scattering and a bubble's bright rim.
 #import constants, frame, sky_bindings, medium
 
+// Corner v (0–5, two triangles) of a quad, in [-1, 1]².
+fn quad_corner(v: u32) -> vec2<f32> {
+    let corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    return corners[v];
+}
+
 struct ParticleQuad {
     world: vec3<f32>,
     // Opacity that keeps a sub-pixel particle's energy (its area over the

@@ -44,11 +44,7 @@ struct VertexOut {
 fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> VertexOut {
     let slot = slots[params.list * params.capacity + i];
     let p = particles[slot];
-    let corners = array<vec2<f32>, 6>(
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
-        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
-    );
-    let c = corners[v];
+    let c = quad_corner(v);
     let is_bubble = p.kind == PARTICLE_BUBBLE;
     let size = select(params.spray_size, max(params.bubble_size, 2.0 * p.radius), is_bubble);
     let q = particle_quad(p.position, p.velocity, size, params.shutter, c);
