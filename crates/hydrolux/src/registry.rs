@@ -33,7 +33,7 @@ macro_rules! registry {
                     || format!("creating the {} technique", stringify!($field)),
                     || <$ty as Technique>::create(shared, scene),
                 )?),* };
-                t.connect(shared);
+                t.connect(shared, scene);
                 Ok(t)
             }
 
@@ -49,7 +49,7 @@ macro_rules! registry {
                 for t in self.each_mut() {
                     rebind |= t.set_scene(shared, old, new)?;
                 }
-                self.connect(shared);
+                self.connect(shared, new);
                 Ok(rebind)
             }
 
@@ -246,8 +246,10 @@ impl Techniques {
     /// Links between techniques: what one writes and another reads. The
     /// god rays draw the refractive objects' paths (their buffer belongs to
     /// the water objects, which write it) into the fog.
-    fn connect(&mut self, shared: &Shared) {
+    fn connect(&mut self, shared: &Shared, scene: &Scene) {
         let light = &self.water_objects.light;
+        self.water_objects.liquid_faces =
+            self.liquid_screen_space.sun_faces(shared, scene, light.resolution);
         let tubes =
             self.godrays.pass.bind_tubes(&shared.device, light.tubes.clone(), light.resolution);
         self.godrays.object_tubes = Some(tubes);

@@ -216,13 +216,25 @@ pub fn filter_reach(params: &ScreenSpaceParams, scale: f32, z: f32) -> u32 {
     ((params.filter_radius * scale / z).ceil() as u32).min(MAX_FILTER_PIXELS)
 }
 
-/// One pass of step 2 along (dx, dy).
+/// One pass of step 2 along (dx, dy), for a perspective view (`scale`:
+/// pixels per metre at unit depth).
 pub fn filter_pass(
     maps: &FluidMaps,
     params: &ScreenSpaceParams,
     scale: f32,
     dx: i32,
     dy: i32,
+) -> FluidMaps {
+    filter_pass_by(maps, params, |z| filter_reach(params, scale, z), (dx, dy))
+}
+
+/// One pass of step 2 along `step`, reaching `reach(z)` pixels either side
+/// of a pixel at depth z.
+fn filter_pass_by(
+    maps: &FluidMaps,
+    params: &ScreenSpaceParams,
+    reach: impl Fn(f32) -> u32,
+    (dx, dy): (i32, i32),
 ) -> FluidMaps {
     let mut out = FluidMaps::empty(maps.width, maps.height);
     for y in 0..maps.height {
@@ -232,7 +244,7 @@ pub fn filter_pass(
             if zc <= 0.0 {
                 continue;
             }
-            let reach = filter_reach(params, scale, zc) as i32;
+            let reach = reach(zc) as i32;
             let sigma = 0.5 * reach.max(1) as f32;
             let (mut zs, mut zw, mut ts, mut tw) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
             for k in -reach..=reach {
@@ -313,7 +325,27 @@ pub fn normal_at(
     if zc <= 0.0 {
         return None;
     }
-    let centre = surface_point(view, q, maps, x, y, back);
+    let front = pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, zc);
+    let ray = (front - pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, 0.5 * zc)).normalize();
+    let fallback = if back { ray } else { -ray };
+    let point = |x, y| surface_point(view, q, maps, x, y, back);
+    Some(normal_from(maps, threshold, (x, y), point, fallback))
+}
+
+/// The normal at filled pixel (x, y) from the surface's points there and
+/// at its neighbours (`point`): the cross product of the differences
+/// across and down, each towards the neighbour whose depth is nearer the
+/// pixel's (within `threshold`), turned to the side `fallback` faces;
+/// `fallback` where either way has none.
+fn normal_from(
+    maps: &FluidMaps,
+    threshold: f32,
+    (x, y): (u32, u32),
+    point: impl Fn(u32, u32) -> Vec3,
+    fallback: Vec3,
+) -> Vec3 {
+    let zc = maps.depth[maps.index(x, y)];
+    let centre = point(x, y);
     let side = |dx: i32, dy: i32| -> Option<Vec3> {
         let mut best: Option<(f32, Vec3)> = None;
         for sign in [-1i32, 1] {
@@ -326,19 +358,130 @@ pub fn normal_at(
             if z <= 0.0 || gap > threshold || best.is_some_and(|(g, _)| g <= gap) {
                 continue;
             }
-            let p = surface_point(view, q, maps, sx as u32, sy as u32, back);
-            best = Some((gap, (p - centre) * sign as f32));
+            best = Some((gap, (point(sx as u32, sy as u32) - centre) * sign as f32));
         }
         best.map(|(_, d)| d)
     };
-    let front = pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, zc);
-    let ray = (front - pixel_point(view, q, x as f32 + 0.5, y as f32 + 0.5, 0.5 * zc)).normalize();
-    let fallback = if back { ray } else { -ray };
     let n = match (side(1, 0), side(0, 1)) {
         (Some(a), Some(d)) => a.cross(d).normalize_or(fallback),
         _ => fallback,
     };
-    Some(if n.dot(fallback) < 0.0 { -n } else { n })
+    if n.dot(fallback) < 0.0 { -n } else { n }
+}
+
+/// The liquid seen from the sun: the orthographic light view in which the
+/// refractive things' light paths are traced (`passes/water_object`, seed
+/// 004), texels addressed as images are (x across, y down). The same
+/// three steps make the surface the light enters and leaves, so that the
+/// liquid drawn this way casts caustics: the depth is the distance (m)
+/// along the light from the view's near plane, and the filter's reach is
+/// the same everywhere (no perspective).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunView {
+    /// World → clip, orthographic (`projective::sun_view_projection`).
+    pub view_proj: Mat4,
+    /// Texels per side.
+    pub resolution: u32,
+}
+
+/// The entering and leaving faces under one texel of a [`SunView`]: unit
+/// normals facing the sun (the front) and away from it (the back), and
+/// their depths as the light view's z (0 at its near plane, 1 at its far).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunFaces {
+    pub front: Vec3,
+    pub front_z: f32,
+    pub back: Vec3,
+    pub back_z: f32,
+}
+
+impl SunView {
+    /// Texel (x, y)'s ray: its origin on the near plane, the light's unit
+    /// direction and the depth (m) the view's z spans.
+    pub fn texel_ray(&self, x: f32, y: f32) -> (Vec3, Vec3, f32) {
+        let q = self.view_proj.inverse();
+        let k = self.resolution as f32;
+        let (nx, ny) = (2.0 * x / k - 1.0, 1.0 - 2.0 * y / k);
+        let near = q.project_point3(Vec3::new(nx, ny, 0.0));
+        let far = q.project_point3(Vec3::new(nx, ny, 1.0));
+        let span = (far - near).length();
+        (near, (far - near) / span, span)
+    }
+
+    /// Texels per metre across the light.
+    pub fn texels_per_metre(&self) -> f32 {
+        0.5 * self.resolution as f32 * self.view_proj.row(0).truncate().length()
+    }
+
+    /// The world point of texel (x, y) (its centre) at depth `t` (m).
+    pub fn point(&self, x: u32, y: u32, t: f32) -> Vec3 {
+        let (origin, dir, _) = self.texel_ray(x as f32 + 0.5, y as f32 + 0.5);
+        origin + dir * t
+    }
+
+    /// Step 1 from the sun: each texel's ray through the spheres, the
+    /// nearest front's depth and the chords summed (nothing cuts them: the
+    /// paths stop at the opaque scene themselves).
+    pub fn splat(&self, (radius, share): (f32, f32), particles: &[[f32; 3]]) -> FluidMaps {
+        let k = self.resolution;
+        let mut maps = FluidMaps::empty(k, k);
+        let reach = radius * self.texels_per_metre() + 1.0;
+        for p in particles {
+            let c = Vec3::from(*p);
+            let ndc = self.view_proj.project_point3(c);
+            let (cx, cy) = (0.5 * (ndc.x + 1.0) * k as f32, 0.5 * (1.0 - ndc.y) * k as f32);
+            let x0 = ((cx - reach).floor().max(0.0)) as u32;
+            let y0 = ((cy - reach).floor().max(0.0)) as u32;
+            let x1 = ((cx + reach).ceil().min(k as f32 - 1.0)).max(0.0) as u32;
+            let y1 = ((cy + reach).ceil().min(k as f32 - 1.0)).max(0.0) as u32;
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let (origin, dir, _) = self.texel_ray(x as f32 + 0.5, y as f32 + 0.5);
+                    let Some((t0, t1)) = sphere_chord(origin, dir, c, radius) else { continue };
+                    let i = maps.index(x, y);
+                    if maps.depth[i] == 0.0 || t0 < maps.depth[i] {
+                        maps.depth[i] = t0;
+                    }
+                    maps.thickness[i] += share * (t1 - t0);
+                }
+            }
+        }
+        maps
+    }
+
+    /// Step 2 from the sun: the narrow-range filter, its reach the same at
+    /// every depth.
+    pub fn filter(&self, maps: &FluidMaps, params: &ScreenSpaceParams) -> FluidMaps {
+        let reach = |_| filter_reach(params, self.texels_per_metre(), 1.0);
+        let across = filter_pass_by(maps, params, reach, (1, 0));
+        filter_pass_by(&across, params, reach, (0, 1))
+    }
+
+    /// Step 3 from the sun: the faces under texel (x, y) of filtered
+    /// `maps` (the back is the front carried along the light by the
+    /// thickness); `None` where the texel is empty.
+    pub fn faces(&self, maps: &FluidMaps, threshold: f32, (x, y): (u32, u32)) -> Option<SunFaces> {
+        let i = maps.index(x, y);
+        let t = maps.depth[i];
+        if t <= 0.0 {
+            return None;
+        }
+        let (_, dir, span) = self.texel_ray(x as f32 + 0.5, y as f32 + 0.5);
+        let at = |back: bool| {
+            move |x, y| {
+                let j = maps.index(x, y);
+                let carried = if back { maps.thickness[j].max(0.0) } else { 0.0 };
+                self.point(x, y, maps.depth[j] + carried)
+            }
+        };
+        let thickness = maps.thickness[i].max(0.0);
+        Some(SunFaces {
+            front: normal_from(maps, threshold, (x, y), at(false), -dir),
+            front_z: t / span,
+            back: normal_from(maps, threshold, (x, y), at(true), dir),
+            back_z: (t + thickness) / span,
+        })
+    }
 }
 
 #[cfg(test)]
@@ -575,5 +718,84 @@ mod tests {
         let w = scene_w(&q, c.x / c.w, c.y / c.w, c.z / c.w);
         assert!((w - c.w).abs() < 1e-4 * c.w, "{w} vs {}", c.w);
         assert_eq!(scene_w(&q, 0.0, 0.0, 0.0), f32::INFINITY);
+    }
+
+    fn sun(dir: Vec3, resolution: u32, half: f32) -> SunView {
+        let lo = Vec3::splat(-half);
+        let view_proj = crate::projective::sun_view_projection(dir.normalize(), lo, -lo);
+        SunView { view_proj, resolution }
+    }
+
+    /// From the sun, one sphere: the texel over its centre sees its front
+    /// and a diameter of it; its faces point at the sun and away.
+    #[test]
+    fn the_sun_sees_a_sphere_through_its_diameter() {
+        let dir = Vec3::new(0.3, 1.0, 0.2).normalize();
+        let view = sun(dir, 257, 0.5);
+        let r = 0.1;
+        let maps = view.splat((r, 1.0), &[[0.0; 3]]);
+        // The centre projects to the middle texel (an odd count).
+        let i = maps.index(128, 128);
+        assert!((maps.thickness[i] - 2.0 * r).abs() < 1e-3, "{}", maps.thickness[i]);
+        let p = view.point(128, 128, maps.depth[i]);
+        assert!((p.length() - r).abs() < 1e-3 && p.normalize().dot(dir) > 0.99, "{p}");
+        let faces = view.faces(&maps, 0.05, (128, 128)).expect("covered");
+        assert!(faces.front.dot(dir) > 0.99, "{}", faces.front);
+        assert!(faces.back.dot(-dir) > 0.99, "{}", faces.back);
+        assert!(faces.back_z > faces.front_z);
+        // Its disc, πr², in texels.
+        let side = 1.0 / view.texels_per_metre();
+        let area = maps.covered() as f32 * side * side;
+        let disc = std::f32::consts::PI * r * r;
+        assert!((area / disc - 1.0).abs() < 0.1, "{area} m², disc {disc} m²");
+    }
+
+    /// A slab of particles lit at a slant: after the filter its middle is
+    /// flat, the light enters through the top (normal up) at the top's
+    /// depth, and leaves through the bottom (normal down) after a path as
+    /// long as the slab's depth along the light, not the spheres' overlap.
+    #[test]
+    fn the_sun_sees_a_slab_enter_at_its_top_and_leave_at_its_bottom() {
+        let dir = Vec3::new(0.4, 1.0, 0.0).normalize();
+        let view = sun(dir, 96, 0.6);
+        let s = 0.02;
+        let mut particles = Vec::new();
+        for i in 0..30 {
+            for j in 0..5 {
+                for k in 0..30 {
+                    let at = |n: i32, c: f32| (n as f32 - c) * s;
+                    particles.push([at(i, 14.5), at(j, 2.0), at(k, 14.5)]);
+                }
+            }
+        }
+        let p = ScreenSpaceParams {
+            radius: s,
+            volume_share: sphere_share(s, s),
+            filter_radius: 3.0 * s,
+            threshold: 4.0 * s,
+            clamp: s,
+        };
+        let maps = view.filter(&view.splat((p.radius, p.volume_share), &particles), &p);
+        let (mut checked, mut path, mut back) = (0, 0.0, Vec3::ZERO);
+        for y in 40..56 {
+            for x in 40..56 {
+                let faces = view.faces(&maps, p.threshold, (x, y)).expect("over the slab");
+                assert!(faces.front.dot(Vec3::Y) > 0.99, "{x},{y}: {}", faces.front);
+                // The chords' sum ripples with the lattice (±10% here), and
+                // the back with it; on the mean it is the bottom.
+                assert!(faces.back.dot(-Vec3::Y) > 0.94, "{x},{y}: {}", faces.back);
+                back += faces.back;
+                // The top's spheres: within a radius of the top layer.
+                let top = view.point(x, y, maps.depth[maps.index(x, y)]);
+                assert!((top.y - 2.0 * s).abs() < 1.2 * s, "{x},{y}: top at {top}");
+                path += maps.thickness[maps.index(x, y)];
+                checked += 1;
+            }
+        }
+        // Five layers of spacing s, crossed at the sun's slant.
+        let expected = 5.0 * s / dir.y;
+        let mean = path / checked as f32;
+        assert!((mean / expected - 1.0).abs() < 0.1, "{mean} m along the light, {expected} m");
+        assert!(back.normalize().dot(-Vec3::Y) > 0.999, "{}", back.normalize());
     }
 }

@@ -743,6 +743,19 @@ impl Scene {
         Some((f.min.map(|v| v - margin), f.max.map(|v| v + margin)))
     }
 
+    /// The box the liquid's surface lies in where light passes through it:
+    /// its mesh's, or, drawn by screen-space fluid rendering, the domain
+    /// and a sphere's radius around it (the sun's view splats the spheres
+    /// too: `fluid::screen_space::SunView`).
+    pub fn liquid_light_bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+        let f = &self.fluid;
+        self.liquid_mesh_bounds().or_else(|| {
+            let spheres = f.screen_radius * f.particle_spacing();
+            (f.enabled() && f.surface == FluidSurface::ScreenSpace)
+                .then(|| (f.min.map(|v| v - spheres), f.max.map(|v| v + spheres)))
+        })
+    }
+
     /// Whether object `o` is a body of the liquid: it moves (dynamic, or
     /// kinematic with a velocity), has an exact shape and starts with its
     /// centre in the liquid's domain. The liquid's world moves it, under

@@ -25,6 +25,7 @@ use crate::meshes::{
     self as meshes, GeometryPass, Objects, SHADOW_FORMAT, SceneGeometry, ViewSlot,
 };
 use crate::shaders;
+use crate::simulation::liquid::screen_space::SunFaces;
 use crate::simulation::published::LiquidMesh;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
@@ -32,7 +33,7 @@ use crate::timing::GpuTimer;
 /// Front/back faces from the light: outward normal and depth, as the bits
 /// of four f32 (`bitcast`): full precision, and a 32-bit integer target is
 /// renderable on every backend, unlike `Rgba32Float` (not on wgpu's GL).
-const FACES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+pub(crate) const FACES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 /// The object caustic map: rgb irradiance, a the scene's depth.
 pub const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// The camera's back-face record: outward normal and distance.
@@ -604,6 +605,7 @@ impl WaterObjectPass {
         frame_only: &wgpu::BindGroup,
         things: &ClearThings,
         light: &ObjectLight,
+        liquid_faces: Option<&SunFaces>,
         mut timer: Option<&mut GpuTimer>,
     ) {
         let faces = |encoder: &mut wgpu::CommandEncoder,
@@ -613,6 +615,7 @@ impl WaterObjectPass {
                      clear_w: f64,
                      clear_depth: f32,
                      pipeline,
+                     back: bool,
                      timer: Option<&mut GpuTimer>| {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
@@ -646,6 +649,11 @@ impl WaterObjectPass {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, frame_only, &[]);
             things.draw(&mut pass);
+            // The liquid drawn by screen-space fluid rendering: its faces
+            // from the maps it made from the sun.
+            if let Some(liquid) = liquid_faces {
+                liquid.draw(&mut pass, back);
+            }
         };
         // Empty texels: front beyond the far plane (2), back before the near
         // one (−1). Both keep the face nearest the sun: the back face is where
@@ -659,6 +667,7 @@ impl WaterObjectPass {
             2.0,
             1.0,
             &self.light_front,
+            false,
             timer.as_deref_mut(),
         );
         faces(
@@ -669,6 +678,7 @@ impl WaterObjectPass {
             -1.0,
             1.0,
             &self.light_back,
+            true,
             None,
         );
         {
@@ -858,6 +868,9 @@ pub(crate) struct WaterObjects {
     targets: Option<ObjectTargets>,
     pub light: ObjectLight,
     pub current: bool,
+    /// The liquid's faces from the sun where it is drawn by screen-space
+    /// fluid rendering (`liquid_screen_space`, linked by the registry).
+    pub liquid_faces: Option<SunFaces>,
 }
 
 /// The box holding everything drawn as clear water: the refractive
@@ -866,7 +879,7 @@ pub fn refractive_bounds(
     geometry: &SceneGeometry,
     scene: &hydrolux_core::scene::Scene,
 ) -> Option<(glam::Vec3, glam::Vec3)> {
-    let liquid = scene.liquid_mesh_bounds().map(|(lo, hi)| (lo.into(), hi.into()));
+    let liquid = scene.liquid_light_bounds().map(|(lo, hi)| (lo.into(), hi.into()));
     match (geometry.refractive_bounds, liquid) {
         (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
         (a, b) => a.or(b),
@@ -905,7 +918,7 @@ impl Technique for WaterObjects {
         let (device, l) = (&shared.device, &shared.layouts);
         let pass = WaterObjectPass::new(device, &l.globals, &l.frame_only, &shared.meshes);
         let light = pass.create_light(device, Self::resolution(&shared.geometry, scene));
-        Ok(WaterObjects { pass, targets: None, light, current: false })
+        Ok(WaterObjects { pass, targets: None, light, current: false, liquid_faces: None })
     }
 
     fn set_scene(
@@ -956,13 +969,28 @@ impl Technique for WaterObjects {
                     liquid,
                     objects: true,
                 };
-                self.pass.record_light(encoder, &shared.frame_only, &things, &self.light, timer);
-                // The liquid's mesh changes every frame; the objects do not.
-                self.current = liquid.is_none() && !compared;
+                // Not in the reference drawing of the error view (its mesh).
+                let liquid_faces = self.liquid_faces.as_ref().filter(|_| {
+                    liquid.is_none()
+                        && crate::simulation::liquid::screen_space::drawn_screen_space(frame.scene)
+                });
+                self.pass.record_light(
+                    encoder,
+                    &shared.frame_only,
+                    &things,
+                    &self.light,
+                    liquid_faces,
+                    timer,
+                );
+                // The liquid changes every frame; the objects do not.
+                self.current = liquid.is_none() && liquid_faces.is_none() && !compared;
             }
             Stage::Composite => {
                 let targets = frame.targets();
-                if let Some(object_targets) = &self.targets {
+                // (The liquid drawn by screen-space fluid rendering is in
+                // the light view, not here: it draws itself.)
+                let anything = liquid.is_some() || shared.geometry.refractive_bounds.is_some();
+                if let Some(object_targets) = self.targets.as_ref().filter(|_| anything) {
                     let things = ClearThings {
                         meshes: &shared.meshes,
                         geometry: &shared.geometry,

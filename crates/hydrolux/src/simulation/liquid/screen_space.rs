@@ -8,6 +8,14 @@
 //! narrow-range filter runs across and then down; and a full-screen pass
 //! shades each covered pixel as clear water over the image. Its images
 //! follow the frame's size and are made the first frame a scene draws it.
+//!
+//! Its caustics: in the Light stage, while the refractive things' light
+//! paths are due (`passes/water_object`), the same splats and filter run
+//! in their orthographic light view (CPU twin `SunView`), and that pass
+//! draws the faces the light enters and leaves from the filtered maps
+//! (`SunFaces`, handed to it when the techniques are linked) beside the
+//! glasses' faces: its paths then refract through the liquid as through a
+//! mesh.
 
 use crate::error::RenderError;
 use crate::gpu_util::*;
@@ -23,6 +31,8 @@ use hydrolux_core::scene::{FluidSurface, Scene};
 uniform! { ScreenSpaceParams;
     /// WGSL `ScreenSpaceParams` (simulation/liquid/screen_space.wgsl).
     pub(crate) struct ScreenSpaceUniforms {
+        pub sun_view_proj: [[f32; 4]; 4],
+        pub sun_inv_view_proj: [[f32; 4]; 4],
         pub radius: f32,
         pub volume_share: f32,
         pub filter_radius: f32,
@@ -31,6 +41,10 @@ uniform! { ScreenSpaceParams;
         pub pixels_per_metre: f32,
         pub max_reach: u32,
         pub count: u32,
+        pub perspective: u32,
+        pub sun_resolution: f32,
+        pub sun_span: f32,
+        pub ior: f32,
     }
 }
 
@@ -60,6 +74,12 @@ struct Pipelines {
     across: wgpu::RenderPipeline,
     down: wgpu::RenderPipeline,
     shade: wgpu::RenderPipeline,
+    /// From the sun: the splats, and the faces drawn into the refractive
+    /// things' light-view images.
+    depth_sun: wgpu::RenderPipeline,
+    thickness_sun: wgpu::RenderPipeline,
+    sun_front: wgpu::RenderPipeline,
+    sun_back: wgpu::RenderPipeline,
 }
 
 /// One render pipeline of `screen_space.wgsl` over the globals and one
@@ -71,6 +91,20 @@ struct PipelineSpec<'a> {
     fragment: &'a str,
     target: wgpu::ColorTargetState,
     depth: Option<wgpu::DepthStencilState>,
+    /// Drawn inside the refractive things' light passes, whose group 0 is
+    /// the frame alone.
+    frame_only: bool,
+}
+
+/// A depth test keeping the nearest (standard Z: the sun's view).
+fn nearest(write: bool) -> Option<wgpu::DepthStencilState> {
+    Some(wgpu::DepthStencilState {
+        format: wgpu::TextureFormat::Depth32Float,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    })
 }
 
 impl Pipelines {
@@ -105,8 +139,9 @@ impl Pipelines {
         );
         let module = shader(device, "liquid screen space", &source());
         let make = |spec: PipelineSpec| {
-            let layout =
-                pipeline_layout(device, spec.label, &[&shared.layouts.globals, spec.layout]);
+            let frame =
+                if spec.frame_only { &shared.layouts.frame_only } else { &shared.layouts.globals };
+            let layout = pipeline_layout(device, spec.label, &[frame, spec.layout]);
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(spec.label),
                 layout: Some(&layout),
@@ -143,6 +178,7 @@ impl Pipelines {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
+            frame_only: false,
         });
         let add = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::One,
@@ -160,7 +196,43 @@ impl Pipelines {
                 write_mask: wgpu::ColorWrites::ALL,
             },
             depth: None,
+            frame_only: false,
         });
+        let depth_sun = make(PipelineSpec {
+            label: "liquid depth splat from the sun",
+            layout: &splat_layout,
+            vertex: "vs_sphere_sun",
+            fragment: "fs_depth_sun",
+            target: DEPTH_FORMAT.into(),
+            depth: nearest(true),
+            frame_only: false,
+        });
+        let thickness_sun = make(PipelineSpec {
+            label: "liquid thickness splat from the sun",
+            layout: &splat_layout,
+            vertex: "vs_sphere_sun",
+            fragment: "fs_thickness_sun",
+            target: wgpu::ColorTargetState {
+                format: THICKNESS_FORMAT,
+                blend: Some(wgpu::BlendState { color: add, alpha: add }),
+                write_mask: wgpu::ColorWrites::ALL,
+            },
+            depth: None,
+            frame_only: false,
+        });
+        let face = |label, fragment| {
+            make(PipelineSpec {
+                label,
+                layout: &filter_layout,
+                vertex: "vs_fullscreen",
+                fragment,
+                target: crate::passes::water_object::FACES_FORMAT.into(),
+                depth: nearest(true),
+                frame_only: true,
+            })
+        };
+        let sun_front = face("liquid faces from the sun", "fs_sun_front");
+        let sun_back = face("liquid back faces from the sun", "fs_sun_back");
         let filter = |label, fragment| {
             make(PipelineSpec {
                 label,
@@ -169,6 +241,7 @@ impl Pipelines {
                 fragment,
                 target: FILTERED_FORMAT.into(),
                 depth: None,
+                frame_only: false,
             })
         };
         let across = filter("liquid filter across", "fs_filter_across");
@@ -180,6 +253,7 @@ impl Pipelines {
             fragment: "fs_shade",
             target: crate::formats::HDR_FORMAT.into(),
             depth: None,
+            frame_only: false,
         });
         Pipelines {
             params,
@@ -191,6 +265,10 @@ impl Pipelines {
             across,
             down,
             shade,
+            depth_sun,
+            thickness_sun,
+            sun_front,
+            sun_back,
         }
     }
 }
@@ -238,18 +316,7 @@ impl Images {
         let (behind, behind_view) = image("liquid behind", crate::formats::HDR_FORMAT, U::COPY_DST);
         let tv = wgpu::BindingResource::TextureView;
         let group = |label, layout, entries: &[(u32, wgpu::BindingResource)]| {
-            let entries: Vec<_> = entries
-                .iter()
-                .map(|(binding, resource)| wgpu::BindGroupEntry {
-                    binding: *binding,
-                    resource: resource.clone(),
-                })
-                .collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout,
-                entries: &entries,
-            })
+            bind_group(device, label, layout, entries)
         };
         let params = p.params.as_entire_binding();
         let splat_group = group(
@@ -293,10 +360,147 @@ impl Images {
     }
 }
 
+/// A bind group of `(binding, resource)` pairs.
+fn bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    entries: &[(u32, wgpu::BindingResource)],
+) -> wgpu::BindGroup {
+    let entries: Vec<_> = entries
+        .iter()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: resource.clone(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// The maps made from the sun, at the refractive things' light-view
+/// resolution, and the bind groups over them.
+struct SunImages {
+    resolution: u32,
+    params: wgpu::Buffer,
+    depth_test: wgpu::TextureView,
+    front: wgpu::Texture,
+    front_view: wgpu::TextureView,
+    thickness_view: wgpu::TextureView,
+    across_view: wgpu::TextureView,
+    filtered: wgpu::Texture,
+    filtered_view: wgpu::TextureView,
+    across_group: wgpu::BindGroup,
+    down_group: wgpu::BindGroup,
+    faces_group: wgpu::BindGroup,
+    /// Bound where the camera's splats bind the scene's depth (the sun's
+    /// splats read none).
+    no_scene_depth: wgpu::TextureView,
+    /// The splats' group, over the particle buffer it binds (made when
+    /// the liquid publishes it).
+    splat: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+}
+
+impl SunImages {
+    fn new(device: &wgpu::Device, p: &Pipelines, resolution: u32) -> Self {
+        use wgpu::TextureUsages as U;
+        let size = (resolution, resolution);
+        let image = |label, format, extra| {
+            let t = texture_2d(device, label, size, format, U::TEXTURE_BINDING | extra);
+            let v = t.create_view(&Default::default());
+            (t, v)
+        };
+        let target = U::RENDER_ATTACHMENT | U::COPY_SRC;
+        let (_, depth_test) = image(
+            "liquid depth test from the sun",
+            wgpu::TextureFormat::Depth32Float,
+            U::RENDER_ATTACHMENT,
+        );
+        let (front, front_view) = image("liquid depth from the sun", DEPTH_FORMAT, target);
+        let (_, thickness_view) = image("liquid thickness from the sun", THICKNESS_FORMAT, target);
+        let (_, across_view) =
+            image("liquid filtered across from the sun", FILTERED_FORMAT, target);
+        let (filtered, filtered_view) =
+            image("liquid filtered from the sun", FILTERED_FORMAT, target);
+        let params = storage_buffer(
+            device,
+            "liquid screen space from the sun",
+            std::mem::size_of::<ScreenSpaceUniforms>() as u64,
+            wgpu::BufferUsages::empty(),
+        );
+        let tv = wgpu::BindingResource::TextureView;
+        let filter = |label, source| {
+            bind_group(
+                device,
+                label,
+                &p.filter_layout,
+                &[(0, params.as_entire_binding()), (3, tv(source)), (4, tv(&thickness_view))],
+            )
+        };
+        let across_group = filter("liquid filter across from the sun", &front_view);
+        let down_group = filter("liquid filter down from the sun", &across_view);
+        let faces_group = filter("liquid faces from the sun", &filtered_view);
+        let (_, no_scene_depth) = image_1x1(device);
+        SunImages {
+            resolution,
+            params,
+            depth_test,
+            front,
+            front_view,
+            thickness_view,
+            across_view,
+            filtered,
+            filtered_view,
+            across_group,
+            down_group,
+            faces_group,
+            no_scene_depth,
+            splat: None,
+        }
+    }
+}
+
+/// A 1×1 float image (a binding nothing reads).
+fn image_1x1(device: &wgpu::Device) -> (wgpu::Texture, wgpu::TextureView) {
+    let t = texture_2d(
+        device,
+        "liquid no scene depth",
+        (1, 1),
+        THICKNESS_FORMAT,
+        wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let v = t.create_view(&Default::default());
+    (t, v)
+}
+
+/// The liquid's faces from the sun, drawn by the refractive things' light
+/// passes (`passes/water_object`) from the maps this technique filtered in
+/// the Light stage before them.
+#[derive(Clone)]
+pub(crate) struct SunFaces {
+    front: wgpu::RenderPipeline,
+    back: wgpu::RenderPipeline,
+    group: wgpu::BindGroup,
+}
+
+impl SunFaces {
+    /// Into a pass over the face images (group 0, the frame alone, is the
+    /// caller's): the faces the light enters, or those it leaves by.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, back: bool) {
+        pass.set_pipeline(if back { &self.back } else { &self.front });
+        pass.set_bind_group(1, &self.group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
 #[derive(Default)]
 pub(crate) struct LiquidScreenSpace {
     pipelines: Option<Pipelines>,
     images: Option<Images>,
+    sun: Option<SunImages>,
 }
 
 /// The method's parameters for the GPU.
@@ -318,6 +522,36 @@ fn uniforms(
         pixels_per_metre: twin::pixels_per_metre(&view),
         max_reach: twin::MAX_FILTER_PIXELS,
         count: liquid.count,
+        perspective: 1,
+        ..Default::default()
+    }
+}
+
+/// The method's parameters from the sun, in the refractive things' light
+/// view.
+fn sun_uniforms(
+    scene: &Scene,
+    liquid: &LiquidState,
+    light: &crate::plan::ObjectLightPlan,
+) -> ScreenSpaceUniforms {
+    let p = ScreenSpaceParams::of(&scene.fluid);
+    let view = twin::SunView { view_proj: light.view_proj, resolution: light.resolution };
+    let (_, _, span) = view.texel_ray(0.5, 0.5);
+    ScreenSpaceUniforms {
+        sun_view_proj: light.view_proj.to_cols_array_2d(),
+        sun_inv_view_proj: light.view_proj.inverse().to_cols_array_2d(),
+        radius: p.radius,
+        volume_share: p.volume_share,
+        filter_radius: p.filter_radius,
+        threshold: p.threshold,
+        clamp: p.clamp,
+        pixels_per_metre: view.texels_per_metre(),
+        max_reach: twin::MAX_FILTER_PIXELS,
+        count: liquid.count,
+        perspective: 0,
+        sun_resolution: light.resolution as f32,
+        sun_span: span,
+        ior: scene.water.ior,
     }
 }
 
@@ -343,7 +577,7 @@ impl LiquidScreenSpace {
         encoder: &mut wgpu::CommandEncoder,
         label: &'static str,
         color: wgpu::RenderPassColorAttachment<'_>,
-        depth: Option<&wgpu::TextureView>,
+        depth: Option<(&wgpu::TextureView, f32)>,
         pipeline: &wgpu::RenderPipeline,
         globals: &wgpu::BindGroup,
         group: &wgpu::BindGroup,
@@ -353,13 +587,15 @@ impl LiquidScreenSpace {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(label),
             color_attachments: &[Some(color)],
-            depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
-                view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
+            depth_stencil_attachment: depth.map(|(view, far)| {
+                wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(far),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }
             }),
             timestamp_writes: timer.and_then(|t| t.render_writes(label)),
             occlusion_query_set: None,
@@ -369,6 +605,99 @@ impl LiquidScreenSpace {
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, group, &[]);
         pass.draw(0..vertices, 0..instances);
+    }
+
+    /// The faces from the sun for `scene` at the refractive things' light
+    /// view's `resolution`: `None` unless the liquid is drawn this way and
+    /// that view holds it (then its maps are made at that resolution).
+    pub(crate) fn sun_faces(
+        &mut self,
+        shared: &Shared,
+        scene: &Scene,
+        resolution: u32,
+    ) -> Option<SunFaces> {
+        if !drawn_screen_space(scene) || scene.liquid_light_bounds().is_none() || resolution <= 1 {
+            self.sun = None;
+            return None;
+        }
+        let pipelines = self.pipelines.get_or_insert_with(|| Pipelines::new(shared));
+        if self.sun.as_ref().is_none_or(|s| s.resolution != resolution) {
+            self.sun = Some(SunImages::new(&shared.device, pipelines, resolution));
+        }
+        let sun = self.sun.as_ref()?;
+        Some(SunFaces {
+            front: pipelines.sun_front.clone(),
+            back: pipelines.sun_back.clone(),
+            group: sun.faces_group.clone(),
+        })
+    }
+
+    /// The sun's splats and filter, before the refractive things' light
+    /// passes draw the faces from them.
+    fn record_sun(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
+        let (Some(liquid), Some(p), Some(sun)) =
+            (&frame.published.liquid, &self.pipelines, &self.sun)
+        else {
+            return;
+        };
+        let Some((_, splat)) = &sun.splat else { return };
+        let globals = &frame.bound.globals;
+        let black = Some(wgpu::Color::TRANSPARENT);
+        let quads = (6, liquid.count);
+        Self::pass(
+            encoder,
+            "liquid depth splat from the sun",
+            attachment(&sun.front_view, black),
+            Some((&sun.depth_test, 1.0)),
+            &p.depth_sun,
+            globals,
+            splat,
+            timer.as_deref_mut(),
+            quads,
+        );
+        Self::pass(
+            encoder,
+            "liquid thickness splat from the sun",
+            attachment(&sun.thickness_view, black),
+            None,
+            &p.thickness_sun,
+            globals,
+            splat,
+            timer,
+            quads,
+        );
+        let passes = [
+            ("liquid filter across from the sun", &sun.across_view, &p.across, &sun.across_group),
+            ("liquid filter down from the sun", &sun.filtered_view, &p.down, &sun.down_group),
+        ];
+        for (label, view, pipeline, group) in passes {
+            let color = attachment(view, black);
+            Self::pass(encoder, label, color, None, pipeline, globals, group, None, (3, 1));
+        }
+    }
+
+    /// The filtered maps from the sun of the last frame that made them.
+    fn read_sun(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Option<(FluidMaps, Vec<f32>)> {
+        let sun = self.sun.as_ref()?;
+        let k = sun.resolution;
+        let bytes = read_texture(device, queue, &sun.filtered, 8);
+        let values: &[f32] = bytemuck::cast_slice(&bytes);
+        let mut maps = FluidMaps::empty(k, k);
+        for (i, v) in values.chunks_exact(2).enumerate() {
+            maps.depth[i] = v[0];
+            maps.thickness[i] = v[1];
+        }
+        let splatted = read_texture(device, queue, &sun.front, 4);
+        Some((maps, bytemuck::cast_slice(&splatted).to_vec()))
     }
 
     /// The filtered depth and thickness of the last frame drawn this way.
@@ -404,13 +733,30 @@ impl Technique for LiquidScreenSpace {
     }
 
     fn prepare(&mut self, queue: &wgpu::Queue, frame: &FrameContext) {
-        let (Some(liquid), Some(targets)) = (&frame.published.liquid, frame.targets) else {
-            return;
-        };
+        let Some(liquid) = &frame.published.liquid else { return };
         if !drawn_screen_space(frame.scene) {
             return;
         }
         let pipelines = self.pipelines.get_or_insert_with(|| Pipelines::new(frame.shared));
+        if let (Some(sun), Some(light)) = (&mut self.sun, &frame.plan.object_light) {
+            if sun.splat.as_ref().is_none_or(|(b, _)| *b != liquid.particles) {
+                let tv = wgpu::BindingResource::TextureView;
+                let group = bind_group(
+                    &frame.shared.device,
+                    "liquid splat from the sun",
+                    &pipelines.splat_layout,
+                    &[
+                        (0, sun.params.as_entire_binding()),
+                        (1, liquid.particles.as_entire_binding()),
+                        (2, tv(&sun.no_scene_depth)),
+                    ],
+                );
+                sun.splat = Some((liquid.particles.clone(), group));
+            }
+            let u = sun_uniforms(frame.scene, liquid, light);
+            queue.write_buffer(&sun.params, 0, bytemuck::bytes_of(&u));
+        }
+        let Some(targets) = frame.targets else { return };
         let stale = self
             .images
             .as_ref()
@@ -435,7 +781,18 @@ impl Technique for LiquidScreenSpace {
         frame: &FrameContext,
         mut timer: Option<&mut GpuTimer>,
     ) {
-        if stage != Stage::Composite || !drawn_screen_space(frame.scene) {
+        if !drawn_screen_space(frame.scene) {
+            return;
+        }
+        if stage == Stage::Light {
+            // While the refractive things' light paths are due (they read
+            // what this draws).
+            if frame.plan.object_light.is_some_and(|o| o.due) && !frame.plan.liquid_reference {
+                self.record_sun(encoder, frame, timer);
+            }
+            return;
+        }
+        if stage != Stage::Composite {
             return;
         }
         let (Some(liquid), Some(p), Some(images)) =
@@ -456,7 +813,8 @@ impl Technique for LiquidScreenSpace {
             encoder,
             "liquid depth splat",
             attachment(&images.front_view, black),
-            Some(&images.depth_test),
+            // Reversed Z: the far plane is 0.
+            Some((&images.depth_test, 0.0)),
             &p.depth,
             globals,
             &images.splat_group,
@@ -548,7 +906,28 @@ pub struct ScreenSpaceReadback {
     pub filtered: FluidMaps,
 }
 
+/// What the last frame made of the liquid from the sun, for its tests.
+pub struct SunReadback {
+    /// The refractive things' light view it was made in.
+    pub view: twin::SunView,
+    /// The nearest fronts as splatted (m from the near plane, 0 where empty).
+    pub splatted_depth: Vec<f32>,
+    /// After the narrow-range filter.
+    pub filtered: FluidMaps,
+}
+
 impl crate::renderer::Renderer {
+    /// The liquid's maps from the sun after the last frame; `None` unless
+    /// it is drawn by screen-space fluid rendering and the refractive
+    /// things' light view holds it.
+    pub fn read_liquid_screen_space_sun(&self) -> Option<SunReadback> {
+        let t = &self.techniques.liquid_screen_space;
+        let light = self.last_plan.as_ref()?.object_light?;
+        let (filtered, splatted_depth) = t.read_sun(self.device(), self.queue())?;
+        let view = twin::SunView { view_proj: light.view_proj, resolution: light.resolution };
+        Some(SunReadback { view, splatted_depth, filtered })
+    }
+
     /// The liquid's screen-space images after the last frame; `None` unless
     /// it was drawn by screen-space fluid rendering.
     pub fn read_liquid_screen_space(&self) -> Option<ScreenSpaceReadback> {

@@ -14,9 +14,22 @@
 //    the sky and the sun's glint mirrored, the scene behind seen through
 //    two refractions (in at the front, out at the back) and absorbed over
 //    the thickness, the light the water scatters, the sun's shadow, the fog.
+// From the sun (CPU twin `SunView`), for the liquid's caustics: steps 1–3
+// again in the refractive things' orthographic light view, where
+// passes/water_object traces their light paths: `fs_depth_sun` and
+// `fs_thickness_sun` splat, the same filter smooths (its reach the same at
+// every depth), and `fs_sun_front` / `fs_sun_back` write the faces the
+// light enters and leaves (outward normal × the index of refraction, the
+// light view's z) into that pass's face images, depth-tested with the
+// glasses' faces. Depths there are metres along the light from the view's
+// near plane.
 #import liquid_particle, constants, frame, modes, sky_bindings, medium, optics, lighting, fog, shadow_space, shadow_lookup, screen_lookup, fullscreen
 
 struct ScreenSpaceParams {
+    // The sun's view (world → clip, and back) when the maps are made from
+    // the sun; unused for the camera's.
+    sun_view_proj: mat4x4<f32>,
+    sun_inv_view_proj: mat4x4<f32>,
     // The spheres (m), and the share of each that its particle's liquid
     // fills (each chord is weighted by it).
     radius: f32,
@@ -30,6 +43,14 @@ struct ScreenSpaceParams {
     // The filter's widest reach (pixels either side).
     max_reach: u32,
     count: u32,
+    // 1: the camera's maps (depth the clip w, the filter's reach shrinking
+    // with it); 0: the sun's (depth in metres, the same reach everywhere).
+    perspective: u32,
+    // The sun's view: texels per side, the depth (m) its z spans, and the
+    // water's index of refraction (the faces' normals' length).
+    sun_resolution: f32,
+    sun_span: f32,
+    ior: f32,
 }
 
 // A storage buffer, not a uniform one (see points.wgsl).
@@ -137,7 +158,8 @@ fn filtered(px: vec2<i32>, step: vec2<i32>, first: bool) -> vec2<f32> {
     let size = vec2<i32>(textureDimensions(depth_source));
     var reach = 0;
     if (params.filter_radius > 0.0) {
-        reach = i32(min(ceil(params.filter_radius * params.pixels_per_metre / zc), f32(params.max_reach)));
+        let scale = params.pixels_per_metre / select(1.0, zc, params.perspective != 0u);
+        reach = i32(min(ceil(params.filter_radius * scale), f32(params.max_reach)));
     }
     let sigma = 0.5 * f32(max(reach, 1));
     var z_sum = 0.0;
@@ -191,16 +213,20 @@ fn fs_filter_down(@builtin(position) p: vec4<f32>) -> @location(0) vec4<u32> {
 // The surface under pixel `px` of the filtered maps: its front (depth
 // `maps.x`) or its back (the front carried along the pixel's ray by the
 // thickness `maps.y`: the back of a single layer).
-fn surface_point(px: vec2<i32>, maps: vec2<f32>, back: bool) -> vec3<f32> {
+// From the sun, along the light from texel `px`'s origin.
+fn surface_point(px: vec2<i32>, maps: vec2<f32>, back: bool, from_sun: bool) -> vec3<f32> {
+    let carried = select(0.0, max(maps.y, 0.0), back);
+    if (from_sun) {
+        return sun_origin(vec2<f32>(px) + 0.5) + sun_direction() * (maps.x + carried);
+    }
     let front = pixel_point(vec2<f32>(px) + 0.5, maps.x);
-    let ray = normalize(front - frame.view.position);
-    return select(front, front + ray * max(maps.y, 0.0), back);
+    return front + normalize(front - frame.view.position) * carried;
 }
 
 // The difference from `centre` (depth zc) towards the neighbour along
 // `axis` whose depth is nearer zc, oriented along +axis, on the front or
 // the back; w = 0 where both are other layers (or off the screen).
-fn side(px: vec2<i32>, axis: vec2<i32>, zc: f32, centre: vec3<f32>, back: bool) -> vec4<f32> {
+fn side(px: vec2<i32>, axis: vec2<i32>, zc: f32, centre: vec3<f32>, back: bool, from_sun: bool) -> vec4<f32> {
     let size = vec2<i32>(textureDimensions(depth_source));
     var best = vec4<f32>(0.0);
     var best_gap = params.threshold;
@@ -215,7 +241,7 @@ fn side(px: vec2<i32>, axis: vec2<i32>, zc: f32, centre: vec3<f32>, back: bool) 
             continue;
         }
         best_gap = gap;
-        best = vec4<f32>((surface_point(s, maps, back) - centre) * f32(sign), 1.0);
+        best = vec4<f32>((surface_point(s, maps, back, from_sun) - centre) * f32(sign), 1.0);
     }
     return best;
 }
@@ -223,10 +249,10 @@ fn side(px: vec2<i32>, axis: vec2<i32>, zc: f32, centre: vec3<f32>, back: bool) 
 // The unit normal of the front (facing the eye) or of the back (facing
 // away) at `px`, from the differences across and down; `fallback` where
 // the pixel has no neighbour of its layer either way.
-fn surface_normal(px: vec2<i32>, maps: vec2<f32>, back: bool, fallback: vec3<f32>) -> vec3<f32> {
-    let centre = surface_point(px, maps, back);
-    let across = side(px, vec2<i32>(1, 0), maps.x, centre, back);
-    let down = side(px, vec2<i32>(0, 1), maps.x, centre, back);
+fn surface_normal(px: vec2<i32>, maps: vec2<f32>, back: bool, fallback: vec3<f32>, from_sun: bool) -> vec3<f32> {
+    let centre = surface_point(px, maps, back, from_sun);
+    let across = side(px, vec2<i32>(1, 0), maps.x, centre, back, from_sun);
+    let down = side(px, vec2<i32>(0, 1), maps.x, centre, back, from_sun);
     var n = fallback;
     if (across.w > 0.0 && down.w > 0.0) {
         let c = cross(across.xyz, down.xyz);
@@ -250,8 +276,8 @@ fn fs_shade(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
     let dir = normalize(world - eye);
     // Step 3: normals from depth, facing the eye; the back's from the
     // depth plus the thickness, facing away.
-    let n = surface_normal(px, maps, false, -dir);
-    let n_back = surface_normal(px, maps, true, dir);
+    let n = surface_normal(px, maps, false, -dir, false);
+    let n_back = surface_normal(px, maps, true, dir, false);
     let thickness = max(maps.y, 0.0);
 
     let ior = frame.water.ior;
@@ -304,4 +330,115 @@ fn fs_shade(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
     // `through_fog`).
     let normals_view = frame.modes.debug_view == VIEW_NORMALS;
     return vec4<f32>(select(shaded, n * 0.5 + 0.5, normals_view), 1.0);
+}
+
+// ---- From the sun ----
+
+// Where texel `pixel`'s ray (framebuffer position, y down) starts: on the
+// sun's view's near plane.
+fn sun_origin(pixel: vec2<f32>) -> vec3<f32> {
+    let ndc = vec2<f32>(2.0 * pixel.x / params.sun_resolution - 1.0, 1.0 - 2.0 * pixel.y / params.sun_resolution);
+    let h = params.sun_inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
+    return h.xyz / h.w;
+}
+
+// The way the light travels (unit).
+fn sun_direction() -> vec3<f32> {
+    let q = params.sun_inv_view_proj;
+    let near = q * vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    let far = q * vec4<f32>(0.0, 0.0, 1.0, 1.0);
+    return normalize(far.xyz / far.w - near.xyz / near.w);
+}
+
+struct SunSplatOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) centre: vec3<f32>,
+}
+
+@vertex
+fn vs_sphere_sun(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> SunSplatOut {
+    let corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    let p = particles[i];
+    let m = params.sun_view_proj;
+    // Orthographic: the sphere's disc is r times each row's scale across,
+    // widened by a texel so every texel its ray meets is drawn.
+    let scale = vec2<f32>(length(vec3<f32>(m[0][0], m[1][0], m[2][0])), length(vec3<f32>(m[0][1], m[1][1], m[2][1])));
+    var out: SunSplatOut;
+    out.clip = m * vec4<f32>(p.position, 1.0);
+    out.clip = vec4<f32>(out.clip.xy + corners[v] * (params.radius * scale + 2.0 / params.sun_resolution), out.clip.zw);
+    if (p.alive == 0u) {
+        out.clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
+    }
+    out.centre = p.position;
+    return out;
+}
+
+// The texel's ray through the sphere: (entry, exit) in metres from the
+// near plane; `x` < 0 where it misses.
+fn sun_chord(in: SunSplatOut) -> vec2<f32> {
+    let origin = sun_origin(in.clip.xy);
+    let oc = origin - in.centre;
+    let b = dot(oc, sun_direction());
+    let disc = b * b - (dot(oc, oc) - params.radius * params.radius);
+    let s = sqrt(max(disc, 0.0));
+    return select(vec2<f32>(-1.0), vec2<f32>(-b - s, -b + s), disc >= 0.0);
+}
+
+@fragment
+fn fs_depth_sun(in: SunSplatOut) -> DepthOut {
+    let c = sun_chord(in);
+    if (c.x <= 0.0) {
+        discard;
+    }
+    var out: DepthOut;
+    out.w = bitcast<u32>(c.x);
+    out.depth = c.x / params.sun_span;
+    return out;
+}
+
+@fragment
+fn fs_thickness_sun(in: SunSplatOut) -> @location(0) vec4<f32> {
+    let c = sun_chord(in);
+    if (c.x <= 0.0) {
+        discard;
+    }
+    return vec4<f32>(params.volume_share * (c.y - c.x), 0.0, 0.0, 0.0);
+}
+
+struct FaceOut {
+    // Outward normal × the index of refraction and the light view's z, as
+    // float bits (passes/water_object/light.wgsl's faces).
+    @location(0) face: vec4<u32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// The face under texel `p` that the light enters (the front, facing the
+// sun) or leaves (the back: the front carried along the light by the
+// thickness).
+fn sun_face(p: vec4<f32>, back: bool) -> FaceOut {
+    let px = vec2<i32>(p.xy);
+    let maps = maps_at(px);
+    if (maps.x <= 0.0) {
+        discard;
+    }
+    let d = sun_direction();
+    let n = surface_normal(px, maps, back, select(-d, d, back), true);
+    let z = (maps.x + select(0.0, max(maps.y, 0.0), back)) / params.sun_span;
+    var out: FaceOut;
+    out.face = bitcast<vec4<u32>>(vec4<f32>(n * params.ior, z));
+    out.depth = z;
+    return out;
+}
+
+@fragment
+fn fs_sun_front(@builtin(position) p: vec4<f32>) -> FaceOut {
+    return sun_face(p, false);
+}
+
+@fragment
+fn fs_sun_back(@builtin(position) p: vec4<f32>) -> FaceOut {
+    return sun_face(p, true);
 }
