@@ -225,16 +225,18 @@ pub fn filter_pass(
     dx: i32,
     dy: i32,
 ) -> FluidMaps {
-    filter_pass_by(maps, params, |z| filter_reach(params, scale, z), (dx, dy))
+    filter_pass_by(maps, params, |z| filter_reach(params, scale, z), (dx, dy), false)
 }
 
 /// One pass of step 2 along `step`, reaching `reach(z)` pixels either side
-/// of a pixel at depth z.
+/// of a pixel at depth z; with `backs`, the second channel is averaged over
+/// filled pixels alone.
 fn filter_pass_by(
     maps: &FluidMaps,
     params: &ScreenSpaceParams,
     reach: impl Fn(f32) -> u32,
     (dx, dy): (i32, i32),
+    backs: bool,
 ) -> FluidMaps {
     let mut out = FluidMaps::empty(maps.width, maps.height);
     for y in 0..maps.height {
@@ -254,9 +256,11 @@ fn filter_pass_by(
                 }
                 let g = (-((k * k) as f32) / (2.0 * sigma * sigma)).exp();
                 let j = maps.index(sx as u32, sy as u32);
-                ts += g * maps.thickness[j];
-                tw += g;
                 let z = maps.depth[j];
+                if !backs || z > 0.0 {
+                    ts += g * maps.thickness[j];
+                    tw += g;
+                }
                 if z > 0.0 && z < zc - params.threshold {
                     continue;
                 }
@@ -265,7 +269,7 @@ fn filter_pass_by(
                 zw += g;
             }
             out.depth[i] = zs / zw;
-            out.thickness[i] = ts / tw;
+            out.thickness[i] = ts / tw.max(1e-20);
         }
     }
     out
@@ -420,11 +424,16 @@ impl SunView {
     }
 
     /// Step 1 from the sun: each texel's ray through the spheres, the
-    /// nearest front's depth and the chords summed (nothing cuts them: the
-    /// paths stop at the opaque scene themselves).
-    pub fn splat(&self, (radius, share): (f32, f32), particles: &[[f32; 3]]) -> FluidMaps {
+    /// nearest front's depth and, in the thickness's place, the farthest
+    /// back's depth (m from the near plane). (The chords'
+    /// sum, the camera's thickness, ripples with the particles' lattice by
+    /// ±10%: the exit of a liquid resting on the floor would be now above
+    /// it, now below.) Nothing cuts them: the paths stop at the opaque
+    /// scene themselves.
+    pub fn splat(&self, radius: f32, particles: &[[f32; 3]]) -> FluidMaps {
         let k = self.resolution;
         let mut maps = FluidMaps::empty(k, k);
+        let mut back = vec![0.0f32; maps.depth.len()];
         let reach = radius * self.texels_per_metre() + 1.0;
         for p in particles {
             let c = Vec3::from(*p);
@@ -442,24 +451,27 @@ impl SunView {
                     if maps.depth[i] == 0.0 || t0 < maps.depth[i] {
                         maps.depth[i] = t0;
                     }
-                    maps.thickness[i] += share * (t1 - t0);
+                    back[i] = back[i].max(t1);
                 }
             }
         }
+        maps.thickness = back;
         maps
     }
 
     /// Step 2 from the sun: the narrow-range filter, its reach the same at
-    /// every depth.
+    /// every depth; the backs are averaged over the liquid's texels alone
+    /// (an empty one has none: counted as 0 it would lift the back near
+    /// every outline).
     pub fn filter(&self, maps: &FluidMaps, params: &ScreenSpaceParams) -> FluidMaps {
         let reach = |_| filter_reach(params, self.texels_per_metre(), 1.0);
-        let across = filter_pass_by(maps, params, reach, (1, 0));
-        filter_pass_by(&across, params, reach, (0, 1))
+        let across = filter_pass_by(maps, params, reach, (1, 0), true);
+        filter_pass_by(&across, params, reach, (0, 1), true)
     }
 
     /// Step 3 from the sun: the faces under texel (x, y) of filtered
-    /// `maps` (the back is the front carried along the light by the
-    /// thickness); `None` where the texel is empty.
+    /// `maps` (the front at the depth, the back at the second channel's);
+    /// `None` where the texel is empty.
     pub fn faces(&self, maps: &FluidMaps, threshold: f32, (x, y): (u32, u32)) -> Option<SunFaces> {
         let i = maps.index(x, y);
         let t = maps.depth[i];
@@ -470,16 +482,15 @@ impl SunView {
         let at = |back: bool| {
             move |x, y| {
                 let j = maps.index(x, y);
-                let carried = if back { maps.thickness[j].max(0.0) } else { 0.0 };
-                self.point(x, y, maps.depth[j] + carried)
+                let depth = if back { maps.thickness[j].max(maps.depth[j]) } else { maps.depth[j] };
+                self.point(x, y, depth)
             }
         };
-        let thickness = maps.thickness[i].max(0.0);
         Some(SunFaces {
             front: normal_from(maps, threshold, (x, y), at(false), -dir),
             front_z: t / span,
             back: normal_from(maps, threshold, (x, y), at(true), dir),
-            back_z: (t + thickness) / span,
+            back_z: maps.thickness[i].max(t) / span,
         })
     }
 }
@@ -733,10 +744,11 @@ mod tests {
         let dir = Vec3::new(0.3, 1.0, 0.2).normalize();
         let view = sun(dir, 257, 0.5);
         let r = 0.1;
-        let maps = view.splat((r, 1.0), &[[0.0; 3]]);
+        let maps = view.splat(r, &[[0.0; 3]]);
         // The centre projects to the middle texel (an odd count).
         let i = maps.index(128, 128);
-        assert!((maps.thickness[i] - 2.0 * r).abs() < 1e-3, "{}", maps.thickness[i]);
+        let through = maps.thickness[i] - maps.depth[i];
+        assert!((through - 2.0 * r).abs() < 1e-3, "{through}");
         let p = view.point(128, 128, maps.depth[i]);
         assert!((p.length() - r).abs() < 1e-3 && p.normalize().dot(dir) > 0.99, "{p}");
         let faces = view.faces(&maps, 0.05, (128, 128)).expect("covered");
@@ -753,7 +765,7 @@ mod tests {
     /// A slab of particles lit at a slant: after the filter its middle is
     /// flat, the light enters through the top (normal up) at the top's
     /// depth, and leaves through the bottom (normal down) after a path as
-    /// long as the slab's depth along the light, not the spheres' overlap.
+    /// long as the spheres' union is deep along the light.
     #[test]
     fn the_sun_sees_a_slab_enter_at_its_top_and_leave_at_its_bottom() {
         let dir = Vec3::new(0.4, 1.0, 0.0).normalize();
@@ -775,25 +787,25 @@ mod tests {
             threshold: 4.0 * s,
             clamp: s,
         };
-        let maps = view.filter(&view.splat((p.radius, p.volume_share), &particles), &p);
+        let maps = view.filter(&view.splat(p.radius, &particles), &p);
         let (mut checked, mut path, mut back) = (0, 0.0, Vec3::ZERO);
         for y in 40..56 {
             for x in 40..56 {
                 let faces = view.faces(&maps, p.threshold, (x, y)).expect("over the slab");
                 assert!(faces.front.dot(Vec3::Y) > 0.99, "{x},{y}: {}", faces.front);
-                // The chords' sum ripples with the lattice (±10% here), and
-                // the back with it; on the mean it is the bottom.
-                assert!(faces.back.dot(-Vec3::Y) > 0.94, "{x},{y}: {}", faces.back);
+                assert!(faces.back.dot(-Vec3::Y) > 0.97, "{x},{y}: {}", faces.back);
                 back += faces.back;
                 // The top's spheres: within a radius of the top layer.
                 let top = view.point(x, y, maps.depth[maps.index(x, y)]);
                 assert!((top.y - 2.0 * s).abs() < 1.2 * s, "{x},{y}: top at {top}");
-                path += maps.thickness[maps.index(x, y)];
+                let i = maps.index(x, y);
+                path += maps.thickness[i] - maps.depth[i];
                 checked += 1;
             }
         }
-        // Five layers of spacing s, crossed at the sun's slant.
-        let expected = 5.0 * s / dir.y;
+        // From the top layer's spheres' front to the bottom layer's back:
+        // four spacings and a diameter, crossed at the sun's slant.
+        let expected = (4.0 * s + 2.0 * s) / dir.y;
         let mean = path / checked as f32;
         assert!((mean / expected - 1.0).abs() < 0.1, "{mean} m along the light, {expected} m");
         assert!(back.normalize().dot(-Vec3::Y) > 0.999, "{}", back.normalize());

@@ -744,15 +744,18 @@ impl Scene {
     }
 
     /// The box the liquid's surface lies in where light passes through it:
-    /// its mesh's, or, drawn by screen-space fluid rendering, the domain
-    /// and a sphere's radius around it (the sun's view splats the spheres
-    /// too: `fluid::screen_space::SunView`).
+    /// its mesh's, or, drawn by screen-space fluid rendering (the sun's
+    /// view splats its spheres too: `fluid::screen_space::SunView`), the
+    /// marching-cubes mesh's box. The light view fitted to it is the same
+    /// as the error view's, which draws the liquid both ways in one (its
+    /// sphere of the box reaches far past a particle's sphere).
     pub fn liquid_light_bounds(&self) -> Option<([f32; 3], [f32; 3])> {
         let f = &self.fluid;
         self.liquid_mesh_bounds().or_else(|| {
-            let spheres = f.screen_radius * f.particle_spacing();
+            let cubes = 2.0
+                * crate::fluid::surface::SurfaceGrid::over(f.min, f.max, f.surface_resolution).h;
             (f.enabled() && f.surface == FluidSurface::ScreenSpace)
-                .then(|| (f.min.map(|v| v - spheres), f.max.map(|v| v + spheres)))
+                .then(|| (f.min.map(|v| v - cubes), f.max.map(|v| v + cubes)))
         })
     }
 

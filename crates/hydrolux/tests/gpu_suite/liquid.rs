@@ -778,14 +778,13 @@ fn the_liquid_screen_space_images_are_drawn_as_their_cpu_twin_draws_them() {
 /// the sun, a block at rest (0.6 m square, 0.4 m deep) is splatted and
 /// filtered in the refractive things' light view as its CPU twin does it
 /// (`SunView`: the same texels covered, the same fronts, the filtered
-/// depth and thickness alike), and the light through it lands on the floor
-/// as the light through the marching-cubes mesh of the same particles
-/// does (their totals within 25% at this resolution). Both land well under
-/// what enters (44% with the sun at 55°), whatever the surface: a path is
-/// traced through one water → air exit (seed 004), and beyond the critical
-/// angle it is dropped: light from the top that meets the far wall, and
-/// light from the near walls that meets the bottom (which rests on the
-/// floor: no air there in truth).
+/// depth and back alike), and the light through it lands on the floor as
+/// the light through the marching-cubes mesh of the same particles does
+/// (their totals within 25% at 128² texels: 16% apart, the mesh's bottom
+/// flat under the floor, the spheres' bumpy at it). Most of what enters
+/// lands (66%, the mesh's 78%): the block rests on the floor, so a path
+/// meets it inside the water; what is lost is light from the top that
+/// meets the far wall beyond the critical angle (a path leaves by one exit).
 #[test]
 fn the_liquid_in_screen_space_casts_the_caustics_its_mesh_casts() {
     use hydrolux::core::fluid::screen_space as ss;
@@ -801,7 +800,7 @@ fn the_liquid_in_screen_space_casts_the_caustics_its_mesh_casts() {
     let sun = r.read_liquid_screen_space_sun().expect("made from the sun");
     let positions: Vec<[f32; 3]> = liquid.particles.iter().map(|p| p.position).collect();
     let params = ss::ScreenSpaceParams::of(&s.fluid);
-    let splat = sun.view.splat((params.radius, params.volume_share), &positions);
+    let splat = sun.view.splat(params.radius, &positions);
     let filtered = sun.view.filter(&splat, &params);
     let covered = splat.covered();
     assert!(covered > 200, "the liquid covers {covered} texels");
@@ -847,15 +846,13 @@ fn the_liquid_in_screen_space_casts_the_caustics_its_mesh_casts() {
     eprintln!(
         "{covered} texels; landed {through_screen_space} (screen space), {through_mesh} (mesh)"
     );
-    // 17% apart at 128² texels, 6% at 256²: the two surfaces' edges and
-    // their filters differ by a texel or two.
     assert!(
         (through_screen_space / through_mesh - 1.0).abs() < 0.25,
         "{through_screen_space} through the screen-space surface, {through_mesh} through the mesh"
     );
     let entering = covered as f32;
     assert!(
-        through_screen_space > 0.3 * entering && through_screen_space < entering,
+        through_screen_space > 0.5 * entering && through_screen_space < entering,
         "{through_screen_space} of the light over {entering} texels"
     );
 }

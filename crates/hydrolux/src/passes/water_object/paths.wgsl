@@ -9,7 +9,9 @@
 // marched against the opaque scene's depth from the light to where it lands,
 // p2 (or meets the floor plane). The path p1 → p2 becomes a beam tube for
 // the god-ray ribbons (the volume caustic in the fog) and its light is
-// splatted where it lands (the caustic on the floor). CPU twin of the path:
+// splatted where it lands (the caustic on the floor). A path whose exit
+// lies behind the opaque scene or within a texel of it (water resting on
+// the floor) lands where it meets the scene, inside the water. CPU twin of the path:
 // hydrolux_core::water_object.
 #import constants, frame, optics, tube
 
@@ -163,7 +165,33 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
         let p0 = from_light(uv, front.w);
         let t1 = refract(-l, n0, 1.0 / ior);
         let s1 = march(p0, t1, 0u);
-        if (s1 > 0.0) {
+        // Where the exit lies behind the opaque scene, or within a texel of
+        // it (a liquid resting on the floor: its surface there is as rough
+        // as its particles), the path meets the scene inside the water and
+        // lands there, through its entry alone: found by bisection along
+        // p0 → p1.
+        let span = distance(from_light(uv, 1.0), from_light(uv, 0.0));
+        let contact = sqrt(params.texel_area) / span;
+        let exit = to_light(p0 + t1 * max(s1, 0.0));
+        let hidden = s1 > 0.0 && exit.z + contact >= depth_at(exit.xy, 1u);
+        if (hidden) {
+            var lo = 0.0;
+            var hi = s1;
+            for (var k = 0; k < 12; k++) {
+                let mid = 0.5 * (lo + hi);
+                let m = to_light(p0 + t1 * mid);
+                if (m.z >= depth_at(m.xy, 1u)) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            let transmitted = 1.0 - fresnel_exact(cos0, 1.0, ior);
+            let tint = exp(-frame.water.absorption * hi);
+            // No tube: the path never leaves the water into the air's fog.
+            splat(p0 + t1 * hi, transmitted * tint);
+        }
+        if (s1 > 0.0 && !hidden) {
             let p1 = p0 + t1 * s1;
             let back = load_back(texel_of(to_light(p1).xy));
             let n1 = normalize(back.xyz);

@@ -77,7 +77,7 @@ struct Pipelines {
     /// From the sun: the splats, and the faces drawn into the refractive
     /// things' light-view images.
     depth_sun: wgpu::RenderPipeline,
-    thickness_sun: wgpu::RenderPipeline,
+    back_sun: wgpu::RenderPipeline,
     sun_front: wgpu::RenderPipeline,
     sun_back: wgpu::RenderPipeline,
 }
@@ -207,14 +207,19 @@ impl Pipelines {
             depth: nearest(true),
             frame_only: false,
         });
-        let thickness_sun = make(PipelineSpec {
-            label: "liquid thickness splat from the sun",
+        let max = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Max,
+        };
+        let back_sun = make(PipelineSpec {
+            label: "liquid back splat from the sun",
             layout: &splat_layout,
             vertex: "vs_sphere_sun",
-            fragment: "fs_thickness_sun",
+            fragment: "fs_back_sun",
             target: wgpu::ColorTargetState {
                 format: THICKNESS_FORMAT,
-                blend: Some(wgpu::BlendState { color: add, alpha: add }),
+                blend: Some(wgpu::BlendState { color: max, alpha: max }),
                 write_mask: wgpu::ColorWrites::ALL,
             },
             depth: None,
@@ -266,7 +271,7 @@ impl Pipelines {
             down,
             shade,
             depth_sun,
-            thickness_sun,
+            back_sun,
             sun_front,
             sun_back,
         }
@@ -420,7 +425,8 @@ impl SunImages {
             U::RENDER_ATTACHMENT,
         );
         let (front, front_view) = image("liquid depth from the sun", DEPTH_FORMAT, target);
-        let (_, thickness_view) = image("liquid thickness from the sun", THICKNESS_FORMAT, target);
+        // The farthest back (m), then the extent (m) in the filtered maps.
+        let (_, thickness_view) = image("liquid back from the sun", THICKNESS_FORMAT, target);
         let (_, across_view) =
             image("liquid filtered across from the sun", FILTERED_FORMAT, target);
         let (filtered, filtered_view) =
@@ -662,10 +668,10 @@ impl LiquidScreenSpace {
         );
         Self::pass(
             encoder,
-            "liquid thickness splat from the sun",
+            "liquid back splat from the sun",
             attachment(&sun.thickness_view, black),
             None,
-            &p.thickness_sun,
+            &p.back_sun,
             globals,
             splat,
             timer,

@@ -16,9 +16,10 @@
 //    the thickness, the light the water scatters, the sun's shadow, the fog.
 // From the sun (CPU twin `SunView`), for the liquid's caustics: steps 1–3
 // again in the refractive things' orthographic light view, where
-// passes/water_object traces their light paths: `fs_depth_sun` and
-// `fs_thickness_sun` splat, the same filter smooths (its reach the same at
-// every depth), and `fs_sun_front` / `fs_sun_back` write the faces the
+// passes/water_object traces their light paths: `fs_depth_sun` splats the
+// nearest front and `fs_back_sun` the farthest back, the same filter
+// smooths both (its reach the same at every depth; the back over the
+// liquid's texels alone), and `fs_sun_front` / `fs_sun_back` write the faces the
 // light enters and leaves (outward normal × the index of refraction, the
 // light view's z) into that pass's face images, depth-tested with the
 // glasses' faces. Depths there are metres along the light from the view's
@@ -177,9 +178,14 @@ fn filtered(px: vec2<i32>, step: vec2<i32>, first: bool) -> vec2<f32> {
         if (first) {
             thickness = textureLoad(thickness_source, s, 0).x;
         }
-        t_sum += g * thickness;
-        t_weight += g;
         var z = bitcast<f32>(source.x);
+        // From the sun the second channel is the farthest back's depth,
+        // averaged over the liquid's texels alone (an empty one has none:
+        // counted as 0 it would lift the back near every outline).
+        if (params.perspective != 0u || z > 0.0) {
+            t_sum += g * thickness;
+            t_weight += g;
+        }
         // Another layer in front: not this surface.
         if (z > 0.0 && z < zc - params.threshold) {
             continue;
@@ -192,7 +198,7 @@ fn filtered(px: vec2<i32>, step: vec2<i32>, first: bool) -> vec2<f32> {
         z_sum += g * z;
         z_weight += g;
     }
-    return vec2<f32>(z_sum / z_weight, t_sum / t_weight);
+    return vec2<f32>(z_sum / z_weight, t_sum / max(t_weight, 1e-20));
 }
 
 @vertex
@@ -215,10 +221,12 @@ fn fs_filter_down(@builtin(position) p: vec4<f32>) -> @location(0) vec4<u32> {
 // thickness `maps.y`: the back of a single layer).
 // From the sun, along the light from texel `px`'s origin.
 fn surface_point(px: vec2<i32>, maps: vec2<f32>, back: bool, from_sun: bool) -> vec3<f32> {
-    let carried = select(0.0, max(maps.y, 0.0), back);
     if (from_sun) {
-        return sun_origin(vec2<f32>(px) + 0.5) + sun_direction() * (maps.x + carried);
+        // (maps.y: the back's depth.)
+        let t = select(maps.x, max(maps.y, maps.x), back);
+        return sun_origin(vec2<f32>(px) + 0.5) + sun_direction() * t;
     }
+    let carried = select(0.0, max(maps.y, 0.0), back);
     let front = pixel_point(vec2<f32>(px) + 0.5, maps.x);
     return front + normalize(front - frame.view.position) * carried;
 }
@@ -399,13 +407,17 @@ fn fs_depth_sun(in: SunSplatOut) -> DepthOut {
     return out;
 }
 
+// The farthest back (blended by max): where the light leaves the spheres'
+// union. (The chords' sum, the camera's thickness, ripples with the
+// particles' lattice by ±10%, which would put the exit of a liquid resting
+// on the floor now above it, now below.)
 @fragment
-fn fs_thickness_sun(in: SunSplatOut) -> @location(0) vec4<f32> {
+fn fs_back_sun(in: SunSplatOut) -> @location(0) vec4<f32> {
     let c = sun_chord(in);
     if (c.x <= 0.0) {
         discard;
     }
-    return vec4<f32>(params.volume_share * (c.y - c.x), 0.0, 0.0, 0.0);
+    return vec4<f32>(c.y, 0.0, 0.0, 0.0);
 }
 
 struct FaceOut {
@@ -416,8 +428,7 @@ struct FaceOut {
 }
 
 // The face under texel `p` that the light enters (the front, facing the
-// sun) or leaves (the back: the front carried along the light by the
-// thickness).
+// sun) or leaves (the back).
 fn sun_face(p: vec4<f32>, back: bool) -> FaceOut {
     let px = vec2<i32>(p.xy);
     let maps = maps_at(px);
@@ -426,7 +437,7 @@ fn sun_face(p: vec4<f32>, back: bool) -> FaceOut {
     }
     let d = sun_direction();
     let n = surface_normal(px, maps, back, select(-d, d, back), true);
-    let z = (maps.x + select(0.0, max(maps.y, 0.0), back)) / params.sun_span;
+    let z = select(maps.x, max(maps.y, maps.x), back) / params.sun_span;
     var out: FaceOut;
     out.face = bitcast<vec4<u32>>(vec4<f32>(n * params.ior, z));
     out.depth = z;
