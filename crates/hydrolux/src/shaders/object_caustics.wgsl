@@ -23,3 +23,23 @@ fn object_caustic(world: vec3<f32>) -> vec3<f32> {
     }
     return m.rgb;
 }
+
+// Whether the sun reaches `world` past the opaque scene alone (1) or not
+// (0), as the refractive things' light view sees it (its map's a: the
+// opaque scene's depth there). For what lies among the clear things — the
+// liquid's white water in a glass or under the liquid's surface — which
+// the shadow map counts as shadowing; 0 outside that view. (The clear
+// faces' own reflection, a few per cent a face, is not taken off.)
+fn sun_past_opaque(world: vec3<f32>) -> f32 {
+    if (frame.objects.enabled == 0u) {
+        return 0.0;
+    }
+    let clip = frame.objects.light_view_proj * vec4<f32>(world, 1.0);
+    let uv = vec2<f32>(0.5 + 0.5 * clip.x, 0.5 - 0.5 * clip.y);
+    if (any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0))) {
+        return 0.0;
+    }
+    let size = vec2<f32>(textureDimensions(object_caustic_map));
+    let opaque = textureLoad(object_caustic_map, vec2<i32>(uv * size), 0).a;
+    return select(0.0, 1.0, clip.z <= opaque + frame.objects.depth_tolerance);
+}

@@ -9,7 +9,7 @@
 //   foam's albedo; opaque where flecks crowd.
 // - Bubbles: spheres of air in the liquid, seen through the water in front
 //   of them (dimmed by it), bright at the rim.
-#import constants, frame, sky_bindings, medium, fog, lighting, shadow_lookup, modes, liquid_diffuse, white_water_light
+#import constants, frame, sky_bindings, medium, fog, lighting, shadow_lookup, object_caustics, modes, liquid_diffuse, white_water_light
 
 struct WhiteWaterDraw {
     // A foam fleck's width (m); the shutter (s); foam's albedo.
@@ -65,6 +65,13 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
     return out;
 }
 
+// How much of the sun reaches `p`: the shadow map's visibility, or, among
+// the clear things (which the shadow map counts as shadowing), whether
+// only they lie between it and the sun (their light view).
+fn sun_at(p: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(max(sun_visibility_point(p), sun_past_opaque(p)));
+}
+
 // Distance from the eye to what the depth `d` at pixel `frag` holds (far
 // away where nothing is drawn).
 fn distance_at(frag: vec2<f32>, d: f32) -> f32 {
@@ -92,7 +99,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // The water in front of it, if the liquid's surface is nearer.
     let under = max(particle_distance - liquid_distance, 0.0);
     if (in.kind == PARTICLE_BUBBLE) {
-        let light = air_irradiance(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(sun_visibility_point(in.centre))) / PI;
+        let light = air_irradiance(vec3<f32>(0.0, 1.0, 0.0), sun_at(in.centre)) / PI;
         let look = bubble_look(r2, light * transmittance(under), in.weight * soft);
         return vec4<f32>(through_fog(eye, in.centre, look.rgb / max(look.a, 1e-4)) * look.a, look.a);
     }
@@ -105,7 +112,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         let up = cross(right, view);
         let bulge = normalize(0.5 * (right * in.quad.x + up * in.quad.y) - view * sqrt(1.0 - r2));
         let n = normalize(bulge + vec3<f32>(0.0, 0.5, 0.0));
-        let sun = vec3<f32>(sun_visibility_point(in.centre));
+        let sun = sun_at(in.centre);
         let radiance = params.foam_albedo * air_irradiance(n, sun) / PI * transmittance(under);
         let alpha = 0.95 * exp(-2.0 * r2) * (1.0 - r2) * in.weight * soft;
         return vec4<f32>(through_fog(eye, in.centre, radiance) * alpha, alpha);
