@@ -41,5 +41,7 @@ fn sun_past_opaque(world: vec3<f32>) -> f32 {
     }
     let size = vec2<f32>(textureDimensions(object_caustic_map));
     let opaque = textureLoad(object_caustic_map, vec2<i32>(uv * size), 0).a;
-    return select(0.0, 1.0, clip.z <= opaque + frame.objects.depth_tolerance);
+    // A fifth of the landing's tolerance (a few mm): a thin wall still
+    // shades what lies just behind it.
+    return select(0.0, 1.0, clip.z <= opaque + 0.2 * frame.objects.depth_tolerance);
 }
