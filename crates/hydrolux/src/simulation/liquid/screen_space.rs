@@ -96,15 +96,31 @@ struct PipelineSpec<'a> {
     frame_only: bool,
 }
 
-/// A depth test keeping the nearest (standard Z: the sun's view).
-fn nearest(write: bool) -> Option<wgpu::DepthStencilState> {
+/// A depth test keeping the nearest: `Greater` with the camera's reversed
+/// Z, `Less` in the sun's view.
+fn nearest(compare: wgpu::CompareFunction) -> Option<wgpu::DepthStencilState> {
     Some(wgpu::DepthStencilState {
         format: wgpu::TextureFormat::Depth32Float,
-        depth_write_enabled: Some(write),
-        depth_compare: Some(wgpu::CompareFunction::Less),
+        depth_write_enabled: Some(true),
+        depth_compare: Some(compare),
         stencil: Default::default(),
         bias: Default::default(),
     })
+}
+
+/// A target every splat blends into by `operation` (added chords, the
+/// farthest back).
+fn blended(format: wgpu::TextureFormat, operation: wgpu::BlendOperation) -> wgpu::ColorTargetState {
+    let c = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation,
+    };
+    wgpu::ColorTargetState {
+        format,
+        blend: Some(wgpu::BlendState { color: c, alpha: c }),
+        write_mask: wgpu::ColorWrites::ALL,
+    }
 }
 
 impl Pipelines {
@@ -170,31 +186,15 @@ impl Pipelines {
             vertex: "vs_sphere",
             fragment: "fs_depth",
             target: DEPTH_FORMAT.into(),
-            // The nearest front wins (reversed Z).
-            depth: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth: nearest(wgpu::CompareFunction::Greater),
             frame_only: false,
         });
-        let add = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
         let thickness = make(PipelineSpec {
             label: "liquid thickness splat",
             layout: &splat_layout,
             vertex: "vs_sphere",
             fragment: "fs_thickness",
-            target: wgpu::ColorTargetState {
-                format: THICKNESS_FORMAT,
-                blend: Some(wgpu::BlendState { color: add, alpha: add }),
-                write_mask: wgpu::ColorWrites::ALL,
-            },
+            target: blended(THICKNESS_FORMAT, wgpu::BlendOperation::Add),
             depth: None,
             frame_only: false,
         });
@@ -204,24 +204,15 @@ impl Pipelines {
             vertex: "vs_sphere_sun",
             fragment: "fs_depth_sun",
             target: DEPTH_FORMAT.into(),
-            depth: nearest(true),
+            depth: nearest(wgpu::CompareFunction::Less),
             frame_only: false,
         });
-        let max = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Max,
-        };
         let back_sun = make(PipelineSpec {
             label: "liquid back splat from the sun",
             layout: &splat_layout,
             vertex: "vs_sphere_sun",
             fragment: "fs_back_sun",
-            target: wgpu::ColorTargetState {
-                format: THICKNESS_FORMAT,
-                blend: Some(wgpu::BlendState { color: max, alpha: max }),
-                write_mask: wgpu::ColorWrites::ALL,
-            },
+            target: blended(THICKNESS_FORMAT, wgpu::BlendOperation::Max),
             depth: None,
             frame_only: false,
         });
@@ -232,7 +223,7 @@ impl Pipelines {
                 vertex: "vs_fullscreen",
                 fragment,
                 target: crate::passes::water_object::FACES_FORMAT.into(),
-                depth: nearest(true),
+                depth: nearest(wgpu::CompareFunction::Less),
                 frame_only: true,
             })
         };
@@ -278,11 +269,10 @@ impl Pipelines {
     }
 }
 
-/// The images at the frame's size and the bind groups over them.
-struct Images {
-    size: (u32, u32),
-    /// The particle buffer the splat group binds.
-    particles: wgpu::Buffer,
+/// One view's splatted and filtered images: the depth test, the nearest
+/// fronts, the second image (the chords added, or the farthest back), the
+/// filter's pass across and its result.
+struct MapImages {
     depth_test: wgpu::TextureView,
     front: wgpu::Texture,
     front_view: wgpu::TextureView,
@@ -290,6 +280,43 @@ struct Images {
     across_view: wgpu::TextureView,
     filtered: wgpu::Texture,
     filtered_view: wgpu::TextureView,
+}
+
+impl MapImages {
+    /// At `size`, labelled "liquid … `view`", the second image `second`.
+    fn new(device: &wgpu::Device, size: (u32, u32), second: &str, view: &str) -> Self {
+        use wgpu::TextureUsages as U;
+        let image = |what: &str, format, usage| {
+            let label = format!("liquid {what}{view}");
+            let t = texture_2d(device, &label, size, format, U::TEXTURE_BINDING | usage);
+            let v = t.create_view(&Default::default());
+            (t, v)
+        };
+        let target = U::RENDER_ATTACHMENT | U::COPY_SRC;
+        let (_, depth_test) =
+            image("depth test", wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT);
+        let (front, front_view) = image("depth", DEPTH_FORMAT, target);
+        let (_, thickness_view) = image(second, THICKNESS_FORMAT, target);
+        let (_, across_view) = image("filtered across", FILTERED_FORMAT, target);
+        let (filtered, filtered_view) = image("filtered", FILTERED_FORMAT, target);
+        MapImages {
+            depth_test,
+            front,
+            front_view,
+            thickness_view,
+            across_view,
+            filtered,
+            filtered_view,
+        }
+    }
+}
+
+/// The images at the frame's size and the bind groups over them.
+struct Images {
+    size: (u32, u32),
+    /// The particle buffer the splat group binds.
+    particles: wgpu::Buffer,
+    maps: MapImages,
     behind: wgpu::Texture,
     splat_group: wgpu::BindGroup,
     across_group: wgpu::BindGroup,
@@ -306,19 +333,16 @@ impl Images {
         scene_depth: &wgpu::TextureView,
     ) -> Self {
         use wgpu::TextureUsages as U;
-        let image = |label, format, extra| {
-            let t = texture_2d(device, label, size, format, U::TEXTURE_BINDING | extra);
-            let v = t.create_view(&Default::default());
-            (t, v)
-        };
-        let target = U::RENDER_ATTACHMENT | U::COPY_SRC;
-        let (_, depth_test) =
-            image("liquid depth test", wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT);
-        let (front, front_view) = image("liquid depth", DEPTH_FORMAT, target);
-        let (_, thickness_view) = image("liquid thickness", THICKNESS_FORMAT, target);
-        let (_, across_view) = image("liquid filtered across", FILTERED_FORMAT, target);
-        let (filtered, filtered_view) = image("liquid filtered", FILTERED_FORMAT, target);
-        let (behind, behind_view) = image("liquid behind", crate::formats::HDR_FORMAT, U::COPY_DST);
+        let maps = MapImages::new(device, size, "thickness", "");
+        let MapImages { front_view, thickness_view, across_view, filtered_view, .. } = &maps;
+        let behind = texture_2d(
+            device,
+            "liquid behind",
+            size,
+            crate::formats::HDR_FORMAT,
+            U::TEXTURE_BINDING | U::COPY_DST,
+        );
+        let behind_view = behind.create_view(&Default::default());
         let tv = wgpu::BindingResource::TextureView;
         let group = |label, layout, entries: &[(u32, wgpu::BindingResource)]| {
             bind_group(device, label, layout, entries)
@@ -332,30 +356,24 @@ impl Images {
         let across_group = group(
             "liquid filter across",
             &p.filter_layout,
-            &[(0, params.clone()), (3, tv(&front_view)), (4, tv(&thickness_view))],
+            &[(0, params.clone()), (3, tv(front_view)), (4, tv(thickness_view))],
         );
         let down_group = group(
             "liquid filter down",
             &p.filter_layout,
             // The thickness is the first pass's second channel (binding 4
             // is not read).
-            &[(0, params.clone()), (3, tv(&across_view)), (4, tv(&thickness_view))],
+            &[(0, params.clone()), (3, tv(across_view)), (4, tv(thickness_view))],
         );
         let shade_group = group(
             "liquid shade",
             &p.shade_layout,
-            &[(0, params), (2, tv(scene_depth)), (3, tv(&filtered_view)), (5, tv(&behind_view))],
+            &[(0, params), (2, tv(scene_depth)), (3, tv(filtered_view)), (5, tv(&behind_view))],
         );
         Images {
             size,
             particles: liquid.particles.clone(),
-            depth_test,
-            front,
-            front_view,
-            thickness_view,
-            across_view,
-            filtered,
-            filtered_view,
+            maps,
             behind,
             splat_group,
             across_group,
@@ -391,13 +409,7 @@ fn bind_group(
 struct SunImages {
     resolution: u32,
     params: wgpu::Buffer,
-    depth_test: wgpu::TextureView,
-    front: wgpu::Texture,
-    front_view: wgpu::TextureView,
-    thickness_view: wgpu::TextureView,
-    across_view: wgpu::TextureView,
-    filtered: wgpu::Texture,
-    filtered_view: wgpu::TextureView,
+    maps: MapImages,
     across_group: wgpu::BindGroup,
     down_group: wgpu::BindGroup,
     faces_group: wgpu::BindGroup,
@@ -411,26 +423,8 @@ struct SunImages {
 
 impl SunImages {
     fn new(device: &wgpu::Device, p: &Pipelines, resolution: u32) -> Self {
-        use wgpu::TextureUsages as U;
-        let size = (resolution, resolution);
-        let image = |label, format, extra| {
-            let t = texture_2d(device, label, size, format, U::TEXTURE_BINDING | extra);
-            let v = t.create_view(&Default::default());
-            (t, v)
-        };
-        let target = U::RENDER_ATTACHMENT | U::COPY_SRC;
-        let (_, depth_test) = image(
-            "liquid depth test from the sun",
-            wgpu::TextureFormat::Depth32Float,
-            U::RENDER_ATTACHMENT,
-        );
-        let (front, front_view) = image("liquid depth from the sun", DEPTH_FORMAT, target);
-        // The farthest back (m), then the extent (m) in the filtered maps.
-        let (_, thickness_view) = image("liquid back from the sun", THICKNESS_FORMAT, target);
-        let (_, across_view) =
-            image("liquid filtered across from the sun", FILTERED_FORMAT, target);
-        let (filtered, filtered_view) =
-            image("liquid filtered from the sun", FILTERED_FORMAT, target);
+        // The farthest back (m) in the thickness's place.
+        let maps = MapImages::new(device, (resolution, resolution), "back", " from the sun");
         let params = storage_buffer(
             device,
             "liquid screen space from the sun",
@@ -443,23 +437,17 @@ impl SunImages {
                 device,
                 label,
                 &p.filter_layout,
-                &[(0, params.as_entire_binding()), (3, tv(source)), (4, tv(&thickness_view))],
+                &[(0, params.as_entire_binding()), (3, tv(source)), (4, tv(&maps.thickness_view))],
             )
         };
-        let across_group = filter("liquid filter across from the sun", &front_view);
-        let down_group = filter("liquid filter down from the sun", &across_view);
-        let faces_group = filter("liquid faces from the sun", &filtered_view);
+        let across_group = filter("liquid filter across from the sun", &maps.front_view);
+        let down_group = filter("liquid filter down from the sun", &maps.across_view);
+        let faces_group = filter("liquid faces from the sun", &maps.filtered_view);
         let (_, no_scene_depth) = image_1x1(device);
         SunImages {
             resolution,
             params,
-            depth_test,
-            front,
-            front_view,
-            thickness_view,
-            across_view,
-            filtered,
-            filtered_view,
+            maps,
             across_group,
             down_group,
             faces_group,
@@ -561,6 +549,36 @@ fn sun_uniforms(
     }
 }
 
+/// A filtered image (two floats' bits a pixel) read back.
+fn read_maps(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    filtered: &wgpu::Texture,
+    (width, height): (u32, u32),
+) -> FluidMaps {
+    let bytes = read_texture(device, queue, filtered, 8);
+    let values: &[f32] = bytemuck::cast_slice(&bytes); // float bits
+    let mut maps = FluidMaps::empty(width, height);
+    for (i, v) in values.chunks_exact(2).enumerate() {
+        maps.depth[i] = v[0];
+        maps.thickness[i] = v[1];
+    }
+    maps
+}
+
+/// One view's splats and filter: the nearest front (depth-tested against
+/// `depth_test`, cleared to its far plane), the second image (the chords
+/// added, or the farthest back), then the filter across and down.
+struct SplatAndFilter<'a> {
+    labels: [&'static str; 4],
+    splat_group: &'a wgpu::BindGroup,
+    front: (&'a wgpu::TextureView, &'a wgpu::RenderPipeline),
+    depth_test: (&'a wgpu::TextureView, f32),
+    second: (&'a wgpu::TextureView, &'a wgpu::RenderPipeline),
+    across: (&'a wgpu::TextureView, &'a wgpu::BindGroup),
+    down: (&'a wgpu::TextureView, &'a wgpu::BindGroup),
+}
+
 /// A colour attachment cleared to `clear` (or loaded).
 fn attachment(
     view: &wgpu::TextureView,
@@ -644,7 +662,7 @@ impl LiquidScreenSpace {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &FrameContext,
-        mut timer: Option<&mut GpuTimer>,
+        timer: Option<&mut GpuTimer>,
     ) {
         let (Some(liquid), Some(p), Some(sun)) =
             (&frame.published.liquid, &self.pipelines, &self.sun)
@@ -652,38 +670,64 @@ impl LiquidScreenSpace {
             return;
         };
         let Some((_, splat)) = &sun.splat else { return };
-        let globals = &frame.bound.globals;
+        let work = SplatAndFilter {
+            labels: [
+                "liquid depth splat from the sun",
+                "liquid back splat from the sun",
+                "liquid filter across from the sun",
+                "liquid filter down from the sun",
+            ],
+            splat_group: splat,
+            front: (&sun.maps.front_view, &p.depth_sun),
+            depth_test: (&sun.maps.depth_test, 1.0),
+            second: (&sun.maps.thickness_view, &p.back_sun),
+            across: (&sun.maps.across_view, &sun.across_group),
+            down: (&sun.maps.filtered_view, &sun.down_group),
+        };
+        Self::splat_and_filter(encoder, p, &frame.bound.globals, (6, liquid.count), &work, timer);
+    }
+
+    /// `work`'s splats of `quads` (vertices, instances) and its filter.
+    fn splat_and_filter(
+        encoder: &mut wgpu::CommandEncoder,
+        p: &Pipelines,
+        globals: &wgpu::BindGroup,
+        quads: (u32, u32),
+        work: &SplatAndFilter,
+        mut timer: Option<&mut GpuTimer>,
+    ) {
         let black = Some(wgpu::Color::TRANSPARENT);
-        let quads = (6, liquid.count);
+        let [front_label, second_label, across_label, down_label] = work.labels;
         Self::pass(
             encoder,
-            "liquid depth splat from the sun",
-            attachment(&sun.front_view, black),
-            Some((&sun.depth_test, 1.0)),
-            &p.depth_sun,
+            front_label,
+            attachment(work.front.0, black),
+            Some(work.depth_test),
+            work.front.1,
             globals,
-            splat,
+            work.splat_group,
             timer.as_deref_mut(),
             quads,
         );
         Self::pass(
             encoder,
-            "liquid back splat from the sun",
-            attachment(&sun.thickness_view, black),
+            second_label,
+            attachment(work.second.0, black),
             None,
-            &p.back_sun,
+            work.second.1,
             globals,
-            splat,
-            timer,
+            work.splat_group,
+            timer.as_deref_mut(),
             quads,
         );
         let passes = [
-            ("liquid filter across from the sun", &sun.across_view, &p.across, &sun.across_group),
-            ("liquid filter down from the sun", &sun.filtered_view, &p.down, &sun.down_group),
+            (across_label, work.across.0, &p.across, work.across.1),
+            (down_label, work.down.0, &p.down, work.down.1),
         ];
         for (label, view, pipeline, group) in passes {
             let color = attachment(view, black);
-            Self::pass(encoder, label, color, None, pipeline, globals, group, None, (3, 1));
+            let timer = timer.as_deref_mut();
+            Self::pass(encoder, label, color, None, pipeline, globals, group, timer, (3, 1));
         }
     }
 
@@ -694,36 +738,21 @@ impl LiquidScreenSpace {
         queue: &wgpu::Queue,
     ) -> Option<(FluidMaps, Vec<f32>)> {
         let sun = self.sun.as_ref()?;
-        let k = sun.resolution;
-        let bytes = read_texture(device, queue, &sun.filtered, 8);
-        let values: &[f32] = bytemuck::cast_slice(&bytes);
-        let mut maps = FluidMaps::empty(k, k);
-        for (i, v) in values.chunks_exact(2).enumerate() {
-            maps.depth[i] = v[0];
-            maps.thickness[i] = v[1];
-        }
-        let splatted = read_texture(device, queue, &sun.front, 4);
+        let maps = read_maps(device, queue, &sun.maps.filtered, (sun.resolution, sun.resolution));
+        let splatted = read_texture(device, queue, &sun.maps.front, 4);
         Some((maps, bytemuck::cast_slice(&splatted).to_vec()))
     }
 
     /// The filtered depth and thickness of the last frame drawn this way.
     fn read_filtered(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<FluidMaps> {
         let images = self.images.as_ref()?;
-        let (w, h) = images.size;
-        let bytes = read_texture(device, queue, &images.filtered, 8);
-        let values: &[f32] = bytemuck::cast_slice(&bytes); // float bits
-        let mut maps = FluidMaps::empty(w, h);
-        for (i, v) in values.chunks_exact(2).enumerate() {
-            maps.depth[i] = v[0];
-            maps.thickness[i] = v[1];
-        }
-        Some(maps)
+        Some(read_maps(device, queue, &images.maps.filtered, images.size))
     }
 
     /// The splatted depth (before the filter) of the last frame.
     fn read_splatted_depth(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<Vec<f32>> {
         let images = self.images.as_ref()?;
-        let bytes = read_texture(device, queue, &images.front, 4);
+        let bytes = read_texture(device, queue, &images.maps.front, 4);
         Some(bytemuck::cast_slice(&bytes).to_vec())
     }
 }
@@ -813,49 +842,23 @@ impl Technique for LiquidScreenSpace {
             images.behind.as_image_copy(),
             targets.hdr.size(),
         );
-        let black = Some(wgpu::Color::TRANSPARENT);
-        let quads = (6, liquid.count);
-        Self::pass(
-            encoder,
-            "liquid depth splat",
-            attachment(&images.front_view, black),
+        let work = SplatAndFilter {
+            labels: [
+                "liquid depth splat",
+                "liquid thickness splat",
+                "liquid filter across",
+                "liquid filter down",
+            ],
+            splat_group: &images.splat_group,
+            front: (&images.maps.front_view, &p.depth),
             // Reversed Z: the far plane is 0.
-            Some((&images.depth_test, 0.0)),
-            &p.depth,
-            globals,
-            &images.splat_group,
-            timer.as_deref_mut(),
-            quads,
-        );
-        Self::pass(
-            encoder,
-            "liquid thickness splat",
-            attachment(&images.thickness_view, black),
-            None,
-            &p.thickness,
-            globals,
-            &images.splat_group,
-            timer.as_deref_mut(),
-            quads,
-        );
-        let passes = [
-            ("liquid filter across", &images.across_view, &p.across, &images.across_group),
-            ("liquid filter down", &images.filtered_view, &p.down, &images.down_group),
-        ];
-        for (label, view, pipeline, group) in passes {
-            let color = attachment(view, black);
-            Self::pass(
-                encoder,
-                label,
-                color,
-                None,
-                pipeline,
-                globals,
-                group,
-                timer.as_deref_mut(),
-                (3, 1),
-            );
-        }
+            depth_test: (&images.maps.depth_test, 0.0),
+            second: (&images.maps.thickness_view, &p.thickness),
+            across: (&images.maps.across_view, &images.across_group),
+            down: (&images.maps.filtered_view, &images.down_group),
+        };
+        let quads = (6, liquid.count);
+        Self::splat_and_filter(encoder, p, globals, quads, &work, timer.as_deref_mut());
         Self::pass(
             encoder,
             "liquid screen space shade",
