@@ -79,6 +79,23 @@ fn depth_at(uv: vec2<f32>, which: u32) -> f32 {
     return textureLoad(scene_tex, texel_of(uv), 0).r;
 }
 
+// Where along p + dir·t, between `lo` (in front of the depth map `which`)
+// and `hi` (behind it), the ray passes behind it: `steps` halvings.
+fn bisect(p: vec3<f32>, dir: vec3<f32>, lo_t: f32, hi_t: f32, which: u32, steps: i32) -> f32 {
+    var lo = lo_t;
+    var hi = hi_t;
+    for (var k = 0; k < steps; k++) {
+        let mid = 0.5 * (lo + hi);
+        let m = to_light(p + dir * mid);
+        if (m.z >= depth_at(m.xy, which)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    return hi;
+}
+
 // March from p along dir until the ray passes behind the depth map `which`,
 // then refine by bisection; the distance, or −1 if it leaves the view first.
 fn march(p: vec3<f32>, dir: vec3<f32>, which: u32) -> f32 {
@@ -92,18 +109,7 @@ fn march(p: vec3<f32>, dir: vec3<f32>, which: u32) -> f32 {
             return -1.0;
         }
         if (q.z >= depth_at(q.xy, which)) {
-            var lo = prev;
-            var hi = t;
-            for (var k = 0; k < 8; k++) {
-                let mid = 0.5 * (lo + hi);
-                let m = to_light(p + dir * mid);
-                if (m.z >= depth_at(m.xy, which)) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            return hi;
+            return bisect(p, dir, prev, t, which, 8);
         }
         prev = t;
     }
@@ -175,17 +181,7 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
         let exit = to_light(p0 + t1 * max(s1, 0.0));
         let hidden = s1 > 0.0 && exit.z + contact >= depth_at(exit.xy, 1u);
         if (hidden) {
-            var lo = 0.0;
-            var hi = s1;
-            for (var k = 0; k < 12; k++) {
-                let mid = 0.5 * (lo + hi);
-                let m = to_light(p0 + t1 * mid);
-                if (m.z >= depth_at(m.xy, 1u)) {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
+            let hi = bisect(p0, t1, 0.0, s1, 1u, 12);
             let transmitted = 1.0 - fresnel_exact(cos0, 1.0, ior);
             let tint = exp(-frame.water.absorption * hi);
             // No tube: the path never leaves the water into the air's fog.
