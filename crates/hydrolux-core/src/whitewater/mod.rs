@@ -786,6 +786,7 @@ impl Plunge {
     }
 }
 
+pub mod foam_look;
 mod particles;
 pub use particles::*;
 

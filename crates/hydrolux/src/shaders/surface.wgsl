@@ -304,21 +304,27 @@ fn foam_cover_at(p: vec2<f32>) -> f32 {
     return textureSampleLevel(foam_tex, surface_sampler, p / surface.foam_side, 0.0).x;
 }
 
-// The foam's cover at p, filtered over the footprint given by the screen
-// derivatives of p (fragment stage); 0 where there is no foam.
-fn foam_cover_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> f32 {
+// How much of the foam window's cover shows at p: 1 inside a tiling
+// window, faded out over a window's last 5% (not cut at its edge); 0 where
+// there is no foam.
+fn foam_window(p: vec2<f32>) -> f32 {
     if (surface.foam_side <= 0.0) {
         return 0.0;
     }
+    if (surface.foam_tiles != 0u) {
+        return 1.0;
+    }
     let uv = (p - surface.foam_origin) / surface.foam_side;
-    var inside = 1.0;
-    if (surface.foam_tiles == 0u) {
-        // A window: faded out over its last 5% (not cut at its edge).
-        let edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
-        inside = clamp(edge / 0.05, 0.0, 1.0);
-        if (inside <= 0.0) {
-            return 0.0;
-        }
+    let edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
+    return clamp(edge / 0.05, 0.0, 1.0);
+}
+
+// The foam's cover at p, filtered over the footprint given by the screen
+// derivatives of p (fragment stage); 0 where there is no foam.
+fn foam_cover_grad(p: vec2<f32>, dpdx: vec2<f32>, dpdy: vec2<f32>) -> f32 {
+    let inside = foam_window(p);
+    if (inside <= 0.0) {
+        return 0.0;
     }
     // The texture holds world cells modulo the window: sample at p / side.
     let st = p / surface.foam_side;

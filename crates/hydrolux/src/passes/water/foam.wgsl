@@ -27,74 +27,229 @@ fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(hue * light, 1.0);
 }
 
-// Foam as seen in a pixel: its cover filtered over the footprint (the
-// fraction of the pixel that is foam, so it never shimmers), broken up into
-// lacy patches and bubbles by noise at three scales (5.6 m, 1.4 m, 0.35 m
-// across the wind, `foam_streak` times longer along it: wind streaks): a
-// cell of cover c shows foam where the noise lies below c, a dense sheet
-// keeps a few holes. Each octave fades into its mean once a pixel's
-// footprint (geometric mean of its two axes, so grazing views keep their
-// detail across the view) nears its size, and with no octave left the
-// pixel shows c itself. Only the look is noise: where and how much foam
-// there is comes from the simulated field.
-fn foam_seen(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
-    let c = foam_cover_grad(p, dpdx_p, dpdy_p);
-    if (c <= 0.0) {
-        return 0.0;
-    }
-    let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
-    // Noise space: along the wind shrunk by the streaks' length.
-    let wind = surface.foam_wind;
-    let q = vec2<f32>(dot(p, wind) / max(surface.foam_streak, 1.0), dot(p, vec2<f32>(-wind.y, wind.x)));
-    var n = 0.5;
-    var kept = 0.0;
-    var scale = 5.6;
-    var weight = 0.3;
-    for (var k = 0; k < 3; k++) {
-        let d = 1.0 - smoothstep(0.2, 0.7, footprint / scale);
-        let offset = vec2<f32>(17.0, 3.0) * f32(k);
-        n += weight * d * (value_noise(q / scale + offset) - 0.5);
-        kept = max(kept, d);
-        scale *= 0.25;
-        weight *= 1.2;
-    }
-    if (kept <= 0.0) {
-        return c;
-    }
-    let width = 0.12 + 0.4 * (1.0 - kept);
-    let pattern = smoothstep(n - width, n + width, 0.05 + 0.85 * c);
-    // Inside a patch the sheet is thicker and thinner (0.9 m blotches,
-    // faded like the octaves), not one flat white.
-    let blotch = 1.0 - smoothstep(0.2, 0.7, footprint / 0.9);
-    let thickness = clamp(1.0 + blotch * (value_noise(q / 0.9 + vec2<f32>(31.0, 7.0)) - 0.6), 0.0, 1.0);
-    // Far off, the mean of what the pattern shows (its mean cover).
-    return mix(c, pattern * thickness, kept);
+// How foam looks where the field puts it (twin:
+// hydrolux_core::whitewater::foam_look, which says why). A raft of
+// bubbles: a dense sheet with holes that tears into lace as it thins.
+// The structure s(q) mixes a cell network's walls (Worley's F2 − F1,
+// LACE_CELL across) with a breakup noise (BREAKUP across) in the wind's
+// frame, along-wind shrunk by the streak length; foam covers s < t(c),
+// t the structure's quantiles, so the covered fraction is the cover c.
+
+const LACE_CELL: f32 = 0.5;
+const BREAKUP: f32 = 3.0;
+const LACE_WARP: f32 = 0.35;
+const WARP_SCALE: f32 = 2.3;
+const EDGE_SPAN: f32 = 0.6;
+const LACE_WEIGHT: f32 = 0.5;
+const THICK_SPAN: f32 = 0.1;
+const FOAM_THRESHOLDS = array<f32, 17>(
+    0.15, 0.273, 0.321, 0.354, 0.383, 0.408, 0.433, 0.456, 0.479, 0.502, 0.526, 0.552, 0.580, 0.612,
+    0.651, 0.706, 1.0,
+);
+// The same without the finer network.
+const COARSE_THRESHOLDS = array<f32, 17>(
+    0.12, 0.233, 0.282, 0.318, 0.349, 0.379, 0.408, 0.437, 0.467, 0.500, 0.534, 0.572, 0.612, 0.657,
+    0.707, 0.770, 1.0,
+);
+// The height of a thick sheet's lumps over its film (m): the slopes the
+// sun catches at its edges and on its bubble clumps.
+const FOAM_LUMP: f32 = 0.04;
+
+struct FoamLook {
+    // The fraction of the pixel that is foam (0–1).
+    cover: f32,
+    // How deep inside the foam it is, averaged (0 a film, 1 a thick sheet).
+    thickness: f32,
+    // The slope of the foam's lumpy top (d height / dx, dz, world).
+    slope: vec2<f32>,
 }
 
-// Foam's brightness (0.6–1): bubbles of many sizes make its sheet lumpy,
-// some of it in the shade of the rest. Noise at 0.5 m and 0.12 m, faded to
-// its mean (0.85) as the pixel's footprint nears its size.
-fn foam_shade(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
-    let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
-    var shade = 0.85;
-    var scale = 0.5;
-    for (var k = 0; k < 2; k++) {
-        let d = 1.0 - smoothstep(0.2, 0.7, footprint / scale);
-        shade += 0.25 * d * (value_noise(p / scale + vec2<f32>(5.0, 11.0) * f32(k + 1)) - 0.5);
-        scale *= 0.25;
-    }
-    return clamp(shade, 0.6, 1.0);
+// What a foam layer hides of what lies beneath it: a thin film lets 40% of the
+// water through, a thick sheet nothing.
+fn foam_opacity(look: FoamLook) -> f32 {
+    return look.cover * (0.6 + 0.4 * look.thickness);
 }
 
-fn value_noise(x: vec2<f32>) -> f32 {
+fn foam_threshold(c: f32, fine: f32) -> f32 {
+    let x = clamp(c, 0.0, 1.0) * 16.0;
+    let k = min(u32(floor(x)), 15u);
+    let f = x - f32(k);
+    let full = FOAM_THRESHOLDS[k] + (FOAM_THRESHOLDS[k + 1u] - FOAM_THRESHOLDS[k]) * f;
+    let coarse = COARSE_THRESHOLDS[k] + (COARSE_THRESHOLDS[k + 1u] - COARSE_THRESHOLDS[k]) * f;
+    return coarse + (full - coarse) * fine;
+}
+
+// Value noise (0–1) with its gradient: (value, d/dx, d/dy).
+fn value_noise_d(x: vec2<f32>) -> vec3<f32> {
     let i = floor(x);
     let f = x - i;
     let u = f * f * (3.0 - 2.0 * f);
+    let du = 6.0 * f * (1.0 - f);
     let a = noise_hash(i);
     let b = noise_hash(i + vec2<f32>(1.0, 0.0));
     let c = noise_hash(i + vec2<f32>(0.0, 1.0));
     let d = noise_hash(i + vec2<f32>(1.0, 1.0));
-    return mix(mix(a, b, u.x), mix(c, d, u.x), u.y);
+    let k = a - b - c + d;
+    let v = a + (b - a) * u.x + (c - a) * u.y + k * u.x * u.y;
+    return vec3<f32>(v, du.x * ((b - a) + k * u.y), du.y * ((c - a) + k * u.x));
+}
+
+// A cell network's wall distance at x (cells), (F2 − F1)/EDGE_SPAN capped
+// at 1, and its gradient (per cell): one jittered feature point per cell.
+fn foam_walls(x: vec2<f32>) -> vec3<f32> {
+    let base = floor(x);
+    var f1 = 8.0;
+    var f2 = 8.0;
+    var g1 = vec2<f32>(0.0);
+    var g2 = vec2<f32>(0.0);
+    for (var j = -1; j <= 1; j++) {
+        for (var i = -1; i <= 1; i++) {
+            let cell = base + vec2<f32>(f32(i), f32(j));
+            let jitter = vec2<f32>(noise_hash(cell + vec2<f32>(113.0, 71.0)), noise_hash(cell + vec2<f32>(37.0, 191.0)));
+            let to = x - (cell + vec2<f32>(0.1) + 0.8 * jitter);
+            let d = length(to);
+            let g = to / max(d, 1e-6);
+            if (d < f1) {
+                f2 = f1;
+                g2 = g1;
+                f1 = d;
+                g1 = g;
+            } else if (d < f2) {
+                f2 = d;
+                g2 = g;
+            }
+        }
+    }
+    let edge = (f2 - f1) / EDGE_SPAN;
+    if (edge < 1.0) {
+        return vec3<f32>(edge, (g2 - g1) / EDGE_SPAN);
+    }
+    return vec3<f32>(1.0, 0.0, 0.0);
+}
+
+// The foam's structure at (along, across) the wind (m): s and its gradient
+// (per m along, per m across). The breakup is stretched by the streak
+// length, the lace by its square root, and the lace's walls wander by a
+// warp LACE_WARP cells deep; two network scales give bubbles many sizes,
+// the finer one weighted by `fine` (how much of it a pixel resolves).
+fn foam_structure(along: f32, across: f32, streak_length: f32, fine: f32) -> vec3<f32> {
+    let streak = max(streak_length, 1.0);
+    let lace_stretch = sqrt(streak);
+    let r = vec2<f32>(along / lace_stretch, across) / LACE_CELL;
+    let w1 = value_noise_d(r / WARP_SCALE + vec2<f32>(41.0, 7.0));
+    let w2 = value_noise_d(r / WARP_SCALE + vec2<f32>(3.0, 53.0));
+    let k = 2.0 * LACE_WARP / WARP_SCALE;
+    let x = r + 2.0 * LACE_WARP * vec2<f32>(w1.x - 0.5, w2.x - 0.5);
+    let jx = vec2<f32>(1.0 + k * w1.y, k * w1.z);
+    let jy = vec2<f32>(k * w2.y, 1.0 + k * w2.z);
+    let l1 = foam_walls(x);
+    let l2 = foam_walls(x / 0.4 + vec2<f32>(19.0, 23.0));
+    let e = l1.x + fine * 0.35 * (l2.x - l1.x);
+    let ge_x = l1.yz + fine * 0.35 * (l2.yz / 0.4 - l1.yz);
+    let ge_r = vec2<f32>(ge_x.x * jx.x + ge_x.y * jy.x, ge_x.x * jx.y + ge_x.y * jy.y);
+    let ge = vec2<f32>(ge_r.x / (lace_stretch * LACE_CELL), ge_r.y / LACE_CELL);
+    let q = vec2<f32>(along / streak, across);
+    let m1 = value_noise_d(q / BREAKUP + vec2<f32>(17.0, 3.0));
+    let m2 = value_noise_d(q / (0.35 * BREAKUP) + vec2<f32>(5.0, 29.0));
+    let m = 0.65 * m1.x + 0.35 * m2.x;
+    let gq = 0.65 * m1.yz / BREAKUP + 0.35 * m2.yz / (0.35 * BREAKUP);
+    let gm = vec2<f32>(gq.x / streak, gq.y);
+    return vec3<f32>(LACE_WEIGHT * e + (1.0 - LACE_WEIGHT) * m, LACE_WEIGHT * ge + (1.0 - LACE_WEIGHT) * gm);
+}
+
+// The mean thickness of the foam a cover c puts down (twin: mean_thickness).
+fn foam_mean_thickness(c: f32) -> f32 {
+    return 0.25 + 0.75 * sqrt(clamp(c, 0.0, 1.0));
+}
+
+// Foam as a pixel sees it. Its cover is the field's, filtered over the
+// pixel's footprint. The lace is resolved while the pixel's longer axis
+// (a grazing view's, along the view) is well under a cell: the finer
+// network fades out first, then the whole pattern into c, its own mean
+// (the thresholds keep the covered fraction c throughout, so no band);
+// edges are as soft as s changes across the pixel, so they never alias.
+// Bubble clumps (0.3 m, 0.08 m) make a thick sheet lumpy.
+fn foam_look(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> FoamLook {
+    var look = FoamLook(0.0, 0.0, vec2<f32>(0.0));
+    let c = foam_cover_smooth(p, dpdx_p, dpdy_p);
+    if (c <= 0.0) {
+        return look;
+    }
+    let longest = max(length(dpdx_p), length(dpdy_p));
+    let wind = surface.foam_wind;
+    let across = vec2<f32>(-wind.y, wind.x);
+    let kept = 1.0 - smoothstep(0.2, 0.5, longest / LACE_CELL);
+    // Far off: the pattern's means.
+    look.cover = c;
+    look.thickness = foam_mean_thickness(c);
+    if (kept <= 0.0) {
+        return look;
+    }
+    let fine = 1.0 - smoothstep(0.2, 0.5, longest / (0.4 * LACE_CELL));
+    let s = foam_structure(dot(p, wind), dot(p, across), surface.foam_streak, fine);
+    // World gradient of s (the wind's axes back to the surface's).
+    let grad = wind * s.y + across * s.z;
+    let t = foam_threshold(c, fine);
+    // Half the change of s across the pixel: the edge's soft width.
+    let soft = max(0.5 * (abs(dot(grad, dpdx_p)) + abs(dot(grad, dpdy_p))), 0.01);
+    let inside = smoothstep(-soft, soft, t - s.x);
+    let depth = clamp((t - s.x) / THICK_SPAN, 0.0, 1.0);
+    // The sheet's top rises over THICK_SPAN from the edge: its slope.
+    var slope = vec2<f32>(0.0);
+    if (depth > 0.0 && depth < 1.0) {
+        slope = -grad * (FOAM_LUMP / THICK_SPAN);
+    }
+    // Bubble clumps on the thick sheet, each octave faded by its size.
+    var lumps = 0.0;
+    var scale = 0.3;
+    for (var k = 0; k < 2; k++) {
+        let fade = (1.0 - smoothstep(0.2, 0.6, longest / scale)) * depth;
+        let n = value_noise_d(p / scale + vec2<f32>(5.0, 11.0) * f32(k + 1));
+        lumps += fade * (n.x - 0.5);
+        slope += fade * 0.5 * FOAM_LUMP * n.yz / scale;
+        scale *= 0.27;
+    }
+    look.cover = mix(c, inside, kept);
+    look.thickness = mix(foam_mean_thickness(c), clamp(depth * (1.0 + 0.6 * lumps), 0.0, 1.0), kept);
+    look.slope = slope * kept;
+    return look;
+}
+
+// The field's cover at p over the pixel's footprint; where a pixel is
+// smaller than a cell the cells are joined by a cubic B-spline (four
+// bilinear taps; Sigg & Hadwiger, GPU Gems 2 ch. 20) so that the lace's
+// threshold does not trace the bilinear cells' diamonds and steps.
+fn foam_cover_smooth(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
+    let filtered = foam_cover_grad(p, dpdx_p, dpdy_p);
+    let inside = foam_window(p);
+    if (inside <= 0.0) {
+        return 0.0;
+    }
+    let cells = f32(textureDimensions(foam_tex).x);
+    let cell = surface.foam_side / cells;
+    let footprint = sqrt(max(abs(dpdx_p.x * dpdy_p.y - dpdx_p.y * dpdy_p.x), 1e-8));
+    let smooth_weight = 1.0 - smoothstep(0.5, 1.0, footprint / cell);
+    if (smooth_weight <= 0.0 || filtered <= 0.0) {
+        return filtered;
+    }
+    // Texel coordinates (centres at +½), split into the cell and the way across.
+    let x = p / cell - 0.5;
+    let i = floor(x);
+    let f = x - i;
+    let w0 = (1.0 - f) * (1.0 - f) * (1.0 - f) / 6.0;
+    let w1 = (4.0 - 6.0 * f * f + 3.0 * f * f * f) / 6.0;
+    let w2 = (1.0 + 3.0 * f + 3.0 * f * f - 3.0 * f * f * f) / 6.0;
+    let w3 = f * f * f / 6.0;
+    let a = w0 + w1;
+    let b = w2 + w3;
+    let at_a = (i - 0.5 + w1 / a) / cells;
+    let at_b = (i + 1.5 + w3 / b) / cells;
+    let t00 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_a.x, at_a.y), 0.0).x;
+    let t10 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_b.x, at_a.y), 0.0).x;
+    let t01 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_a.x, at_b.y), 0.0).x;
+    let t11 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_b.x, at_b.y), 0.0).x;
+    let cubic = a.y * (a.x * t00 + b.x * t10) + b.y * (a.x * t01 + b.x * t11);
+    return mix(filtered, inside * cubic, smooth_weight);
 }
 
 fn noise_hash(i: vec2<f32>) -> f32 {

@@ -50,3 +50,47 @@ fn every_ring_hole_is_exactly_the_finer_ring() {
         }
     }
 }
+
+/// The foam's look in WGSL (passes/water/foam.wgsl) is its CPU twin's
+/// (hydrolux_core::whitewater::foam_look): the same sizes, weights and the
+/// measured quantile tables.
+#[test]
+fn wgsl_foam_look_constants_are_the_twins() {
+    use hydrolux_core::whitewater::foam_look as twin;
+    let source = crate::shaders::compose("", "#import water_foam\n");
+    let module = naga::front::wgsl::parse_str(&source).expect("foam.wgsl parses");
+    let init = |name: &str| {
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("{name} in foam.wgsl"));
+        c.init
+    };
+    let literal = |h: naga::Handle<naga::Expression>| match module.global_expressions[h] {
+        naga::Expression::Literal(naga::Literal::F32(v)) => v,
+        ref e => panic!("not an f32 literal: {e:?}"),
+    };
+    for (name, value) in [
+        ("LACE_CELL", twin::LACE_CELL),
+        ("BREAKUP", twin::BREAKUP),
+        ("LACE_WARP", twin::LACE_WARP),
+        ("WARP_SCALE", twin::WARP_SCALE),
+        ("EDGE_SPAN", twin::EDGE_SPAN),
+        ("LACE_WEIGHT", twin::LACE_WEIGHT),
+        ("THICK_SPAN", twin::THICK_SPAN),
+    ] {
+        assert_eq!(literal(init(name)), value, "{name}");
+    }
+    for (name, table) in
+        [("FOAM_THRESHOLDS", twin::FOAM_THRESHOLDS), ("COARSE_THRESHOLDS", twin::COARSE_THRESHOLDS)]
+    {
+        match &module.global_expressions[init(name)] {
+            naga::Expression::Compose { components, .. } => {
+                let wgsl: Vec<f32> = components.iter().map(|&h| literal(h)).collect();
+                assert_eq!(wgsl, table, "{name}");
+            }
+            e => panic!("{name} is not an array literal: {e:?}"),
+        }
+    }
+}

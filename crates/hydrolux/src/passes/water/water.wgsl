@@ -275,9 +275,9 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // cover and its shade.
     let p_dx = dpdx(p);
     let p_dy = dpdy(p);
-    let foam = foam_seen(p, p_dx, p_dy);
+    let foam = foam_look(p, p_dx, p_dy);
     if (frame.modes.debug_view == VIEW_FOAM) {
-        return foam_view(foam, n);
+        return foam_view(foam_opacity(foam), n);
     }
     let cos_v = max(dot(n, v), 1e-3);
     let ior = frame.water.ior;
@@ -343,15 +343,22 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     }
     var color = f * reflected + (1.0 - f) * through + glint;
 
-    // Foam: a rough, nearly white layer of bubbles (albedo ~0.8, lit
-    // diffusely by the sky and the unshadowed sun on the wave's slope, so
-    // foam on a crest's lee is darker than on its face) that hides the
-    // water and its glint beneath it.
-    if (foam > 0.0) {
-        let sun_lit = frame.light.sun_illuminance * max(dot(n, l), 0.0) * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
-        let sky_lit = frame.light.sky_ambient * (0.5 + 0.5 * n.y);
-        let foam_color = FOAM_ALBEDO * foam_shade(p, p_dx, p_dy) * (sky_lit + sun_lit) / PI;
-        color = mix(color, foam_color, foam);
+    // Foam: a raft of bubbles (albedo 0.8) over the water and its glint.
+    // Its top is the wave's surface tilted by the foam's own lumps, so the
+    // sun lights a sheet's clumps and edges and leaves their lee and the
+    // wave's back in shade; the light it scatters spreads through its
+    // depth, so the sun wraps a little past the lumps' terminators (half-
+    // Lambert over 0.3), and thin film and hollows are darker (light goes
+    // on into the water there) and let the water show (foam_opacity).
+    let foam_alpha = foam_opacity(foam);
+    if (foam_alpha > 0.0) {
+        let top = normalize(n - vec3<f32>(foam.slope.x, 0.0, foam.slope.y));
+        let wrap = max((dot(top, l) + 0.3) / 1.3, 0.0) * step(0.0, l.y);
+        let sun_lit = frame.light.sun_illuminance * wrap * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
+        let sky_lit = frame.light.sky_ambient * (0.5 + 0.5 * top.y);
+        let depth_shade = 0.65 + 0.35 * foam.thickness;
+        let foam_color = FOAM_ALBEDO * depth_shade * (sky_lit + sun_lit) / PI;
+        color = mix(color, foam_color, foam_alpha);
     }
 
     // Aerial perspective: distant water melts into the horizon haze.
@@ -386,9 +393,9 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     if (frame.modes.debug_view == VIEW_RIPPLES) {
         return ripple_view(g, -n);
     }
-    let foam = foam_seen(g, dpdx(g), dpdy(g));
+    let foam = foam_look(g, dpdx(g), dpdy(g));
     if (frame.modes.debug_view == VIEW_FOAM) {
-        return foam_view(foam, n);
+        return foam_view(foam_opacity(foam), n);
     }
     let ior = frame.water.ior;
     // How wide a pixel is per metre along its ray (traced hits' patterns).
@@ -447,8 +454,11 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
         }
     }
     var l = f * reflected + (1.0 - f) * through;
-    // Foam seen from below: a dark, ragged layer, the light that filters
-    // through a few centimetres of bubbles (a tenth of the sky's).
-    l = mix(l, FOAM_BELOW * frame.light.sky_underwater / PI, foam);
+    // Foam seen from below: a dark, ragged layer. What comes through it is
+    // what its bubbles do not scatter back up, by its thickness: a film
+    // passes most of the light behind it, a thick sheet only the dim glow
+    // diffused through it (a tenth of the sky's).
+    let through_foam = mix(l * foam_transmittance(foam.thickness), FOAM_BELOW * frame.light.sky_underwater / PI, foam.thickness);
+    l = mix(l, through_foam, foam.cover);
     return vec4<f32>(min(through_water(eye, in.world, l), vec3<f32>(60000.0)), 1.0);
 }

@@ -1,0 +1,309 @@
+//! How foam looks where the field says there is foam (seed 003 §4.4; the
+//! CPU twin of `passes/water/foam.wgsl`, same f32 arithmetic and order).
+//!
+//! Sea foam is a raft of bubbles: a dense sheet is bright and lumpy with a
+//! few holes, and as it thins it tears into a lace of filaments (the walls
+//! between the bubble cells that burst first) before it goes. The simulated
+//! field gives a cell's cover c (0–1, the fraction that is foam); the look
+//! is a structure s(q) over the surface (0–1): the distance to the nearest
+//! wall of a jittered cell network (Worley's F2 − F1, cells
+//! [`LACE_CELL`] m across) mixed with a breakup noise [`BREAKUP`] m across,
+//! in a frame stretched downwind by the streak length. Foam covers the
+//! points where s lies below the threshold t(c) that makes the covered
+//! fraction c itself ([`FOAM_THRESHOLDS`], the measured quantiles of s):
+//! a sparse cover is lace, a dense one a sheet with holes, and a pixel too
+//! coarse to resolve the cells shows c, the pattern's own mean, so the
+//! near and far foam meet without a band. How far a point lies inside the
+//! foam (t − s) is its thickness: the lumps on a thick sheet catch the sun
+//! and thin lace lets the water show through.
+
+use glam::Vec2;
+
+/// Side of the lace's bubble cells (m, across the wind).
+pub const LACE_CELL: f32 = 0.5;
+/// Size of the noise that breaks the foam into patches (m, across the wind).
+pub const BREAKUP: f32 = 3.0;
+/// How far the lace's walls wander (cells) and the size of their wander (cells).
+pub const LACE_WARP: f32 = 0.35;
+pub const WARP_SCALE: f32 = 2.3;
+/// F2 − F1 (in cells) beyond which a point counts as a cell's middle.
+pub const EDGE_SPAN: f32 = 0.6;
+/// Weight of the cell network in the structure (the breakup noise has the rest).
+pub const LACE_WEIGHT: f32 = 0.5;
+/// t − s over which foam goes from a film to its full thickness.
+pub const THICK_SPAN: f32 = 0.1;
+
+/// The structure's quantiles at cover c = 0, 1/16, …, 1: foam shows where
+/// s < t(c), so that a fraction c of the surface is foam (measured over a
+/// large area by `thresholds_are_the_structures_quantiles`).
+pub const FOAM_THRESHOLDS: [f32; 17] = [
+    0.15, 0.273, 0.321, 0.354, 0.383, 0.408, 0.433, 0.456, 0.479, 0.502, 0.526, 0.552, 0.580,
+    0.612, 0.651, 0.706, 1.0,
+];
+
+/// The same without the finer network (`fine` = 0).
+// 0.318 is a measured quantile, not 1/π.
+#[allow(clippy::approx_constant)]
+pub const COARSE_THRESHOLDS: [f32; 17] = [
+    0.12, 0.233, 0.282, 0.318, 0.349, 0.379, 0.408, 0.437, 0.467, 0.500, 0.534, 0.572, 0.612,
+    0.657, 0.707, 0.770, 1.0,
+];
+
+/// The threshold t(c) for cover `c` with `fine` of the finer network:
+/// piecewise linear in the tables, and between them.
+pub fn foam_threshold(c: f32, fine: f32) -> f32 {
+    let x = c.clamp(0.0, 1.0) * 16.0;
+    let k = (x.floor() as usize).min(15);
+    let f = x - k as f32;
+    let full = FOAM_THRESHOLDS[k] + (FOAM_THRESHOLDS[k + 1] - FOAM_THRESHOLDS[k]) * f;
+    let coarse = COARSE_THRESHOLDS[k] + (COARSE_THRESHOLDS[k + 1] - COARSE_THRESHOLDS[k]) * f;
+    coarse + (full - coarse) * fine
+}
+
+/// The lattice hash of WGSL's `noise_hash` (0–1): the integer point's bits
+/// mixed as u32.
+pub fn noise_hash(i: Vec2) -> f32 {
+    let k = [i.x as i32 as u32, i.y as i32 as u32];
+    let mut h = k[0].wrapping_mul(0x27d4_eb2d) ^ k[1].wrapping_mul(0x1656_67b1);
+    h = (h ^ (h >> 15)).wrapping_mul(0x2c1b_3c6d);
+    h ^= h >> 12;
+    (h & 0xffff) as f32 / 65535.0
+}
+
+/// Value noise (0–1) with its gradient: (value, ∂/∂x, ∂/∂y).
+pub fn value_noise_d(x: Vec2) -> [f32; 3] {
+    let i = x.floor();
+    let f = x - i;
+    let u = f * f * (Vec2::splat(3.0) - 2.0 * f);
+    let du = 6.0 * f * (Vec2::ONE - f);
+    let a = noise_hash(i);
+    let b = noise_hash(i + Vec2::new(1.0, 0.0));
+    let c = noise_hash(i + Vec2::new(0.0, 1.0));
+    let d = noise_hash(i + Vec2::new(1.0, 1.0));
+    let k = a - b - c + d;
+    let v = a + (b - a) * u.x + (c - a) * u.y + k * u.x * u.y;
+    [v, du.x * ((b - a) + k * u.y), du.y * ((c - a) + k * u.x)]
+}
+
+/// A cell network's nearest and second-nearest feature points (Worley
+/// 1996): their distances F1 ≤ F2 and the gradients of each, in cells.
+#[derive(Clone, Copy, Debug)]
+pub struct Cells {
+    pub f1: f32,
+    pub f2: f32,
+    pub g1: Vec2,
+    pub g2: Vec2,
+}
+
+/// One feature point per unit cell, jittered over its middle 80%.
+pub fn cells(x: Vec2) -> Cells {
+    let base = x.floor();
+    let mut c = Cells { f1: 8.0, f2: 8.0, g1: Vec2::ZERO, g2: Vec2::ZERO };
+    for j in -1..=1 {
+        for i in -1..=1 {
+            let cell = base + Vec2::new(i as f32, j as f32);
+            let jitter = Vec2::new(
+                noise_hash(cell + Vec2::new(113.0, 71.0)),
+                noise_hash(cell + Vec2::new(37.0, 191.0)),
+            );
+            let to = x - (cell + Vec2::splat(0.1) + 0.8 * jitter);
+            let d = to.length();
+            let g = to / d.max(1e-6);
+            if d < c.f1 {
+                c.f2 = c.f1;
+                c.g2 = c.g1;
+                c.f1 = d;
+                c.g1 = g;
+            } else if d < c.f2 {
+                c.f2 = d;
+                c.g2 = g;
+            }
+        }
+    }
+    c
+}
+
+/// A cell network's wall distance at x (cells): (F2 − F1)/EDGE_SPAN capped
+/// at 1, and its gradient (per cell).
+fn walls(x: Vec2) -> (f32, Vec2) {
+    let c = cells(x);
+    let edge = (c.f2 - c.f1) / EDGE_SPAN;
+    if edge < 1.0 { (edge, (c.g2 - c.g1) / EDGE_SPAN) } else { (1.0, Vec2::ZERO) }
+}
+
+/// The foam's structure at `along`, `across` (m, in the wind's frame) for
+/// streaks `streak` times longer than wide: s (0–1) and its gradient (per
+/// m along, per m across). The breakup is stretched by the full streak
+/// length, the lace by its square root (bubble cells are drawn out less
+/// than the windrows they gather in), and the lace is warped by a noise
+/// LACE_WARP cells deep so that its walls wander; the network at two
+/// scales (LACE_CELL and 0.4 of it) gives the bubbles many sizes. `fine`
+/// (0–1) is how much of the finer network a pixel resolves: without it the
+/// structure is the coarse network's and the breakup's alone, whose
+/// quantiles are [`COARSE_THRESHOLDS`].
+pub fn foam_structure(along: f32, across: f32, streak: f32, fine: f32) -> [f32; 3] {
+    let streak = streak.max(1.0);
+    let lace_stretch = streak.sqrt();
+    // Lace space (cells) and its warp.
+    let r = Vec2::new(along / lace_stretch, across) / LACE_CELL;
+    let w1 = value_noise_d(r / WARP_SCALE + Vec2::new(41.0, 7.0));
+    let w2 = value_noise_d(r / WARP_SCALE + Vec2::new(3.0, 53.0));
+    let k = 2.0 * LACE_WARP / WARP_SCALE;
+    let x = r + 2.0 * LACE_WARP * Vec2::new(w1[0] - 0.5, w2[0] - 0.5);
+    // ∂x/∂r: the identity plus the warp's Jacobian (rows: x's components).
+    let jx = Vec2::new(1.0 + k * w1[1], k * w1[2]);
+    let jy = Vec2::new(k * w2[1], 1.0 + k * w2[2]);
+    let (e1, g1) = walls(x);
+    let (e2, g2) = walls(x / 0.4 + Vec2::new(19.0, 23.0));
+    let e = e1 + fine * 0.35 * (e2 - e1);
+    let ge_x = g1 + fine * 0.35 * (g2 / 0.4 - g1);
+    // Back to r (chain rule through the warp), then to metres.
+    let ge_r = Vec2::new(ge_x.x * jx.x + ge_x.y * jy.x, ge_x.x * jx.y + ge_x.y * jy.y);
+    let ge = Vec2::new(ge_r.x / (lace_stretch * LACE_CELL), ge_r.y / LACE_CELL);
+    // The breakup.
+    let q = Vec2::new(along / streak, across);
+    let m1 = value_noise_d(q / BREAKUP + Vec2::new(17.0, 3.0));
+    let m2 = value_noise_d(q / (0.35 * BREAKUP) + Vec2::new(5.0, 29.0));
+    let m = 0.65 * m1[0] + 0.35 * m2[0];
+    let gq = 0.65 * Vec2::new(m1[1], m1[2]) / BREAKUP
+        + 0.35 * Vec2::new(m2[1], m2[2]) / (0.35 * BREAKUP);
+    let gm = Vec2::new(gq.x / streak, gq.y);
+    let s = LACE_WEIGHT * e + (1.0 - LACE_WEIGHT) * m;
+    let g = LACE_WEIGHT * ge + (1.0 - LACE_WEIGHT) * gm;
+    [s, g.x, g.y]
+}
+
+/// Foam at a point of cover `c` whose structure is `s`, resolved (no
+/// footprint): whether it is foam and how thick (0–1).
+pub fn foam_at(c: f32, s: f32, fine: f32) -> (bool, f32) {
+    let t = foam_threshold(c, fine);
+    (c > 0.0 && s < t, ((t - s) / THICK_SPAN).clamp(0.0, 1.0))
+}
+
+/// The mean thickness of the coarse structure's foam where a cover `c`
+/// puts it (0.25 + 0.75·√c within 0.04, measured by
+/// `mean_thickness_is_the_fit`): what a pixel too coarse for the lace
+/// shows, so the opacity and shade of near and far foam agree.
+pub fn mean_thickness(c: f32) -> f32 {
+    0.25 + 0.75 * c.clamp(0.0, 1.0).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Structure samples over a large area (a 2-D lattice 0.37 m apart over
+    /// 148 × 148 m: some 8000 lace cells and 2400 breakup blobs).
+    fn samples(shift: Vec2, fine: f32) -> Vec<f32> {
+        let n = 400_usize;
+        let mut s = Vec::with_capacity(n * n);
+        for j in 0..n {
+            for i in 0..n {
+                let q = Vec2::new(i as f32 + 0.5 * (j % 2) as f32, j as f32 + 0.31) + shift;
+                s.push(foam_structure(q.x * 0.37, q.y * 0.37, 3.0, fine)[0]);
+            }
+        }
+        s
+    }
+
+    fn mean_thickness_at(s: &[f32], c: f32, fine: f32) -> f32 {
+        let (n, sum) = s
+            .iter()
+            .map(|&v| foam_at(c, v, fine))
+            .filter(|f| f.0)
+            .fold((0, 0.0), |(n, sum), f| (n + 1, sum + f.1));
+        sum / n as f32
+    }
+
+    #[test]
+    fn thresholds_are_the_structures_quantiles() {
+        for (fine, table) in [(1.0, FOAM_THRESHOLDS), (0.0, COARSE_THRESHOLDS)] {
+            let mut s = samples(Vec2::new(3.7, -11.2), fine);
+            s.sort_by(f32::total_cmp);
+            let q: Vec<String> =
+                (0..=16).map(|k| format!("{:.3}", s[((s.len() - 1) * k) / 16])).collect();
+            println!("quantiles with fine {fine}: {}", q.join(", "));
+            for (k, &t) in table.iter().enumerate().skip(1).take(15) {
+                let measured = s[(s.len() * k) / 16];
+                assert!(
+                    (measured - t).abs() < 0.005,
+                    "fine {fine}, quantile {k}/16: measured {measured:.3}, table {t}"
+                );
+            }
+        }
+    }
+
+    /// The covered fraction is the cover itself at every cover and every
+    /// share of the finer network, so a pixel that shows c (too far to
+    /// resolve the lace) matches the lace's mean: no band where they meet.
+    #[test]
+    fn covered_fraction_is_the_cover() {
+        for fine in [0.0, 0.5, 1.0] {
+            // Elsewhere than where the quantiles were measured.
+            let s = samples(Vec2::new(251.3, 87.9), fine);
+            for c in [0.05_f32, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95] {
+                let covered =
+                    s.iter().filter(|&&v| foam_at(c, v, fine).0).count() as f32 / s.len() as f32;
+                assert!(
+                    (covered - c).abs() < 0.03,
+                    "fine {fine}, cover {c}: {covered:.3} of the surface is foam"
+                );
+            }
+        }
+    }
+
+    /// Sparse foam is lace (thin filaments, mostly within a thickness span
+    /// of an edge); dense foam is a thick sheet.
+    #[test]
+    fn sparse_foam_is_thin_lace_dense_foam_a_thick_sheet() {
+        let s = samples(Vec2::new(-40.0, 17.0), 1.0);
+        let (sparse, dense) = (mean_thickness_at(&s, 0.05, 1.0), mean_thickness_at(&s, 0.9, 1.0));
+        assert!(sparse < 0.5 && dense > 0.85, "thickness: sparse {sparse:.2}, dense {dense:.2}");
+    }
+
+    #[test]
+    fn mean_thickness_is_the_fit() {
+        // Only the coarse structure fades into the mean (the finer network
+        // has faded out by then).
+        for fine in [0.0] {
+            let s = samples(Vec2::new(-123.0, 45.6), fine);
+            for c in [0.05_f32, 0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95] {
+                let measured = mean_thickness_at(&s, c, fine);
+                assert!(
+                    (measured - mean_thickness(c)).abs() < 0.04,
+                    "fine {fine}, cover {c}: mean thickness {measured:.3}, fit {:.3}",
+                    mean_thickness(c)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gradients_are_the_structures_slopes() {
+        let mut checked = 0;
+        for k in 0..400 {
+            let q = Vec2::new(k as f32 * 0.173 + 0.05, k as f32 * 0.291 - 7.0);
+            let f = |d: Vec2| foam_structure(q.x + d.x, q.y + d.y, 3.0, 0.7)[0];
+            let [_, gx, gy] = foam_structure(q.x, q.y, 3.0, 0.7);
+            let h = 1e-3;
+            let dx = (f(Vec2::new(h, 0.0)) - f(Vec2::new(-h, 0.0))) / (2.0 * h);
+            let dy = (f(Vec2::new(0.0, h)) - f(Vec2::new(0.0, -h))) / (2.0 * h);
+            // Cell walls and the edge span's cap are creases: the one-sided
+            // slopes differ there, so skip points where they do.
+            let dx1 = (f(Vec2::new(h, 0.0)) - f(Vec2::ZERO)) / h;
+            let dy1 = (f(Vec2::new(0.0, h)) - f(Vec2::ZERO)) / h;
+            if (dx1 - dx).abs() > 0.02 * (1.0 + dx.abs())
+                || (dy1 - dy).abs() > 0.02 * (1.0 + dy.abs())
+            {
+                continue;
+            }
+            checked += 1;
+            assert!(
+                (dx - gx).abs() < 0.03 * (1.0 + gx.abs())
+                    && (dy - gy).abs() < 0.03 * (1.0 + gy.abs()),
+                "at {q}: analytic ({gx}, {gy}), numeric ({dx}, {dy})"
+            );
+        }
+        assert!(checked > 200, "only {checked} points away from creases");
+    }
+}
