@@ -325,6 +325,7 @@ impl FluidDesc {
         let white_water = (self.white_water > 0.0).then_some(WhiteWaterSettings {
             rate: self.white_water as f64,
             foam_life: self.foam_life as f64,
+            bubble_mobility: crate::fluid::white_water::LIQUID_BUBBLE_MOBILITY,
             particles_per_cell: self.particles_per_cell as f64,
         });
         for s in &self.sources {

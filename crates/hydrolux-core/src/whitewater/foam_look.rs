@@ -19,6 +19,11 @@
 
 use glam::Vec2;
 
+/// The foam field's cell (m) that the sizes here are for (the storm's, 800 m
+/// over 512 cells): the renderer scales them with the field's own cell, so
+/// a pool's splash foam (1.6 cm cells) is a hundred times finer than a
+/// whitecap's, as the structure below a cell should be.
+pub const FOAM_REFERENCE_CELL: f32 = 1.5625;
 /// Side of the lace's bubble cells (m, across the wind).
 pub const LACE_CELL: f32 = 0.5;
 /// Size of the noise that breaks the foam into patches (m, across the wind).
@@ -41,23 +46,22 @@ pub const FOAM_THRESHOLDS: [f32; 17] = [
     0.612, 0.651, 0.706, 1.0,
 ];
 
-/// The same without the finer network (`fine` = 0).
-// 0.318 is a measured quantile, not 1/π.
-#[allow(clippy::approx_constant)]
-pub const COARSE_THRESHOLDS: [f32; 17] = [
-    0.12, 0.233, 0.282, 0.318, 0.349, 0.379, 0.408, 0.437, 0.467, 0.500, 0.534, 0.572, 0.612,
-    0.657, 0.707, 0.770, 1.0,
-];
+/// The cover a cell of field cover `c` shows: the calibration to Monahan
+/// counts a cell as whitecap where its cover passes ½, so a whitecap is
+/// drawn as a raft with an edge there (full from 0.7, none below 0.3)
+/// rather than the field's gradual rise across cells, and old foam below
+/// it as the residual lace it is (0.6·c). As `foam_shown_cover` in WGSL.
+pub fn shown_cover(c: f32) -> f32 {
+    let t = ((c - 0.3) / 0.4).clamp(0.0, 1.0);
+    (t * t * (3.0 - 2.0 * t)).max(0.6 * c)
+}
 
-/// The threshold t(c) for cover `c` with `fine` of the finer network:
-/// piecewise linear in the tables, and between them.
-pub fn foam_threshold(c: f32, fine: f32) -> f32 {
+/// The threshold t(c) for cover `c`: piecewise linear in the table.
+pub fn foam_threshold(c: f32) -> f32 {
     let x = c.clamp(0.0, 1.0) * 16.0;
     let k = (x.floor() as usize).min(15);
     let f = x - k as f32;
-    let full = FOAM_THRESHOLDS[k] + (FOAM_THRESHOLDS[k + 1] - FOAM_THRESHOLDS[k]) * f;
-    let coarse = COARSE_THRESHOLDS[k] + (COARSE_THRESHOLDS[k + 1] - COARSE_THRESHOLDS[k]) * f;
-    coarse + (full - coarse) * fine
+    FOAM_THRESHOLDS[k] + (FOAM_THRESHOLDS[k + 1] - FOAM_THRESHOLDS[k]) * f
 }
 
 /// The lattice hash of WGSL's `noise_hash` (0–1): the integer point's bits
@@ -137,11 +141,12 @@ fn walls(x: Vec2) -> (f32, Vec2) {
 /// length, the lace by its square root (bubble cells are drawn out less
 /// than the windrows they gather in), and the lace is warped by a noise
 /// LACE_WARP cells deep so that its walls wander; the network at two
-/// scales (LACE_CELL and 0.4 of it) gives the bubbles many sizes. `fine`
-/// (0–1) is how much of the finer network a pixel resolves: without it the
-/// structure is the coarse network's and the breakup's alone, whose
-/// quantiles are [`COARSE_THRESHOLDS`].
-pub fn foam_structure(along: f32, across: f32, streak: f32, fine: f32) -> [f32; 3] {
+/// scales (LACE_CELL and 0.4 of it) gives the bubbles many sizes. The
+/// renderer draws it magnified by powers of two where a pixel is too
+/// coarse for its finer network (foam has structure at every scale: lace,
+/// patches of lace, streaks of patches); its distribution, and so the
+/// thresholds, are the same at every magnification.
+pub fn foam_structure(along: f32, across: f32, streak: f32) -> [f32; 3] {
     let streak = streak.max(1.0);
     let lace_stretch = streak.sqrt();
     // Lace space (cells) and its warp.
@@ -155,8 +160,8 @@ pub fn foam_structure(along: f32, across: f32, streak: f32, fine: f32) -> [f32; 
     let jy = Vec2::new(k * w2[1], 1.0 + k * w2[2]);
     let (e1, g1) = walls(x);
     let (e2, g2) = walls(x / 0.4 + Vec2::new(19.0, 23.0));
-    let e = e1 + fine * 0.35 * (e2 - e1);
-    let ge_x = g1 + fine * 0.35 * (g2 / 0.4 - g1);
+    let e = 0.65 * e1 + 0.35 * e2;
+    let ge_x = 0.65 * g1 + 0.35 * g2 / 0.4;
     // Back to r (chain rule through the warp), then to metres.
     let ge_r = Vec2::new(ge_x.x * jx.x + ge_x.y * jy.x, ge_x.x * jx.y + ge_x.y * jy.y);
     let ge = Vec2::new(ge_r.x / (lace_stretch * LACE_CELL), ge_r.y / LACE_CELL);
@@ -175,17 +180,17 @@ pub fn foam_structure(along: f32, across: f32, streak: f32, fine: f32) -> [f32; 
 
 /// Foam at a point of cover `c` whose structure is `s`, resolved (no
 /// footprint): whether it is foam and how thick (0–1).
-pub fn foam_at(c: f32, s: f32, fine: f32) -> (bool, f32) {
-    let t = foam_threshold(c, fine);
+pub fn foam_at(c: f32, s: f32) -> (bool, f32) {
+    let t = foam_threshold(c);
     (c > 0.0 && s < t, ((t - s) / THICK_SPAN).clamp(0.0, 1.0))
 }
 
-/// The mean thickness of the coarse structure's foam where a cover `c`
-/// puts it (0.25 + 0.75·√c within 0.04, measured by
-/// `mean_thickness_is_the_fit`): what a pixel too coarse for the lace
-/// shows, so the opacity and shade of near and far foam agree.
+/// The mean thickness of the foam where a cover `c` puts it (0.3 +
+/// 0.65·c^0.6 within 0.04, measured by `mean_thickness_is_the_fit`): what
+/// a pixel too coarse for any of the structure's magnifications shows, so
+/// the opacity and shade of near and far foam agree.
 pub fn mean_thickness(c: f32) -> f32 {
-    0.25 + 0.75 * c.clamp(0.0, 1.0).sqrt()
+    0.3 + 0.65 * c.clamp(0.0, 1.0).powf(0.6)
 }
 
 #[cfg(test)]
@@ -194,22 +199,22 @@ mod tests {
 
     /// Structure samples over a large area (a 2-D lattice 0.37 m apart over
     /// 148 × 148 m: some 8000 lace cells and 2400 breakup blobs).
-    fn samples(shift: Vec2, fine: f32) -> Vec<f32> {
+    fn samples(shift: Vec2) -> Vec<f32> {
         let n = 400_usize;
         let mut s = Vec::with_capacity(n * n);
         for j in 0..n {
             for i in 0..n {
                 let q = Vec2::new(i as f32 + 0.5 * (j % 2) as f32, j as f32 + 0.31) + shift;
-                s.push(foam_structure(q.x * 0.37, q.y * 0.37, 3.0, fine)[0]);
+                s.push(foam_structure(q.x * 0.37, q.y * 0.37, 3.0)[0]);
             }
         }
         s
     }
 
-    fn mean_thickness_at(s: &[f32], c: f32, fine: f32) -> f32 {
+    fn mean_thickness_at(s: &[f32], c: f32) -> f32 {
         let (n, sum) = s
             .iter()
-            .map(|&v| foam_at(c, v, fine))
+            .map(|&v| foam_at(c, v))
             .filter(|f| f.0)
             .fold((0, 0.0), |(n, sum), f| (n + 1, sum + f.1));
         sum / n as f32
@@ -217,19 +222,18 @@ mod tests {
 
     #[test]
     fn thresholds_are_the_structures_quantiles() {
-        for (fine, table) in [(1.0, FOAM_THRESHOLDS), (0.0, COARSE_THRESHOLDS)] {
-            let mut s = samples(Vec2::new(3.7, -11.2), fine);
-            s.sort_by(f32::total_cmp);
-            let q: Vec<String> =
-                (0..=16).map(|k| format!("{:.3}", s[((s.len() - 1) * k) / 16])).collect();
-            println!("quantiles with fine {fine}: {}", q.join(", "));
-            for (k, &t) in table.iter().enumerate().skip(1).take(15) {
-                let measured = s[(s.len() * k) / 16];
-                assert!(
-                    (measured - t).abs() < 0.005,
-                    "fine {fine}, quantile {k}/16: measured {measured:.3}, table {t}"
-                );
-            }
+        let table = FOAM_THRESHOLDS;
+        let mut s = samples(Vec2::new(3.7, -11.2));
+        s.sort_by(f32::total_cmp);
+        let q: Vec<String> =
+            (0..=16).map(|k| format!("{:.3}", s[((s.len() - 1) * k) / 16])).collect();
+        println!("quantiles: {}", q.join(", "));
+        for (k, &t) in table.iter().enumerate().skip(1).take(15) {
+            let measured = s[(s.len() * k) / 16];
+            assert!(
+                (measured - t).abs() < 0.005,
+                "quantile {k}/16: measured {measured:.3}, table {t}"
+            );
         }
     }
 
@@ -238,17 +242,11 @@ mod tests {
     /// resolve the lace) matches the lace's mean: no band where they meet.
     #[test]
     fn covered_fraction_is_the_cover() {
-        for fine in [0.0, 0.5, 1.0] {
-            // Elsewhere than where the quantiles were measured.
-            let s = samples(Vec2::new(251.3, 87.9), fine);
-            for c in [0.05_f32, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95] {
-                let covered =
-                    s.iter().filter(|&&v| foam_at(c, v, fine).0).count() as f32 / s.len() as f32;
-                assert!(
-                    (covered - c).abs() < 0.03,
-                    "fine {fine}, cover {c}: {covered:.3} of the surface is foam"
-                );
-            }
+        // Elsewhere than where the quantiles were measured.
+        let s = samples(Vec2::new(251.3, 87.9));
+        for c in [0.05_f32, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95] {
+            let covered = s.iter().filter(|&&v| foam_at(c, v).0).count() as f32 / s.len() as f32;
+            assert!((covered - c).abs() < 0.03, "cover {c}: {covered:.3} of the surface is foam");
         }
     }
 
@@ -256,25 +254,21 @@ mod tests {
     /// of an edge); dense foam is a thick sheet.
     #[test]
     fn sparse_foam_is_thin_lace_dense_foam_a_thick_sheet() {
-        let s = samples(Vec2::new(-40.0, 17.0), 1.0);
-        let (sparse, dense) = (mean_thickness_at(&s, 0.05, 1.0), mean_thickness_at(&s, 0.9, 1.0));
+        let s = samples(Vec2::new(-40.0, 17.0));
+        let (sparse, dense) = (mean_thickness_at(&s, 0.05), mean_thickness_at(&s, 0.9));
         assert!(sparse < 0.5 && dense > 0.85, "thickness: sparse {sparse:.2}, dense {dense:.2}");
     }
 
     #[test]
     fn mean_thickness_is_the_fit() {
-        // Only the coarse structure fades into the mean (the finer network
-        // has faded out by then).
-        for fine in [0.0] {
-            let s = samples(Vec2::new(-123.0, 45.6), fine);
-            for c in [0.05_f32, 0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95] {
-                let measured = mean_thickness_at(&s, c, fine);
-                assert!(
-                    (measured - mean_thickness(c)).abs() < 0.04,
-                    "fine {fine}, cover {c}: mean thickness {measured:.3}, fit {:.3}",
-                    mean_thickness(c)
-                );
-            }
+        let s = samples(Vec2::new(-123.0, 45.6));
+        for c in [0.05_f32, 0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95] {
+            let measured = mean_thickness_at(&s, c);
+            assert!(
+                (measured - mean_thickness(c)).abs() < 0.04,
+                "cover {c}: mean thickness {measured:.3}, fit {:.3}",
+                mean_thickness(c)
+            );
         }
     }
 
@@ -283,8 +277,8 @@ mod tests {
         let mut checked = 0;
         for k in 0..400 {
             let q = Vec2::new(k as f32 * 0.173 + 0.05, k as f32 * 0.291 - 7.0);
-            let f = |d: Vec2| foam_structure(q.x + d.x, q.y + d.y, 3.0, 0.7)[0];
-            let [_, gx, gy] = foam_structure(q.x, q.y, 3.0, 0.7);
+            let f = |d: Vec2| foam_structure(q.x + d.x, q.y + d.y, 3.0)[0];
+            let [_, gx, gy] = foam_structure(q.x, q.y, 3.0);
             let h = 1e-3;
             let dx = (f(Vec2::new(h, 0.0)) - f(Vec2::new(-h, 0.0))) / (2.0 * h);
             let dy = (f(Vec2::new(0.0, h)) - f(Vec2::new(0.0, -h))) / (2.0 * h);
@@ -305,5 +299,22 @@ mod tests {
             );
         }
         assert!(checked > 200, "only {checked} points away from creases");
+    }
+
+    /// A whitecap shows where the calibration counts one: a cell over ½
+    /// cover shows more than half foam, one under it less; thick whitecap
+    /// shows whole, old foam as lace.
+    #[test]
+    fn shown_cover_keeps_the_whitecap_threshold() {
+        assert!((shown_cover(0.5) - 0.5).abs() < 1e-6);
+        assert!(shown_cover(0.55) > 0.5 && shown_cover(0.45) < 0.5);
+        assert_eq!(shown_cover(0.7), 1.0);
+        assert!((shown_cover(0.2) - 0.12).abs() < 1e-6);
+        let mut last = 0.0;
+        for k in 0..=100 {
+            let c = shown_cover(k as f32 / 100.0);
+            assert!((0.0..=1.0).contains(&c) && c >= last);
+            last = c;
+        }
     }
 }

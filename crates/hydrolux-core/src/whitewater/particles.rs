@@ -150,8 +150,8 @@ pub fn update_particle(p: &mut Particle, s: &ParticleStep, surface: &impl WaterS
                 water[k] = (now[k] - p.carried[k]) / dt;
             }
         }
-        let rise = bubble_terminal_velocity(p.radius);
-        let keep = (-dt / bubble_relaxation(p.radius)).exp();
+        let rise = bubble_terminal_velocity(p.radius, s.bubble_mobility);
+        let keep = (-dt / bubble_relaxation(p.radius, s.bubble_mobility)).exp();
         let target = [water[0], water[1] + rise, water[2]];
         for k in 0..3 {
             p.velocity[k] = target[k] + (p.velocity[k] - target[k]) * keep;

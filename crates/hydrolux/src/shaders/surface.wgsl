@@ -285,6 +285,12 @@ fn surface_jacobian(s: SurfaceSample) -> f32 {
 // al. 1982); twin hydrolux_core::whitewater::FOAM_ALBEDO.
 const FOAM_ALBEDO: f32 = 0.8;
 
+// The bubble cloud under fresh foam: the fraction of the light reaching it
+// it scatters back up, and its bubbles' mean depth (m); twins
+// hydrolux_core::whitewater::BUBBLE_CLOUD_REFLECTANCE, _DEPTH.
+const BUBBLE_CLOUD_REFLECTANCE: f32 = 0.3;
+const BUBBLE_CLOUD_DEPTH: f32 = 0.3;
+
 // The fraction of sunlight a foam cover lets into the water: what a dense
 // sheet does not scatter back (it absorbs next to nothing). Twin
 // hydrolux_core::whitewater::foam_transmittance.

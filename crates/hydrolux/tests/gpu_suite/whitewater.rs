@@ -106,6 +106,7 @@ fn bubbles_ride_the_gpu_waves_as_on_the_cpu_twin() {
             low: [cam.x - reach, cam.z - reach],
             high: [cam.x + reach, cam.z + reach],
             drop_radius: SPRAY_DROP_RADIUS,
+            bubble_mobility: hydrolux_core::whitewater::bubble_mobility(s.water.salinity as f64),
         };
         let splashes: &[Splash] = if step == 0 { &[splash] } else { &[] };
         cpu.merge();
@@ -249,6 +250,7 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
             low: gpu_foam.origin,
             high: [gpu_foam.origin[0] + side, gpu_foam.origin[1] + side],
             drop_radius: SPRAY_DROP_RADIUS,
+            bubble_mobility: hydrolux_core::whitewater::bubble_mobility(s.water.salinity as f64),
         };
         let splashes: &[Splash] = if step == 0 { &[splash] } else { &[] };
         cpu.merge();

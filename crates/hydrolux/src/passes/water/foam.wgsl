@@ -35,6 +35,9 @@ fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
 // frame, along-wind shrunk by the streak length; foam covers s < t(c),
 // t the structure's quantiles, so the covered fraction is the cover c.
 
+// The field's cell the sizes below are for (m: the storm's, 800 m over
+// 512 cells); they scale with the field's own cell.
+const FOAM_REFERENCE_CELL: f32 = 1.5625;
 const LACE_CELL: f32 = 0.5;
 const BREAKUP: f32 = 3.0;
 const LACE_WARP: f32 = 0.35;
@@ -42,14 +45,15 @@ const WARP_SCALE: f32 = 2.3;
 const EDGE_SPAN: f32 = 0.6;
 const LACE_WEIGHT: f32 = 0.5;
 const THICK_SPAN: f32 = 0.1;
+// The structure is magnified until its finer network's cells span this
+// many pixels, up to 2^FOAM_MAX_LEVEL (16 times: 3 m lace cells at the
+// storm's scale); beyond, the foam is its mean.
+const FOAM_LEVEL_PIXELS: f32 = 4.0;
+const THICK_RELIEF: f32 = 0.3;
+const FOAM_MAX_LEVEL: f32 = 4.0;
 const FOAM_THRESHOLDS = array<f32, 17>(
     0.15, 0.273, 0.321, 0.354, 0.383, 0.408, 0.433, 0.456, 0.479, 0.502, 0.526, 0.552, 0.580, 0.612,
     0.651, 0.706, 1.0,
-);
-// The same without the finer network.
-const COARSE_THRESHOLDS = array<f32, 17>(
-    0.12, 0.233, 0.282, 0.318, 0.349, 0.379, 0.408, 0.437, 0.467, 0.500, 0.534, 0.572, 0.612, 0.657,
-    0.707, 0.770, 1.0,
 );
 // The height of a thick sheet's lumps over its film (m): the slopes the
 // sun catches at its edges and on its bubble clumps.
@@ -64,19 +68,25 @@ struct FoamLook {
     slope: vec2<f32>,
 }
 
+// The cover a cell shows (twin: hydrolux_core::whitewater::foam_look::
+// shown_cover): a whitecap is where the cover passes ½ (as the calibration
+// to Monahan counts it), a raft with an edge: full from 0.7, none below
+// 0.3 but the residual lace of old foam (0.6·c).
+fn foam_shown_cover(c: f32) -> f32 {
+    return max(smoothstep(0.3, 0.7, c), 0.6 * c);
+}
+
 // What a foam layer hides of what lies beneath it: a thin film lets 40% of the
 // water through, a thick sheet nothing.
 fn foam_opacity(look: FoamLook) -> f32 {
     return look.cover * (0.6 + 0.4 * look.thickness);
 }
 
-fn foam_threshold(c: f32, fine: f32) -> f32 {
+fn foam_threshold(c: f32) -> f32 {
     let x = clamp(c, 0.0, 1.0) * 16.0;
     let k = min(u32(floor(x)), 15u);
     let f = x - f32(k);
-    let full = FOAM_THRESHOLDS[k] + (FOAM_THRESHOLDS[k + 1u] - FOAM_THRESHOLDS[k]) * f;
-    let coarse = COARSE_THRESHOLDS[k] + (COARSE_THRESHOLDS[k + 1u] - COARSE_THRESHOLDS[k]) * f;
-    return coarse + (full - coarse) * fine;
+    return FOAM_THRESHOLDS[k] + (FOAM_THRESHOLDS[k + 1u] - FOAM_THRESHOLDS[k]) * f;
 }
 
 // Value noise (0–1) with its gradient: (value, d/dx, d/dy).
@@ -130,9 +140,8 @@ fn foam_walls(x: vec2<f32>) -> vec3<f32> {
 // The foam's structure at (along, across) the wind (m): s and its gradient
 // (per m along, per m across). The breakup is stretched by the streak
 // length, the lace by its square root, and the lace's walls wander by a
-// warp LACE_WARP cells deep; two network scales give bubbles many sizes,
-// the finer one weighted by `fine` (how much of it a pixel resolves).
-fn foam_structure(along: f32, across: f32, streak_length: f32, fine: f32) -> vec3<f32> {
+// warp LACE_WARP cells deep; two network scales give bubbles many sizes.
+fn foam_structure(along: f32, across: f32, streak_length: f32) -> vec3<f32> {
     let streak = max(streak_length, 1.0);
     let lace_stretch = sqrt(streak);
     let r = vec2<f32>(along / lace_stretch, across) / LACE_CELL;
@@ -144,8 +153,8 @@ fn foam_structure(along: f32, across: f32, streak_length: f32, fine: f32) -> vec
     let jy = vec2<f32>(k * w2.y, 1.0 + k * w2.z);
     let l1 = foam_walls(x);
     let l2 = foam_walls(x / 0.4 + vec2<f32>(19.0, 23.0));
-    let e = l1.x + fine * 0.35 * (l2.x - l1.x);
-    let ge_x = l1.yz + fine * 0.35 * (l2.yz / 0.4 - l1.yz);
+    let e = 0.65 * l1.x + 0.35 * l2.x;
+    let ge_x = 0.65 * l1.yz + 0.35 * l2.yz / 0.4;
     let ge_r = vec2<f32>(ge_x.x * jx.x + ge_x.y * jy.x, ge_x.x * jx.y + ge_x.y * jy.y);
     let ge = vec2<f32>(ge_r.x / (lace_stretch * LACE_CELL), ge_r.y / LACE_CELL);
     let q = vec2<f32>(along / streak, across);
@@ -159,49 +168,80 @@ fn foam_structure(along: f32, across: f32, streak_length: f32, fine: f32) -> vec
 
 // The mean thickness of the foam a cover c puts down (twin: mean_thickness).
 fn foam_mean_thickness(c: f32) -> f32 {
-    return 0.25 + 0.75 * sqrt(clamp(c, 0.0, 1.0));
+    return 0.3 + 0.65 * pow(clamp(c, 0.0, 1.0), 0.6);
+}
+
+// The structure magnified 2^level, at a pixel: how much of it is foam
+// (its edge as soft as s changes across the pixel, so it never aliases),
+// how deep inside, and the slope of its top: a sheet rises FOAM_LUMP over
+// THICK_SPAN from its edge and half as much again over the next
+// THICK_RELIEF of s inside it (ridges and hollows in a dense sheet),
+// whatever the magnification.
+fn foam_level(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>, t: f32, level: f32) -> vec4<f32> {
+    let wind = surface.foam_wind;
+    let across = vec2<f32>(-wind.y, wind.x);
+    let zoom = exp2(level);
+    let s = foam_structure(dot(p, wind) / zoom, dot(p, across) / zoom, surface.foam_streak);
+    let grad = (wind * s.y + across * s.z) / zoom;
+    let soft = max(0.5 * (abs(dot(grad, dpdx_p)) + abs(dot(grad, dpdy_p))), 0.01);
+    let inside = smoothstep(-soft, soft, t - s.x);
+    let depth = clamp((t - s.x) / THICK_SPAN, 0.0, 1.0);
+    var slope = vec2<f32>(0.0);
+    let inner = t - s.x - THICK_SPAN;
+    if (depth > 0.0 && depth < 1.0) {
+        slope = -grad * (FOAM_LUMP / THICK_SPAN);
+    } else if (inner > 0.0 && inner < THICK_RELIEF) {
+        slope = -grad * (0.5 * FOAM_LUMP / THICK_RELIEF);
+    }
+    return vec4<f32>(inside, depth, slope);
 }
 
 // Foam as a pixel sees it. Its cover is the field's, filtered over the
-// pixel's footprint. The lace is resolved while the pixel's longer axis
-// (a grazing view's, along the view) is well under a cell: the finer
-// network fades out first, then the whole pattern into c, its own mean
-// (the thresholds keep the covered fraction c throughout, so no band);
-// edges are as soft as s changes across the pixel, so they never alias.
-// Bubble clumps (0.3 m, 0.08 m) make a thick sheet lumpy.
-fn foam_look(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> FoamLook {
+// pixel's footprint and shown as a raft (foam_shown_cover). Foam has
+// structure at every scale (lace, patches of lace, streaks of patches),
+// so the structure is drawn magnified by the power of two at which its
+// finer network spans FOAM_LEVEL_PIXELS of the pixel's longer axis (a
+// grazing view's, along the view), blending two levels as mips do; its
+// distribution is the same at every magnification, so the covered
+// fraction stays c throughout. Beyond FOAM_MAX_LEVEL it fades into c, its
+// own mean. Bubble clumps (0.3 m, 0.08 m) make a thick sheet lumpy.
+fn foam_look(p_world: vec2<f32>, dpdx_world: vec2<f32>, dpdy_world: vec2<f32>) -> FoamLook {
     var look = FoamLook(0.0, 0.0, vec2<f32>(0.0));
-    let c = foam_cover_smooth(p, dpdx_p, dpdy_p);
+    let c = foam_shown_cover(foam_cover_smooth(p_world, dpdx_world, dpdy_world));
     if (c <= 0.0) {
         return look;
     }
+    // The look's sizes are for a field of FOAM_REFERENCE_CELL cells and
+    // scale with the field's own (a pool's splash foam is finer than a
+    // whitecap): work in those units (slopes are ratios, they carry over).
+    let units = surface.foam_side / f32(textureDimensions(foam_tex).x) / FOAM_REFERENCE_CELL;
+    let p = p_world / units;
+    let dpdx_p = dpdx_world / units;
+    let dpdy_p = dpdy_world / units;
     let longest = max(length(dpdx_p), length(dpdy_p));
-    let wind = surface.foam_wind;
-    let across = vec2<f32>(-wind.y, wind.x);
-    let kept = 1.0 - smoothstep(0.2, 0.5, longest / LACE_CELL);
+    let wanted = log2(max(longest * FOAM_LEVEL_PIXELS / (0.4 * LACE_CELL), 1e-6));
+    let kept = 1.0 - smoothstep(FOAM_MAX_LEVEL, FOAM_MAX_LEVEL + 1.0, wanted);
     // Far off: the pattern's means.
     look.cover = c;
     look.thickness = foam_mean_thickness(c);
     if (kept <= 0.0) {
         return look;
     }
-    let fine = 1.0 - smoothstep(0.2, 0.5, longest / (0.4 * LACE_CELL));
-    let s = foam_structure(dot(p, wind), dot(p, across), surface.foam_streak, fine);
-    // World gradient of s (the wind's axes back to the surface's).
-    let grad = wind * s.y + across * s.z;
-    let t = foam_threshold(c, fine);
-    // Half the change of s across the pixel: the edge's soft width.
-    let soft = max(0.5 * (abs(dot(grad, dpdx_p)) + abs(dot(grad, dpdy_p))), 0.01);
-    let inside = smoothstep(-soft, soft, t - s.x);
-    let depth = clamp((t - s.x) / THICK_SPAN, 0.0, 1.0);
-    // The sheet's top rises over THICK_SPAN from the edge: its slope.
-    var slope = vec2<f32>(0.0);
-    if (depth > 0.0 && depth < 1.0) {
-        slope = -grad * (FOAM_LUMP / THICK_SPAN);
+    let level = clamp(wanted, 0.0, FOAM_MAX_LEVEL);
+    let l0 = floor(level);
+    let blend = level - l0;
+    let t = foam_threshold(c);
+    var f = foam_level(p, dpdx_p, dpdy_p, t, l0);
+    if (blend > 0.0) {
+        f = mix(f, foam_level(p, dpdx_p, dpdy_p, t, l0 + 1.0), blend);
     }
-    // Bubble clumps on the thick sheet, each octave faded by its size.
+    let inside = f.x;
+    let depth = f.y;
+    var slope = f.zw;
+    // Bubble clumps on the thick sheet, each octave faded by its size (at
+    // the level's magnification, so a distant sheet is lumpy too).
     var lumps = 0.0;
-    var scale = 0.3;
+    var scale = 0.3 * exp2(l0);
     for (var k = 0; k < 2; k++) {
         let fade = (1.0 - smoothstep(0.2, 0.6, longest / scale)) * depth;
         let n = value_noise_d(p / scale + vec2<f32>(5.0, 11.0) * f32(k + 1));
@@ -213,6 +253,28 @@ fn foam_look(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> FoamLook {
     look.thickness = mix(foam_mean_thickness(c), clamp(depth * (1.0 + 0.6 * lumps), 0.0, 1.0), kept);
     look.slope = slope * kept;
     return look;
+}
+
+// The bubble cloud under foam (0–1): a breaker drives a plume of bubbles
+// down under its whitecap, which spreads a little beyond the foam on top
+// (the cover a mip down, two cells around) and rises out within seconds,
+// so only dense, fresh foam has one under it (the cover squared).
+fn bubble_cloud_at(p: vec2<f32>) -> f32 {
+    let inside = foam_window(p);
+    if (inside <= 0.0) {
+        return 0.0;
+    }
+    let c = textureSampleLevel(foam_tex, surface_sampler, p / surface.foam_side, 1.0).x;
+    return inside * c * c;
+}
+
+// The light a bubble cloud of `cloud` (0–1) sends up to just under the
+// surface (twin: hydrolux_core::whitewater::bubble_cloud_radiance): its
+// bubbles scatter back BUBBLE_CLOUD_REFLECTANCE of the light that reaches
+// them, from BUBBLE_CLOUD_DEPTH down on average, the water absorbing on
+// the way down and up: the pale aquamarine under and around a whitecap.
+fn bubble_cloud_radiance(cloud: f32, e_water: vec3<f32>) -> vec3<f32> {
+    return cloud * BUBBLE_CLOUD_REFLECTANCE * e_water / PI * exp(-2.0 * BUBBLE_CLOUD_DEPTH * frame.water.absorption);
 }
 
 // The field's cover at p over the pixel's footprint; where a pixel is

@@ -72,6 +72,7 @@ fn wgsl_foam_look_constants_are_the_twins() {
         ref e => panic!("not an f32 literal: {e:?}"),
     };
     for (name, value) in [
+        ("FOAM_REFERENCE_CELL", twin::FOAM_REFERENCE_CELL),
         ("LACE_CELL", twin::LACE_CELL),
         ("BREAKUP", twin::BREAKUP),
         ("LACE_WARP", twin::LACE_WARP),
@@ -82,9 +83,7 @@ fn wgsl_foam_look_constants_are_the_twins() {
     ] {
         assert_eq!(literal(init(name)), value, "{name}");
     }
-    for (name, table) in
-        [("FOAM_THRESHOLDS", twin::FOAM_THRESHOLDS), ("COARSE_THRESHOLDS", twin::COARSE_THRESHOLDS)]
-    {
+    for (name, table) in [("FOAM_THRESHOLDS", twin::FOAM_THRESHOLDS)] {
         match &module.global_expressions[init(name)] {
             naga::Expression::Compose { components, .. } => {
                 let wgsl: Vec<f32> = components.iter().map(|&h| literal(h)).collect();

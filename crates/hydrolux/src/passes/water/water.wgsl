@@ -341,6 +341,13 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     } else {
         through = transmitted(in.world, t_dir, e_down);
     }
+    // The bubble cloud under fresh foam hides what lies deeper and sends up
+    // the light it scatters.
+    let cloud = bubble_cloud_at(p);
+    if (cloud > 0.0) {
+        let e_water = frame.light.sun_underwater + frame.light.sky_underwater;
+        through = through * (1.0 - BUBBLE_CLOUD_REFLECTANCE * cloud) + bubble_cloud_radiance(cloud, e_water) / (ior * ior);
+    }
     var color = f * reflected + (1.0 - f) * through + glint;
 
     // Foam: a raft of bubbles (albedo 0.8) over the water and its glint.
@@ -355,7 +362,11 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         let top = normalize(n - vec3<f32>(foam.slope.x, 0.0, foam.slope.y));
         let wrap = max((dot(top, l) + 0.3) / 1.3, 0.0) * step(0.0, l.y);
         let sun_lit = frame.light.sun_illuminance * wrap * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
-        let sky_lit = frame.light.sky_ambient * (0.5 + 0.5 * top.y);
+        // The sky it sees: a bubble raft scatters the light from every
+        // direction above it, and a hazy or low sky is brightest near the
+        // horizon, so the sky's mean radiance around its top (a coarse mip
+        // of the sky cube: each texel there spans 22°), times π.
+        let sky_lit = PI * textureSampleLevel(sky_cube, sky_sampler, normalize(vec3<f32>(top.x, abs(top.y), top.z)), 6.0).rgb * exposure();
         let depth_shade = 0.65 + 0.35 * foam.thickness;
         let foam_color = FOAM_ALBEDO * depth_shade * (sky_lit + sun_lit) / PI;
         color = mix(color, foam_color, foam_alpha);

@@ -391,6 +391,7 @@ impl Liquid {
         let ww_motion = hydrolux_core::fluid::white_water::Motion::new(
             start.settings.gravity,
             desc.step_seconds(),
+            hydrolux_core::fluid::white_water::LIQUID_BUBBLE_MOBILITY,
         );
         // The white water's pool: its slots per particle slot (one dead
         // record where it sheds none: a binding is never empty).

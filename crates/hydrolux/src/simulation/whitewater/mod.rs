@@ -67,7 +67,7 @@ uniform! { WhitewaterParams;
         pub heads_base: u32,
         pub bucket_mask: u32,
         pub landing_volume: f32,
-        pub _pad1: u32,
+        pub bubble_mobility: f32,
         pub _pad2: u32,
         pub _pad3: u32,
     }
@@ -109,6 +109,7 @@ pub fn source() -> String {
             ("COUNT_EMITTED", COUNT_EMITTED),
             ("COUNT_LOST", COUNT_LOST),
             ("PLUNGE_MAX_BUBBLES", w::PLUNGE_MAX_BUBBLES as usize),
+            ("RISE_STEPS", w::RISE_STEPS as usize),
         ]
         .iter()
         .map(|(name, v)| format!("const {name}: u32 = {v}u;\n")),
@@ -211,6 +212,8 @@ pub struct Whitewater {
     log: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     /// Volume (m³) of a landing particle of the liquid.
     landing_volume: f32,
+    /// The bubbles' surface mobility (`hydrolux_core::whitewater::bubble_mobility`).
+    bubble_mobility: f32,
     pipelines: Pipelines,
     /// The cover's mips are behind its level 0.
     mips_due: bool,
@@ -456,6 +459,9 @@ impl Whitewater {
             log_layout,
             log: None,
             landing_volume: scene.fluid_landing().map_or(0.0, |l| l.particle_volume as f32),
+            bubble_mobility: hydrolux_core::whitewater::bubble_mobility(
+                scene.water.salinity as f64,
+            ),
             pipelines,
             mips_due: true,
             cover_view: sampled_cover,
@@ -594,16 +600,21 @@ mod tests {
     fn wgsl_foam_albedo_is_the_cores() {
         let source = crate::shaders::compose("", "#import surface\n");
         let module = naga::front::wgsl::parse_str(&source).expect("surface.wgsl parses");
-        let (_, constant) = module
-            .constants
-            .iter()
-            .find(|(_, c)| c.name.as_deref() == Some("FOAM_ALBEDO"))
-            .expect("FOAM_ALBEDO in surface.wgsl");
-        match module.global_expressions[constant.init] {
-            naga::Expression::Literal(naga::Literal::F32(v)) => {
-                assert_eq!(v, hydrolux_core::whitewater::FOAM_ALBEDO)
+        use hydrolux_core::whitewater as w;
+        for (name, value) in [
+            ("FOAM_ALBEDO", w::FOAM_ALBEDO),
+            ("BUBBLE_CLOUD_REFLECTANCE", w::BUBBLE_CLOUD_REFLECTANCE),
+            ("BUBBLE_CLOUD_DEPTH", w::BUBBLE_CLOUD_DEPTH),
+        ] {
+            let (_, constant) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("{name} in surface.wgsl"));
+            match module.global_expressions[constant.init] {
+                naga::Expression::Literal(naga::Literal::F32(v)) => assert_eq!(v, value, "{name}"),
+                ref e => panic!("{name} is not an f32 literal: {e:?}"),
             }
-            ref e => panic!("FOAM_ALBEDO is not an f32 literal: {e:?}"),
         }
     }
 }

@@ -114,7 +114,7 @@ impl Whitewater {
             heads_base: COUNTERS + n * n + self.capacity,
             bucket_mask: self.table - 1,
             landing_volume: self.landing_volume,
-            _pad1: 0,
+            bubble_mobility: self.bubble_mobility,
             _pad2: 0,
             _pad3: 0,
         };

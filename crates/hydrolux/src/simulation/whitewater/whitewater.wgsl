@@ -56,7 +56,8 @@ struct WhitewaterParams {
     bucket_mask: u32,
     // Volume (m³) of one of the liquid's particles (0: no liquid lands here).
     landing_volume: f32,
-    _pad1: u32,
+    // The bubbles' surface mobility: 1 clean fresh water, 0 sea water.
+    bubble_mobility: f32,
     _pad2: u32,
     _pad3: u32,
 }
@@ -109,16 +110,36 @@ const CHAIN: u32 = 3u;
 const TARGET: u32 = 4u;
 
 
-fn bubble_terminal_velocity(r0: f32) -> f32 {
-    let r = max(r0, 1e-6);
-    let stokes = 2.0 * G * r * r / (9.0 * WATER_NU);
-    let d = 2.0 * r;
-    let mendelson = sqrt(2.14 * WATER_SIGMA_RHO / d + 0.505 * G * d);
-    return 1.0 / (1.0 / stokes + 1.0 / mendelson);
+// Twin: hydrolux_core::whitewater::drag_balance_velocity (Mei, Klausner &
+// Lawrence's clean bubble or Schiller & Naumann's rigid sphere).
+fn drag_balance_velocity(r: f32, clean: bool) -> f32 {
+    let weight = 8.0 / 3.0 * G * r;
+    var v = min(2.0 * G * r * r / (9.0 * WATER_NU), 1.0);
+    for (var k = 0u; k < RISE_STEPS; k++) {
+        let re = max(2.0 * r * v / WATER_NU, 1e-6);
+        var cd: f32;
+        if (clean) {
+            cd = 16.0 / re * (1.0 + 1.0 / (8.0 / re + 0.5 * (1.0 + 3.315 / sqrt(re))));
+        } else {
+            cd = 24.0 / re * (1.0 + 0.15 * pow(re, 0.687));
+        }
+        v = sqrt(weight / cd);
+    }
+    return v;
 }
 
-fn bubble_relaxation(r: f32) -> f32 {
-    return max(bubble_terminal_velocity(r) / (2.0 * G), 1e-4);
+fn bubble_terminal_velocity(r0: f32, mobility: f32) -> f32 {
+    let r = max(r0, 1e-6);
+    let rigid = drag_balance_velocity(r, false);
+    let clean = drag_balance_velocity(r, true);
+    let viscous = rigid + (clean - rigid) * mobility;
+    let d = 2.0 * r;
+    let mendelson = sqrt(2.14 * WATER_SIGMA_RHO / d + 0.505 * G * d);
+    return min(viscous, mendelson);
+}
+
+fn bubble_relaxation(r: f32, mobility: f32) -> f32 {
+    return max(bubble_terminal_velocity(r, mobility) / (2.0 * G), 1e-4);
 }
 
 fn drop_drag(r: f32) -> f32 {
@@ -596,8 +617,8 @@ fn update(@builtin(global_invocation_id) id: vec3<u32>) {
         if (!newborn) {
             water = (water_displacement(p.position) - p.carried) / dt;
         }
-        let rise = bubble_terminal_velocity(p.radius);
-        let keep = exp(-dt / bubble_relaxation(p.radius));
+        let rise = bubble_terminal_velocity(p.radius, params.bubble_mobility);
+        let keep = exp(-dt / bubble_relaxation(p.radius, params.bubble_mobility));
         let goal = vec3<f32>(water.x, water.y + rise, water.z);
         p.velocity = goal + (p.velocity - goal) * keep;
     } else {
