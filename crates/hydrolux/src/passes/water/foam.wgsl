@@ -49,8 +49,9 @@ const THICK_SPAN: f32 = 0.1;
 // many pixels, up to 2^FOAM_MAX_LEVEL (16 times: 3 m lace cells at the
 // storm's scale); beyond, the foam is its mean.
 const FOAM_LEVEL_PIXELS: f32 = 4.0;
-const THICK_RELIEF: f32 = 0.3;
 const FOAM_MAX_LEVEL: f32 = 4.0;
+// How far inside a sheet (in s) its ridges keep rising.
+const THICK_RELIEF: f32 = 0.3;
 const FOAM_THRESHOLDS = array<f32, 17>(
     0.15, 0.273, 0.321, 0.354, 0.383, 0.408, 0.433, 0.456, 0.479, 0.502, 0.526, 0.552, 0.580, 0.612,
     0.651, 0.706, 1.0,
@@ -264,7 +265,7 @@ fn bubble_cloud_at(p: vec2<f32>) -> f32 {
     if (inside <= 0.0) {
         return 0.0;
     }
-    let c = textureSampleLevel(foam_tex, surface_sampler, p / surface.foam_side, 1.0).x;
+    let c = textureSampleLevel(foam_tex, surface_sampler_aniso, p / surface.foam_side, 1.0).x;
     return inside * c * c;
 }
 
@@ -281,6 +282,8 @@ fn bubble_cloud_radiance(cloud: f32, e_water: vec3<f32>) -> vec3<f32> {
 // smaller than a cell the cells are joined by a cubic B-spline (four
 // bilinear taps; Sigg & Hadwiger, GPU Gems 2 ch. 20) so that the lace's
 // threshold does not trace the bilinear cells' diamonds and steps.
+// Every read of foam_tex here uses the anisotropic sampler, as
+// foam_cover_grad does: OpenGL binds one sampler per image.
 fn foam_cover_smooth(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 {
     let filtered = foam_cover_grad(p, dpdx_p, dpdy_p);
     let inside = foam_window(p);
@@ -306,10 +309,10 @@ fn foam_cover_smooth(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>) -> f32 
     let b = w2 + w3;
     let at_a = (i - 0.5 + w1 / a) / cells;
     let at_b = (i + 1.5 + w3 / b) / cells;
-    let t00 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_a.x, at_a.y), 0.0).x;
-    let t10 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_b.x, at_a.y), 0.0).x;
-    let t01 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_a.x, at_b.y), 0.0).x;
-    let t11 = textureSampleLevel(foam_tex, surface_sampler, vec2<f32>(at_b.x, at_b.y), 0.0).x;
+    let t00 = textureSampleLevel(foam_tex, surface_sampler_aniso, vec2<f32>(at_a.x, at_a.y), 0.0).x;
+    let t10 = textureSampleLevel(foam_tex, surface_sampler_aniso, vec2<f32>(at_b.x, at_a.y), 0.0).x;
+    let t01 = textureSampleLevel(foam_tex, surface_sampler_aniso, vec2<f32>(at_a.x, at_b.y), 0.0).x;
+    let t11 = textureSampleLevel(foam_tex, surface_sampler_aniso, vec2<f32>(at_b.x, at_b.y), 0.0).x;
     let cubic = a.y * (a.x * t00 + b.x * t10) + b.y * (a.x * t01 + b.x * t11);
     return mix(filtered, inside * cubic, smooth_weight);
 }
