@@ -852,6 +852,7 @@ impl Plunge {
 }
 
 pub mod foam_look;
+pub mod spray_look;
 mod particles;
 pub use particles::*;
 

@@ -55,7 +55,7 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
     } else if (d.kind == PARTICLE_BUBBLE) {
         size *= BUBBLE_WIDTH;
     }
-    let q = particle_quad(d.position, d.velocity, size, shutter, c);
+    let q = particle_quad(d.position, d.velocity, size, shutter, 1.5, c);
     out.clip = frame.view.view_proj * vec4<f32>(q.world, 1.0);
     out.quad = c;
     out.kind = d.kind;

@@ -18,7 +18,7 @@ uniform! { DrawParams;
     pub(crate) struct DrawUniforms {
         pub capacity: u32,
         pub list: u32,
-        pub _pad0: u32,
+        pub spray_cover: f32,
         pub _pad1: u32,
         pub spray_size: f32,
         pub bubble_size: f32,
@@ -112,7 +112,7 @@ impl ParticleDraw {
         let u = DrawUniforms {
             capacity: particles.capacity,
             list: particles.list,
-            _pad0: 0,
+            spray_cover: hydrolux_core::whitewater::spray_look::parcel_cover(w.spray_size),
             _pad1: 0,
             spray_size: w.spray_size,
             bubble_size: w.bubble_size,

@@ -2,7 +2,7 @@
 // water's (particles.wgsl) and the volumetric liquid's
 // (liquid/white_water_draw.wgsl): the quad over a particle, spray's
 // forward scattering and a bubble's bright rim.
-#import constants, frame, sky_bindings, medium
+#import constants, frame, sky_bindings, medium, hash
 
 // Corner v (0–5, two triangles) of a quad, in [-1, 1]².
 fn quad_corner(v: u32) -> vec2<f32> {
@@ -18,34 +18,130 @@ struct ParticleQuad {
     // Opacity that keeps a sub-pixel particle's energy (its area over the
     // pixel's), and how much the streak thins it.
     weight: f32,
+    // How wide it is drawn (m), a pixel there (m), and how far it moves
+    // across the view over the shutter (m; 0 when it is not streaked).
+    drawn: f32,
+    pixel: f32,
+    travel: f32,
 }
 
 // Corner c (in [-1, 1]²) of a quad facing the eye over a particle `size`
-// wide at `position` moving at `velocity`: at least 1.5 pixels across
+// wide at `position` moving at `velocity`: at least `min_pixels` across
 // (fainter by the area it lacks), stretched into a streak along its motion
 // across the view over `shutter` s (fainter by the length it gains).
-fn particle_quad(position: vec3<f32>, velocity: vec3<f32>, size: f32, shutter: f32, c: vec2<f32>) -> ParticleQuad {
+fn particle_quad(position: vec3<f32>, velocity: vec3<f32>, size: f32, shutter: f32, min_pixels: f32, c: vec2<f32>) -> ParticleQuad {
     let eye = frame.view.position;
     let dist = max(distance(position, eye), 1e-3);
     let pixel = 2.0 * dist / (frame.view.size.y * frame.view.view_proj[1][1]);
-    let drawn = max(size, 1.5 * pixel);
+    let drawn = max(size, min_pixels * pixel);
     var weight = (size * size) / (drawn * drawn);
     let forward = (position - eye) / dist;
     var right = normalize(cross(forward, vec3<f32>(0.0, 1.0, 0.0)) + vec3<f32>(1e-6, 0.0, 0.0));
     var up = cross(right, forward);
     var half_length = 0.5 * drawn;
     let across = velocity - forward * dot(velocity, forward);
-    let travel = length(across) * shutter;
-    if (travel > drawn) {
+    var travel = length(across) * shutter;
+    if (travel > 0.1 * drawn) {
         right = across / length(across);
         up = normalize(cross(right, forward));
         half_length = 0.5 * (drawn + travel);
         weight *= drawn / (drawn + travel);
+    } else {
+        travel = 0.0;
     }
     var q: ParticleQuad;
     q.world = position + right * c.x * half_length + up * c.y * 0.5 * drawn;
     q.weight = weight;
+    q.drawn = drawn;
+    q.pixel = pixel;
+    q.travel = travel;
     return q;
+}
+
+// A parcel of spray close up is drops, far off their mist: the twin of
+// hydrolux_core::whitewater::spray_look (same constants, checked by naga).
+const DRAWN_DROPS: u32 = 24u;
+const MIN_DROP_PIXELS: f32 = 0.6;
+const MIST_BELOW_SPACING: f32 = 1.5;
+const DROPS_FROM_SPACING: f32 = 3.0;
+const SALT_RADIUS: u32 = 0x5A1Du;
+const SALT_ANGLE: u32 = 0x7E11u;
+const SPREAD: f32 = 2.0;
+
+// A parcel as its quad is drawn, in the quad's units (half its width
+// across the motion is 1; the quad spans the drops' SPREAD): its radius, a pixel, how far it moves either
+// way over the shutter, and how much of its disc its drops cover.
+struct SprayShape {
+    parcel: f32,
+    pixel: f32,
+    streak: f32,
+    cover: f32,
+}
+
+fn spray_shape(q: ParticleQuad, size: f32, cover: f32) -> SprayShape {
+    return SprayShape(size / q.drawn, q.pixel / (0.5 * q.drawn), q.travel / q.drawn, cover);
+}
+
+// A drawn drop's radius in parcel radii: DRAWN_DROPS of them cover `cover`.
+fn drawn_drop_radius(cover: f32) -> f32 {
+    return sqrt(cover / f32(DRAWN_DROPS));
+}
+
+// Drop k of parcel `id`, in quad units: uniform over SPREAD parcel radii.
+fn drop_centre(id: u32, k: u32, parcel: f32, drop_radius: f32) -> vec2<f32> {
+    let r = sqrt(random(id, k, SALT_RADIUS)) * (SPREAD - drop_radius) * parcel;
+    let a = TAU * random(id, k, SALT_ANGLE);
+    return vec2<f32>(r * cos(a), r * sin(a));
+}
+
+// The parcel's drops at `quad`, each a capsule swept over the shutter, its
+// opacity spread over what it is drawn on (the parcel's light is kept).
+fn drops_opacity(quad: vec2<f32>, s: SprayShape, id: u32) -> f32 {
+    let unit = drawn_drop_radius(s.cover);
+    let a = unit * s.parcel;
+    let drawn = max(a, MIN_DROP_PIXELS * s.pixel);
+    // What a capsule with edges a pixel soft covers: π(A² + p²/12) + 4sA.
+    let footprint = s.pixel * s.pixel / 12.0;
+    let energy = PI * a * a / (PI * (drawn * drawn + footprint) + 4.0 * s.streak * drawn);
+    let x = quad.x * (1.0 + s.streak);
+    let y = quad.y;
+    var covered = 0.0;
+    for (var k = 0u; k < DRAWN_DROPS; k++) {
+        let c = drop_centre(id, k, s.parcel, unit);
+        let ex = max(abs(x - c.x) - s.streak, 0.0);
+        let ey = y - c.y;
+        let d = sqrt(ex * ex + ey * ey);
+        covered += clamp((drawn - d) / s.pixel + 0.5, 0.0, 1.0);
+    }
+    return min(covered * energy, 1.0);
+}
+
+// The mist the drops make where they are too small to draw.
+fn mist_opacity(quad: vec2<f32>, s: SprayShape) -> f32 {
+    let r2 = quad.x * quad.x + quad.y * quad.y;
+    if (r2 > 1.0) {
+        return 0.0;
+    }
+    let density = (1.0 - r2) * (1.0 - r2);
+    return 3.0 * s.cover * density * s.parcel * s.parcel / (1.0 + s.streak);
+}
+
+// How much of the parcel is drawn as drops rather than mist: by the
+// drops' mean spacing in pixels.
+fn drops_resolved(s: SprayShape) -> f32 {
+    let spread = SPREAD * s.parcel;
+    let spacing = spread * sqrt(PI / f32(DRAWN_DROPS)) / s.pixel;
+    let t = clamp((spacing - MIST_BELOW_SPACING) / (DROPS_FROM_SPACING - MIST_BELOW_SPACING), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+fn spray_opacity(quad: vec2<f32>, s: SprayShape, id: u32) -> f32 {
+    let resolved = drops_resolved(s);
+    var drops = 0.0;
+    if (resolved > 0.0) {
+        drops = drops_opacity(quad, s, id);
+    }
+    return mist_opacity(quad, s) * (1.0 - resolved) + drops * resolved;
 }
 
 // A dense parcel of spray seen along `view`: drops scatter the sun mostly

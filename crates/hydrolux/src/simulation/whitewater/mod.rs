@@ -617,4 +617,40 @@ mod tests {
             }
         }
     }
+
+    /// A spray parcel's drops and mist in WGSL (light.wgsl) are drawn with
+    /// their CPU twin's constants (hydrolux_core::whitewater::spray_look).
+    #[test]
+    fn wgsl_spray_look_constants_are_the_twins() {
+        use hydrolux_core::whitewater::spray_look as twin;
+        let source = crate::shaders::compose("", "#import white_water_light\n");
+        let module = naga::front::wgsl::parse_str(&source).expect("light.wgsl parses");
+        let literal = |name: &str| {
+            let (_, constant) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("{name} in light.wgsl"));
+            match module.global_expressions[constant.init] {
+                naga::Expression::Literal(l) => l,
+                ref e => panic!("{name} is not a literal: {e:?}"),
+            }
+        };
+        use naga::Literal::{F32, U32};
+        for (name, value) in [
+            ("MIN_DROP_PIXELS", twin::MIN_DROP_PIXELS),
+            ("MIST_BELOW_SPACING", twin::MIST_BELOW_SPACING),
+            ("DROPS_FROM_SPACING", twin::DROPS_FROM_SPACING),
+            ("SPREAD", twin::SPREAD),
+        ] {
+            assert_eq!(literal(name), F32(value), "{name}");
+        }
+        for (name, value) in [
+            ("DRAWN_DROPS", twin::DRAWN_DROPS),
+            ("SALT_RADIUS", twin::SALT_RADIUS),
+            ("SALT_ANGLE", twin::SALT_ANGLE),
+        ] {
+            assert_eq!(literal(name), U32(value), "{name}");
+        }
+    }
 }

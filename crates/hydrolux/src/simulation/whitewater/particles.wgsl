@@ -10,10 +10,11 @@
 #import constants, frame, sky_bindings, medium, particle, fog, white_water_light
 
 struct DrawParams {
-    // Capacity C, which alive list is drawn (0, 1).
+    // Capacity C, which alive list is drawn (0, 1); how much of a spray
+    // parcel's disc its drops cover (hydrolux_core's `parcel_cover`).
     capacity: u32,
     list: u32,
-    _pad0: u32,
+    spray_cover: f32,
     _pad1: u32,
     // Spray parcel size (m), bubble cloud size (m), shutter (s), vertical
     // reach of the surface (m).
@@ -38,7 +39,21 @@ struct VertexOut {
     // Opacity that keeps a sub-pixel particle's energy (its area over the
     // pixel's), and how much the streak thins it.
     @location(3) weight: f32,
+    // Spray: the parcel's shape (SprayShape) and which parcel it is;
+    // bubbles: x is how far its look is resolved (1) or a soft blob (0).
+    @location(4) @interpolate(flat) shape: vec4<f32>,
+    @location(5) @interpolate(flat) id: u32,
 }
+
+// Least width (pixels) a spray parcel and a bubble are drawn: a bubble
+// under this is a soft blob whose light is spread over it, never a
+// single bright pixel.
+const SPRAY_MIN_PIXELS: f32 = 1.5;
+const BUBBLE_MIN_PIXELS: f32 = 3.0;
+// A bubble's look averaged over its disc (bubble_look): opacity, and its
+// light over its opacity, for the blob it becomes when unresolved.
+const BUBBLE_MEAN_ALPHA: f32 = 0.341;
+const BUBBLE_MEAN_GAIN: f32 = 1.91;
 
 @vertex
 fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> VertexOut {
@@ -47,20 +62,32 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
     let c = quad_corner(v);
     let is_bubble = p.kind == PARTICLE_BUBBLE;
     let size = select(params.spray_size, max(params.bubble_size, 2.0 * p.radius), is_bubble);
-    let q = particle_quad(p.position, p.velocity, size, params.shutter, c);
+    let min_pixels = select(SPRAY_MIN_PIXELS, BUBBLE_MIN_PIXELS, is_bubble);
+    // A spray parcel's quad spans its drops' spread.
+    let quad_size = select(SPREAD * size, size, is_bubble);
+    let q = particle_quad(p.position, p.velocity, quad_size, params.shutter, min_pixels, c);
     var out: VertexOut;
     out.clip = frame.view.view_proj * vec4<f32>(q.world, 1.0);
     out.quad = c;
     out.kind = p.kind;
     out.centre = p.position;
     out.weight = q.weight;
+    out.id = p.id;
+    if (is_bubble) {
+        // Resolved from 3 pixels across to 6.
+        out.shape = vec4<f32>(smoothstep(3.0, 6.0, size / q.pixel), 0.0, 0.0, 0.0);
+    } else {
+        let s = spray_shape(q, size, params.spray_cover);
+        out.shape = vec4<f32>(s.parcel, s.pixel, s.streak, s.cover);
+    }
     return out;
 }
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let r2 = dot(in.quad, in.quad);
-    if (r2 > 1.0) {
+    let is_bubble = in.kind == PARTICLE_BUBBLE;
+    if (r2 > 1.0 && is_bubble) {
         discard;
     }
     let eye = frame.view.position;
@@ -69,7 +96,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let scene_distance = select(distance(behind, eye), 1e9, d >= 1.0);
     let particle_distance = distance(in.centre, eye);
     let view = (in.centre - eye) / max(particle_distance, 1e-4);
-    if (in.kind == PARTICLE_BUBBLE) {
+    if (is_bubble) {
         // Under the water the eye looks through: behind a surface point it
         // still shows, dimmed by the water between.
         var through = vec3<f32>(1.0);
@@ -82,15 +109,21 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         }
         let depth = max(-in.centre.y, 0.0);
         let light = underwater_irradiance(depth, vec3<f32>(0.0, 1.0, 0.0), 1.0) / PI;
-        return bubble_look(r2, light * through, in.weight);
+        let sharp = bubble_look(r2, light * through, in.weight);
+        let blob_alpha = BUBBLE_MEAN_ALPHA * 3.0 * (1.0 - r2) * (1.0 - r2) * in.weight;
+        let blob = vec4<f32>(light * through * BUBBLE_MEAN_GAIN * blob_alpha, blob_alpha);
+        return mix(blob, sharp, in.shape.x);
     }
     if (particle_distance > scene_distance + 0.05) {
         discard;
     }
     // Soft where it meets what is behind it (no hard cut at the water).
     let soft = clamp((scene_distance - particle_distance) / 0.3, 0.0, 1.0);
-    let density = (1.0 - r2) * (1.0 - r2);
-    let alpha = 0.4 * density * soft * in.weight;
+    let shape = SprayShape(in.shape.x, in.shape.y, in.shape.z, in.shape.w);
+    let alpha = spray_opacity(in.quad, shape, in.id) * soft;
+    if (alpha <= 0.0) {
+        discard;
+    }
     let color = spray_radiance(view);
     // In the scene's fog: dimmed by the air between, and the fog's own glow
     // in front of it put back over what the parcel hides.
