@@ -852,8 +852,8 @@ impl Plunge {
 }
 
 pub mod foam_look;
-pub mod spray_look;
 mod particles;
+pub mod spray_look;
 pub use particles::*;
 
 #[cfg(test)]

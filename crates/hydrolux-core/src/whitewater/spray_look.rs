@@ -26,8 +26,8 @@ pub const MAX_COVER: f32 = 0.8;
 /// The drawn drops' mean spacing (pixels) below which the parcel is drawn
 /// as mist (several drops to a pixel blend), and from which it is all drops
 /// (each its own dot, however small: spray close by is separate drops).
-pub const MIST_BELOW_SPACING: f32 = 1.5;
-pub const DROPS_FROM_SPACING: f32 = 3.0;
+pub const MIST_BELOW_SPACING: f32 = 0.75;
+pub const DROPS_FROM_SPACING: f32 = 1.5;
 /// Salts of a drop's position in its parcel.
 pub const SALT_RADIUS: u32 = 0x5A1D;
 pub const SALT_ANGLE: u32 = 0x7E11;

@@ -62,8 +62,8 @@ fn particle_quad(position: vec3<f32>, velocity: vec3<f32>, size: f32, shutter: f
 // hydrolux_core::whitewater::spray_look (same constants, checked by naga).
 const DRAWN_DROPS: u32 = 24u;
 const MIN_DROP_PIXELS: f32 = 0.6;
-const MIST_BELOW_SPACING: f32 = 1.5;
-const DROPS_FROM_SPACING: f32 = 3.0;
+const MIST_BELOW_SPACING: f32 = 0.75;
+const DROPS_FROM_SPACING: f32 = 1.5;
 const SALT_RADIUS: u32 = 0x5A1Du;
 const SALT_ANGLE: u32 = 0x7E11u;
 const SPREAD: f32 = 2.0;
