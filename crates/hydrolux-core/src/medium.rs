@@ -140,7 +140,8 @@ pub const DIFFUSE_MEAN_COSINE: f32 = 0.85;
 pub const DIFFUSE_TRANSMITTANCE: f32 = 0.934;
 
 /// Fraction of the downwelling irradiance that comes back up from below
-/// (floor and water) and lights undersides: a grey-world bounce.
+/// (floor and water) and lights undersides: a grey-world bounce, the least
+/// upwelling anywhere (over deep water or a dark floor).
 pub const UPWELLING_FRACTION: f32 = 0.15;
 
 /// The light field under a flat water surface at y = 0, lit by the sun and sky.
@@ -153,6 +154,10 @@ pub struct UnderwaterLight {
     pub sun_irradiance: Vec3,
     /// Sky irradiance just below the surface on a horizontal plane.
     pub sky_irradiance: Vec3,
+    /// The floor's depth (m; 0: none) and its mean albedo: a bright,
+    /// shallow floor lights undersides above it (a pool's white tiles).
+    pub floor_depth: f32,
+    pub floor_albedo: f32,
 }
 
 impl UnderwaterLight {
@@ -172,13 +177,45 @@ impl UnderwaterLight {
                 Vec3::ZERO
             },
             sky_irradiance: sky_irradiance * DIFFUSE_TRANSMITTANCE,
+            floor_depth: 0.0,
+            floor_albedo: 0.0,
         }
+    }
+
+    /// The same over a Lambertian floor `depth` m down of mean `albedo`.
+    pub fn with_floor(self, depth: f32, albedo: f32) -> Self {
+        UnderwaterLight { floor_depth: depth.max(0.0), floor_albedo: albedo.max(0.0), ..self }
+    }
+
+    /// Downwelling irradiance on a horizontal plane `depth` m down.
+    pub fn downwelling(&self, medium: &Medium, depth: f32) -> Vec3 {
+        let d = depth.max(0.0);
+        let cos_w = (-self.sun_travel.y).max(1e-3);
+        self.sun_irradiance * medium.transmittance(d / cos_w) * cos_w
+            + self.sky_irradiance * medium.transmittance(d / DIFFUSE_MEAN_COSINE)
+    }
+
+    /// Upwelling irradiance on a downward-facing plane `depth` m down: the
+    /// floor's diffuse reflection of the downwelling light that reaches it,
+    /// dimmed on its way up as diffuse light is (path / mean cosine), or
+    /// [`UPWELLING_FRACTION`] of the downwelling light here, whichever is
+    /// more (per channel).
+    pub fn upwelling(&self, medium: &Medium, depth: f32) -> Vec3 {
+        let d = depth.max(0.0);
+        let grey_world = UPWELLING_FRACTION * self.downwelling(medium, d);
+        if self.floor_depth <= d {
+            return grey_world;
+        }
+        let from_floor = self.floor_albedo
+            * self.downwelling(medium, self.floor_depth)
+            * medium.transmittance((self.floor_depth - d) / DIFFUSE_MEAN_COSINE);
+        grey_world.max(from_floor)
     }
 
     /// Irradiance on a surface with unit normal `n` at `depth` metres below the
     /// mean surface (`sun_visibility` ∈ [0, 1] from the shadow map). The sky
     /// term is the cosine lobe (1 + n·y)/2 of a vertical diffuse field; the
-    /// undersides get [`UPWELLING_FRACTION`] of the downwelling light.
+    /// undersides get the upwelling light ([`UnderwaterLight::upwelling`]).
     pub fn irradiance(&self, medium: &Medium, depth: f32, n: Vec3, sun_visibility: f32) -> Vec3 {
         let d = depth.max(0.0);
         let cos_w = (-self.sun_travel.y).max(1e-3);
@@ -186,7 +223,7 @@ impl UnderwaterLight {
         let sky_down = self.sky_irradiance * medium.transmittance(d / DIFFUSE_MEAN_COSINE);
         let sun = sun_down * n.dot(-self.sun_travel).max(0.0) * sun_visibility;
         let sky = sky_down * (0.5 + 0.5 * n.y);
-        let up = UPWELLING_FRACTION * (sun_down * cos_w + sky_down) * (0.5 - 0.5 * n.y);
+        let up = self.upwelling(medium, d) * (0.5 - 0.5 * n.y);
         sun + sky + up
     }
 
@@ -291,6 +328,54 @@ pub fn simple_water_colour(seen: Vec3, water_colour: Vec3, distance: f32, k: f32
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Undersides over a floor: a Lambertian floor's exitance is its albedo
+    /// times the irradiance on it, dimmed on the way up; without a floor,
+    /// or over a deep one, the grey-world bounce.
+    #[test]
+    fn a_bright_shallow_floor_lights_undersides() {
+        let m = MediumPreset::Pure.medium();
+        let sun = Vec3::new(0.3, 0.85, 0.2).normalize();
+        let open = UnderwaterLight::new(sun, Vec3::splat(1000.0), Vec3::splat(300.0), 1.333);
+        let down = open.downwelling(&m, 0.2);
+        assert!((open.upwelling(&m, 0.2) - UPWELLING_FRACTION * down).abs().max_element() < 1e-3);
+        // Right above a white floor: all the light on the floor comes back up.
+        let white = open.with_floor(1.6, 1.0);
+        let at_floor = white.upwelling(&m, 1.6 - 1e-4);
+        let on_floor = open.downwelling(&m, 1.6);
+        assert!((at_floor - on_floor).abs().max_element() < 1e-2 * on_floor.max_element());
+        let half = open.with_floor(1.6, 0.5).upwelling(&m, 1.6 - 1e-4);
+        assert!((half - 0.5 * on_floor).abs().max_element() < 1e-2 * on_floor.max_element());
+        // The pool: tiles (mean albedo about 0.7) 1.6 m down light a ball's
+        // underside 0.2 m down several times more than the grey world does
+        // in green and blue; red, absorbed on the way, less so.
+        let pool = open.with_floor(1.6, 0.7).upwelling(&m, 0.2);
+        let grey = UPWELLING_FRACTION * down;
+        assert!(pool.y > 3.0 * grey.y && pool.z > 3.0 * grey.z, "{pool} vs {grey}");
+        assert!(pool.x / grey.x < pool.z / grey.z);
+        // A floor 200 m down sends nothing back: the grey world.
+        let deep = open.with_floor(200.0, 1.0).upwelling(&m, 0.2);
+        assert!((deep - grey).abs().max_element() < 1e-3);
+        // The irradiance on a face looking straight down is the upwelling.
+        let n = Vec3::NEG_Y;
+        let e = open.with_floor(1.6, 0.7).irradiance(&m, 0.2, n, 1.0);
+        assert!((e - pool).abs().max_element() < 1e-3 * pool.max_element());
+    }
+
+    #[test]
+    fn a_materials_mean_albedo_counts_its_pattern() {
+        use crate::scene::{MaterialDesc, Pattern};
+        let mut tiles = MaterialDesc {
+            albedo: [0.75, 0.85, 0.88],
+            pattern: Pattern::Tiles,
+            pattern_color: [0.12, 0.2, 0.24],
+            ..Default::default()
+        };
+        let expected = 0.8836 * (0.75 + 0.85 + 0.88) / 3.0 + 0.1164 * (0.12 + 0.2 + 0.24) / 3.0;
+        assert!((tiles.mean_albedo() - expected).abs() < 1e-6);
+        tiles.pattern = Pattern::None;
+        assert!((tiles.mean_albedo() - (0.75 + 0.85 + 0.88) / 3.0).abs() < 1e-6);
+    }
 
     #[test]
     fn transmittance_is_beer_lambert() {

@@ -228,7 +228,8 @@ impl FramePlan {
         let sun = Vec3::from_slice(&sky.sun_illuminance[..3]) * exposure;
         let ambient = world.sky_irradiance * exposure;
         let sun_dir = Vec3::from_slice(&sky.sun_direction[..3]);
-        let under = UnderwaterLight::new(sun_dir, sun, ambient, s.water.ior);
+        let under = UnderwaterLight::new(sun_dir, sun, ambient, s.water.ior)
+            .with_floor(s.floor.depth, s.floor.material.mean_albedo());
         let medium = s.medium();
         let size = self.size;
         FrameUniforms {
@@ -250,9 +251,9 @@ impl FramePlan {
                 sun_travel: under.sun_travel.into(),
                 sun_travel_cos: -under.sun_travel.y,
                 sun_underwater: under.sun_irradiance.into(),
-                _pad0: 0.0,
+                floor_depth: under.floor_depth,
                 sky_underwater: under.sky_irradiance.into(),
-                _pad1: 0.0,
+                floor_albedo: under.floor_albedo,
             },
             water: FrameWater {
                 body_color: s.water.body_color,

@@ -109,9 +109,9 @@ uniform! { FrameLight;
         pub sun_travel: [f32; 3],
         pub sun_travel_cos: f32,
         pub sun_underwater: [f32; 3],
-        pub _pad0: f32,
+        pub floor_depth: f32,
         pub sky_underwater: [f32; 3],
-        pub _pad1: f32,
+        pub floor_albedo: f32,
     }
 }
 

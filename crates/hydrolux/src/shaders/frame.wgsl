@@ -33,12 +33,14 @@ struct FrameLight {
     // to the vertical.
     sun_travel: vec3<f32>,
     sun_travel_cos: f32,
-    // Sun irradiance just under the surface facing the refracted beam.
+    // Sun irradiance just under the surface facing the refracted beam, and
+    // the floor's depth (m; 0: none).
     sun_underwater: vec3<f32>,
-    _pad0: f32,
-    // Sky irradiance just under the surface (horizontal).
+    floor_depth: f32,
+    // Sky irradiance just under the surface (horizontal), and the floor's
+    // mean albedo.
     sky_underwater: vec3<f32>,
-    _pad1: f32,
+    floor_albedo: f32,
 }
 
 // The water body and how its surface is shaded.

@@ -39,8 +39,34 @@ fn in_scatter_from(e_top: vec3<f32>, t: f32, phase: f32, c: f32, s: f32) -> vec3
 }
 
 // Fraction of the downwelling light that comes back up from below (floor
-// and water), lighting undersides. Twin: medium::UPWELLING_FRACTION.
+// and water), lighting undersides, the least anywhere (deep water, a dark
+// floor). Twin: medium::UPWELLING_FRACTION.
 const UPWELLING_FRACTION: f32 = 0.15;
+
+// Downwelling irradiance on a horizontal plane `depth` m down. Twin:
+// UnderwaterLight::downwelling.
+fn downwelling(depth: f32) -> vec3<f32> {
+    let d = max(depth, 0.0);
+    let cos_w = max(frame.light.sun_travel_cos, 1e-3);
+    return frame.light.sun_underwater * transmittance(d / cos_w) * cos_w
+        + frame.light.sky_underwater * transmittance(d / DIFFUSE_MEAN_COSINE);
+}
+
+// Upwelling irradiance on a downward-facing plane `depth` m down: the
+// floor's diffuse reflection of the light that reaches it, dimmed on its
+// way up, or the grey world's bounce, whichever is more. Twin:
+// UnderwaterLight::upwelling.
+fn upwelling(depth: f32) -> vec3<f32> {
+    let d = max(depth, 0.0);
+    let grey_world = UPWELLING_FRACTION * downwelling(d);
+    let floor_depth = frame.light.floor_depth;
+    if (floor_depth <= d) {
+        return grey_world;
+    }
+    let from_floor = frame.light.floor_albedo * downwelling(floor_depth)
+        * transmittance((floor_depth - d) / DIFFUSE_MEAN_COSINE);
+    return max(grey_world, from_floor);
+}
 
 // Irradiance on a receiver with normal n, `depth` m under the mean surface.
 fn underwater_irradiance(depth: f32, n: vec3<f32>, sun_visibility: f32) -> vec3<f32> {
@@ -56,7 +82,7 @@ fn underwater_irradiance_sun(depth: f32, n: vec3<f32>, sun_cosine: f32) -> vec3<
     let sky_down = frame.light.sky_underwater * transmittance(d / DIFFUSE_MEAN_COSINE);
     let sun = sun_down * sun_cosine;
     let sky = sky_down * (0.5 + 0.5 * n.y);
-    let up = UPWELLING_FRACTION * (sun_down * cos_w + sky_down) * (0.5 - 0.5 * n.y);
+    let up = upwelling(d) * (0.5 - 0.5 * n.y);
     return sun + sky + up;
 }
 
