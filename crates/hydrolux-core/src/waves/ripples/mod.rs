@@ -223,11 +223,77 @@ pub const BREAKING_RELAX: f64 = 0.25;
 /// between held and not from rounding.
 pub const HULL_GAP: f64 = 0.02;
 
+/// How far (cells) from a point of a lifted body's hollow the free water
+/// is looked for whose velocity potential that point takes
+/// ([`released_source`]): past the widest hull a pool floats.
+pub const RELEASE_REACH_CELLS: i32 = 64;
+
 /// Fixed-point units (per metre of height) the water a hull pushes out in
 /// a step is summed in (µm: exact sums in any order; 2 147 m of height over
 /// all cells in one step before the GPU's 32 bits overflow, a thousand
 /// times a pool's plunge).
 pub const PUSHED_UNITS_PER_M: f64 = 1e6;
+
+/// Where a body was lifted out of the water ([`BodyMove::released`]) and
+/// no hull holds it now, the water of the hollow it held takes the
+/// velocity potential of the free water just outside, one cell past the
+/// hollow's edge along the line from the body's centre through world
+/// point `w`: the grid index read. What φ held under the hull is the
+/// pressure it pressed with, not the water's motion; left there, it
+/// sprang back as a mound once the hull let go (φ = 0 would be no better:
+/// φ also holds the whole pool's gauge). `None` elsewhere. Twin of `released_source` in
+/// ripples.wgsl.
+pub fn released_source(
+    grid: &RippleGrid,
+    window: &RippleWindow,
+    bodies: &[BodyMove],
+    w: [f64; 2],
+) -> Option<usize> {
+    if bodies.iter().any(|b| b.depth(w[0], w[1]) > 0.0) {
+        return None;
+    }
+    let lifted =
+        bodies.iter().find(|b| b.released.is_some() && b.depth_before(w[0], w[1]) > 0.0)?;
+    let c = lifted.held().position;
+    let (dx, dz) = (w[0] - c.x, w[1] - c.z);
+    let len = dx.hypot(dz);
+    let dir = if len > 1e-9 { [dx / len, dz / len] } else { [1.0, 0.0] };
+    let cell = grid.cell_size;
+    let at = |k: i32| [w[0] + dir[0] * k as f64 * cell, w[1] + dir[1] * k as f64 * cell];
+    let edge = (1..=RELEASE_REACH_CELLS).find(|&k| {
+        let p = at(k);
+        lifted.depth_before(p[0], p[1]) <= 0.0 && bodies.iter().all(|b| b.depth(p[0], p[1]) <= 0.0)
+    })?;
+    let q = at(edge + 1);
+    let n = grid.cells as i64;
+    let f = grid.fft_size() as i64;
+    let g = [0, 1].map(|a| {
+        let world_cell = (q[a] / cell).floor() as i64;
+        match grid.boundary {
+            RippleBoundary::Walls => (world_cell - window.origin[a]).clamp(0, n - 1),
+            RippleBoundary::Open | RippleBoundary::Periodic => world_cell.rem_euclid(f),
+        }
+    });
+    Some((g[1] * f + g[0]) as usize)
+}
+
+/// The mean height (m) of the free water of the domain (`h` and
+/// `covered` per grid cell): what a hull's pressure head is measured
+/// from (`RippleSim::step_with`). 0 when hulls cover it all.
+pub fn free_level(grid: &RippleGrid, h: &[f64], covered: &[bool]) -> f64 {
+    let (n, f) = (grid.cells, grid.fft_size());
+    let (mut sum, mut count) = (0.0, 0usize);
+    for j in 0..n {
+        for i in 0..n {
+            let c = j * f + i;
+            if !covered[c] {
+                sum += h[c];
+                count += 1;
+            }
+        }
+    }
+    if count == 0 { 0.0 } else { sum / count as f64 }
+}
 
 /// Breaking, as the linear model cannot: where the surface between a cell
 /// (height `h`) and a neighbour stands steeper than [`BREAKING_SLOPE`], they
@@ -249,9 +315,10 @@ pub fn breaking(h: f64, neighbours: [f64; 4], cell: f64) -> f64 {
 }
 
 /// The still water around floating bodies: each rests in its hollow,
-/// h = −d (the equilibrium of the pressure heads), over the FFT grid.
-/// Between walls the water the bodies displace raises the whole level
-/// (the volume of water is that of the empty pool); open water keeps its level.
+/// h = −d, and the free water lies at the scene's level, 0 (the level with
+/// the bodies in: what they displace is not added to it, so that the heads
+/// they press with, measured from the free water's level, hold their
+/// hollows as they are from the first step), over the FFT grid.
 pub fn resting_heights(grid: &RippleGrid, window: &RippleWindow, bodies: &[BodyMove]) -> Vec<f64> {
     let f = grid.fft_size();
     let mut h = vec![0.0; f * f];
@@ -260,10 +327,6 @@ pub fn resting_heights(grid: &RippleGrid, window: &RippleWindow, bodies: &[BodyM
             let (_, w) = domain_cell(grid, window, [p, q]);
             h[q * f + p] = -bodies.iter().map(|b| b.depth(w[0], w[1])).sum::<f64>();
         }
-    }
-    if grid.boundary == RippleBoundary::Walls {
-        let rise = -h.iter().sum::<f64>() / (f * f) as f64;
-        h.iter_mut().for_each(|v| *v += rise);
     }
     h
 }
@@ -555,6 +618,7 @@ impl RippleSim {
         let (grid, dt) = (self.settings.grid, self.settings.dt);
         let f = self.f();
         let before = self.h.clone();
+        let phi_before = self.phi.clone();
         // How deep hulls hold the water down in each cell (0 where none
         // pierces the surface). Twin of `hull_depth` in ripples.wgsl.
         let held_down: Vec<f64> = (0..f * f)
@@ -564,6 +628,14 @@ impl RippleSim {
             })
             .collect();
         let covered: Vec<bool> = held_down.iter().map(|&d| d > 0.0).collect();
+        // A hull presses with the head of its bottom below the free water
+        // around it, not below the mean level: in a walled pool the hulls'
+        // hollows raise the free water, and a head short by that rise let
+        // the water flow into the hollow for as long as a body floated
+        // (the contact pushing it back out each step), a current that
+        // stored itself in φ and rose as a mound where a floating ball was
+        // lifted out. Twin of `free_level` in ripples.wgsl.
+        let free_level = if bodies.is_empty() { 0.0 } else { free_level(&grid, &before, &covered) };
         // A hull holds its hollow down: free water does not pour into it by
         // breaking (else the two fight every step, and the ring about a
         // floating ball stands steep), though a hollow rebounding above
@@ -595,8 +667,8 @@ impl RippleSim {
                 // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's
                 // worth, where the water touches the hulls (water that fell
                 // away below a hull's bottom feels no push from it).
-                if holds(i) {
-                    self.phi[i] -= GRAVITY * held_down[i] * dt;
+                if holds(i) && covered[i] {
+                    self.phi[i] -= GRAVITY * (held_down[i] + free_level) * dt;
                 }
                 for drop in drops {
                     self.h[i] += drop_height(&grid, &self.window, drop, w);
@@ -639,6 +711,9 @@ impl RippleSim {
                 let units = (excess * PUSHED_UNITS_PER_M).round();
                 self.h[i] -= units / PUSHED_UNITS_PER_M;
                 pushed += units as i64;
+            }
+            if let Some(j) = released_source(&grid, &self.window, bodies, w) {
+                self.phi[i] = phi_before[j];
             }
         }
         let rise = match grid.boundary {

@@ -469,8 +469,9 @@ fn a_ball_dropped_in_makes_waves_not_spouts() {
         "highest: dropped {dropped:.3} m, dragged {dragged:.3} m, 6 s later {settled:.3} m; \
          lowest as it fell in {lowest:.3} m"
     );
-    // Measured: 0.24, 0.65 and 0.36 m, lowest −1.08 m (the ball's
-    // bottom at its deepest); without breaking 1.48 m (a spout through
+    // Measured: 0.25, 0.41 and 0.13 m, lowest −1.06 m (the ball's
+    // bottom at its deepest); 0.24, 0.65 and 0.36 m while the hulls'
+    // heads were measured from the mean level, not the free water's; without breaking 1.48 m (a spout through
     // the ball), 0.97 and 0.72 m; without the contact 0.46, 0.76 and
     // 0.47 m here, while in the viewer (the ball floating on the level
     // about it) the hollow reached −2.1 m, below the 1.6 m floor.
@@ -539,4 +540,71 @@ fn landing_liquid_hands_the_pool_its_volume_and_its_momentum() {
     quiet.step(&[]);
     assert!((quiet.volume() - 1e-4).abs() < 1e-7);
     assert!((0..32).all(|i| quiet.potential(i, 16).abs() < 1e-12));
+}
+
+/// The viewer's B: the pool's ball, floating a while, is lifted out and
+/// put back in the air. The hollow it held closes as if it had never been
+/// there: no mound rises where it floated (issue #31: a white mound stood
+/// there, foaming, because the pressure head the hull had held the water
+/// down with stayed in φ and sprang back when the hull let go).
+#[test]
+fn a_ball_lifted_out_leaves_no_mound() {
+    use crate::bodies::BodyWorld;
+    let s = pool_with_ball(1.0);
+    let settings = s.ripple_settings().unwrap();
+    let grid = settings.grid;
+    let mut sim = RippleSim::new(settings, RippleWindow::centred(&grid, [0.0, 0.0]));
+    let mut world = BodyWorld::new(&s.bodies(), settings.dt).unwrap();
+    let v0 = sim.volume();
+    let steps = |seconds: f64| (seconds / settings.dt) as usize;
+    let step = |sim: &mut RippleSim, world: &mut BodyWorld| {
+        let before = world.poses();
+        world.step(&|_, _, _| 0.0);
+        let mut moves = world.moves_since(&before);
+        world.release_hollows(&mut moves);
+        sim.step_with(&[], &moves);
+    };
+    // Dropped in and left to float for 8 s.
+    for _ in 0..steps(8.0) {
+        step(&mut sim, &mut world);
+    }
+    let centre = world.poses()[0].position;
+    // The highest water within `r` m of where the ball floated.
+    let n = grid.cells;
+    let highest_near = |sim: &RippleSim, r: f64| {
+        let h = sim.heights();
+        let mut m: f64 = f64::MIN;
+        for j in 0..n {
+            for i in 0..n {
+                let (_, w) = domain_cell(&grid, &sim.window, [i, j]);
+                if (w[0] - centre.x).hypot(w[1] - centre.z) < r {
+                    m = m.max(h[j * n + i]);
+                }
+            }
+        }
+        m
+    };
+    // The highest free water anywhere (the drop's waves, dying down).
+    let waves_before = sim.heights().iter().fold(0.0f64, |m, h| m.max(*h));
+    // Lifted out and held high above the pool (it falls for a second).
+    world.place(0, glam::DVec3::new(-1.2, 8.0, 1.2));
+    let mut mound: f64 = f64::MIN;
+    for _ in 0..steps(1.0) {
+        step(&mut sim, &mut world);
+        mound = mound.max(highest_near(&sim, 0.6));
+    }
+    let lost = (sim.volume() - v0).abs();
+    eprintln!(
+        "highest free water before the lift {waves_before:.3} m; \
+         within 0.6 m of where the ball was, 1 s after: {mound:.3} m"
+    );
+    // Measured 0.071 m there against 0.078 m of waves before; 0.278 m with
+    // neither the hull's head from the free water's level nor the hollow's
+    // φ from the water around it, 0.097 m with the first alone.
+    assert!(
+        mound < waves_before,
+        "a mound {mound:.3} m high rose where the ball was lifted out \
+         (the waves were {waves_before:.3} m)"
+    );
+    assert!(lost < 1e-9, "volume changed by {lost} m³");
 }

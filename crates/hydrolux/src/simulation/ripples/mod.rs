@@ -50,12 +50,12 @@ uniform! { RippleParams;
 
 pub fn source() -> String {
     use hydrolux_core::waves::ripples::{
-        BREAKING_RELAX, BREAKING_SLOPE, HULL_GAP, PUSHED_UNITS_PER_M,
+        BREAKING_RELAX, BREAKING_SLOPE, HULL_GAP, PUSHED_UNITS_PER_M, RELEASE_REACH_CELLS,
     };
     // Breaking's and the hulls' constants from the CPU twin's, not copied by hand.
     use hydrolux_core::coupling::{PLUME_DEPTH_PER_SPEED, PLUNGE_SPREAD_CELLS};
     let consts = format!(
-        "const PLUME_DEPTH_PER_SPEED: f32 = {PLUME_DEPTH_PER_SPEED:?};\nconst PLUNGE_SPREAD_CELLS: i32 = {PLUNGE_SPREAD_CELLS};\nconst BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\nconst HULL_GAP: f32 = {HULL_GAP:?};\nconst PUSHED_UNITS_PER_M: f32 = {PUSHED_UNITS_PER_M:?};\nconst EDGES_WALLS: u32 = {}u;\n",
+        "const PLUME_DEPTH_PER_SPEED: f32 = {PLUME_DEPTH_PER_SPEED:?};\nconst PLUNGE_SPREAD_CELLS: i32 = {PLUNGE_SPREAD_CELLS};\nconst BREAKING_SLOPE: f32 = {BREAKING_SLOPE:?};\nconst BREAKING_RELAX: f32 = {BREAKING_RELAX:?};\nconst HULL_GAP: f32 = {HULL_GAP:?};\nconst PUSHED_UNITS_PER_M: f32 = {PUSHED_UNITS_PER_M:?};\nconst RELEASE_REACH_CELLS: i32 = {RELEASE_REACH_CELLS};\nconst EDGES_WALLS: u32 = {}u;\n",
         edges_index(RippleBoundary::Walls)
     );
     shaders::compose(&consts, include_str!("ripples.wgsl"))
@@ -90,13 +90,22 @@ pub struct StepInput {
 }
 
 /// A body's move as `BodyMove` in ripples.wgsl: its shape, the pose whose
-/// hollow it held before the step ([`BodyMove::held`]) and its pose after.
+/// hollow it held before the step ([`BodyMove::held`], its position's w 1
+/// where it was lifted out: [`BodyMove::released`]) and its pose after.
 fn gpu_move(m: &BodyMove) -> [[f32; 4]; 5] {
     let (code, size) = m.shape.gpu();
     let pos = |p: &hydrolux_core::bodies::Pose| p.position.as_vec3().extend(0.0).to_array();
     let rot = |p: &hydrolux_core::bodies::Pose| p.rotation.as_quat().to_array();
     let held = m.held();
-    [[size[0], size[1], size[2], code as f32], pos(&held), rot(&held), pos(&m.after), rot(&m.after)]
+    let mut held_position = pos(&held);
+    held_position[3] = if m.released.is_some() { 1.0 } else { 0.0 };
+    [
+        [size[0], size[1], size[2], code as f32],
+        held_position,
+        rot(&held),
+        pos(&m.after),
+        rot(&m.after),
+    ]
 }
 
 /// Δφ (m²/s) per unit of landing spray: the scene's spray parcel over a
@@ -156,7 +165,9 @@ pub struct RipplePass {
     /// Landing spray per texel (fixed-point speeds; the white water adds,
     /// the next step uses them up).
     pub kicks: wgpu::Buffer,
-    /// The water hulls pushed out in the step under way (fixed point).
+    /// The hulls' ledger (`HullLedger` in ripples.wgsl): the water they
+    /// pushed out in the step under way (fixed point), the free water's
+    /// mean height.
     pushed: wgpu::Buffer,
     /// Δφ (m²/s) per kick unit: the scene's spray parcel over a cell.
     kick_per_unit: f32,
@@ -167,6 +178,7 @@ pub struct RipplePass {
     group: wgpu::BindGroup,
     fft_groups: [wgpu::BindGroup; 2],
     disturb: wgpu::ComputePipeline,
+    free_level: wgpu::ComputePipeline,
     spectral_step: wgpu::ComputePipeline,
     publish: wgpu::ComputePipeline,
     fft_rows: wgpu::ComputePipeline,
@@ -199,7 +211,7 @@ impl RipplePass {
         let depth = cells((n * n) as u64, 4, "ripples depth", copy);
         let heights = cells((n * n) as u64, 4, "ripples heights", copy);
         let kicks = cells((n * n) as u64, 4, "ripples spray kicks", copy);
-        let pushed = cells(1, 4, "ripples water pushed out", copy);
+        let pushed = cells(1, 8, "ripples hulls' ledger", copy);
         let kick_per_unit = kick_per_unit(scene, &settings);
         queue.write_buffer(
             &depth,
@@ -276,6 +288,7 @@ impl RipplePass {
             })
         };
         let fft_groups = [fft_group(&spatial), fft_group(&spectral)];
+        let free_level = pipeline("free_level");
         let (disturb, spectral_step, publish) =
             (pipeline("disturb"), pipeline("spectral_step"), pipeline("publish"));
         let (fft_rows, fft_columns) = (fft("fft_rows"), fft("fft_columns"));
@@ -359,6 +372,7 @@ impl RipplePass {
             layout,
             fft_groups,
             disturb,
+            free_level,
             spectral_step,
             publish,
             fft_rows,
@@ -436,7 +450,7 @@ impl RipplePass {
         queue.write_buffer(&self.spectral, 0, &vec![0u8; f * f * 16]);
         queue.write_buffer(&self.heights, 0, &vec![0u8; (n * n * 4) as usize]);
         queue.write_buffer(&self.kicks, 0, &vec![0u8; (n * n * 4) as usize]);
-        queue.write_buffer(&self.pushed, 0, &[0u8; 4]);
+        queue.write_buffer(&self.pushed, 0, &[0u8; 8]);
         queue.write_texture(
             self.texture.as_image_copy(),
             &vec![0u8; (n * n * 8) as usize],
@@ -451,8 +465,12 @@ impl RipplePass {
     }
 
     /// Start from still water shaped by `heights` on the FFT grid (row = z):
-    /// both depth levels hold it, at rest.
-    pub fn set_heights(&self, queue: &wgpu::Queue, heights: &[f64]) {
+    /// both depth levels hold it, at rest, about the `hulls` of the bodies
+    /// at rest in it (which a publish before the first step marks: without
+    /// them, a frame at t = 0 drew the hollows' edges as steep water, a
+    /// bright ring about the pool's ball that the next frame lost).
+    pub fn set_heights(&mut self, queue: &wgpu::Queue, heights: &[f64], hulls: &[BodyMove]) {
+        self.last_moves = hulls.iter().map(gpu_move).collect();
         let state: Vec<[f32; 4]> =
             heights.iter().map(|&h| [h as f32, 0.0, h as f32, 0.0]).collect();
         queue.write_buffer(&self.spectral, 0, bytemuck::cast_slice(&state));
@@ -608,6 +626,12 @@ impl RipplePass {
                     log,
                     crate::simulation::liquid::LANDING_DISPATCH_AT,
                 );
+            }
+            // The free water's level the hulls press from (only hulls read it).
+            if !inputs[i as usize].moves.is_empty() {
+                pass.set_pipeline(&self.free_level);
+                pass.set_bind_group(0, &self.group, &[offset]);
+                pass.dispatch_workgroups(1, 1, 1);
             }
             pass.set_pipeline(&self.disturb);
             pass.set_bind_group(0, &self.group, &[offset]);

@@ -74,10 +74,16 @@ struct BodyMove {
 // downward speeds summed in fixed point by the white water's `update`;
 // used up by the step (cleared in `spectral_step`, after `disturb` read it).
 @group(0) @binding(8) var<storage, read_write> kicks: array<atomic<u32>>;
-// The water hulls pushed out in this step (fixed point, PUSHED_UNITS_PER_M
-// per metre summed over the grid): `disturb` adds, `spectral_step` adds it
-// to the level and clears it.
-@group(0) @binding(9) var<storage, read_write> pushed: atomic<i32>;
+// The hulls' ledger: the water they pushed out in this step (fixed point,
+// PUSHED_UNITS_PER_M per metre summed over the grid: `disturb` and
+// `land_liquid` add, `spectral_step` adds it to the level and clears it),
+// and the free water's mean height (m) their heads are measured from
+// (`free_level` writes it before each step with bodies).
+struct HullLedger {
+    pushed: atomic<i32>,
+    free_level: f32,
+}
+@group(0) @binding(9) var<storage, read_write> ledger: HullLedger;
 // The liquid's landings log (liquid_landing.wgsl; its state buffer read
 // here past the solve state). Only `land_liquid` binds it, in a layout of
 // its own with bindings 0, 8 and 9 of group 0.
@@ -150,6 +156,52 @@ fn hull_covers(w: vec2<f32>) -> bool {
         }
     }
     return false;
+}
+
+// Where a body was lifted out of the water and no hull holds it now, the
+// grid index whose velocity potential the water of its hollow at world
+// point w takes: the free water's one cell past the hollow's edge, along
+// the line from the body's centre (-1 elsewhere). Twin:
+// ripples::released_source.
+fn released_source(w: vec2<f32>) -> i32 {
+    if (hull_covers(w)) {
+        return -1;
+    }
+    var lifted = -1;
+    for (var b = 0; b < params.move_count; b++) {
+        let m = moves[params.first_move + b];
+        if (m.held_position.w > 0.5 && held_depth(m, w) > 0.0) {
+            lifted = params.first_move + b;
+            break;
+        }
+    }
+    if (lifted < 0) {
+        return -1;
+    }
+    let m = moves[lifted];
+    let r = w - m.held_position.xz;
+    let len = length(r);
+    let dir = select(vec2<f32>(1.0, 0.0), r / len, len > 1e-9);
+    var edge = -1;
+    for (var k = 1; k <= RELEASE_REACH_CELLS; k++) {
+        let p = w + dir * f32(k) * params.cell;
+        if (held_depth(m, p) <= 0.0 && !hull_covers(p)) {
+            edge = k;
+            break;
+        }
+    }
+    if (edge < 0) {
+        return -1;
+    }
+    let q = w + dir * f32(edge + 1) * params.cell;
+    let world_cell = vec2<i32>(floor(q / params.cell));
+    let n = i32(params.cells);
+    let f = i32(params.fft_size);
+    var g = ((world_cell % f) + f) % f;
+    if (params.edges == EDGES_WALLS) {
+        g = clamp(world_cell - params.window_origin, vec2<i32>(0), vec2<i32>(n - 1));
+    }
+    return g.y * f + g.x;
 }
 
 // The domain cell a grid cell holds: walls mirror (cell 2N−1−i holds i);
@@ -244,6 +296,36 @@ fn sponge(d: vec2<u32>) -> f32 {
     return exp(-params.sponge_rate * x * x * params.dt);
 }
 
+var<workgroup> free_sums: array<vec2<f32>, 256>;
+
+// The mean height of the free water (no hull over it) before the step,
+// into ledger.free_level: one workgroup, each thread summing a stride of
+// the domain's cells, then a tree (the same order every time). Twin:
+// ripples::free_level.
+@compute @workgroup_size(256, 1, 1)
+fn free_level(@builtin(local_invocation_index) lid: u32) {
+    let n = params.cells;
+    var sum = vec2<f32>(0.0);
+    for (var c = lid; c < n * n; c += 256u) {
+        let g = vec2<u32>(c % n, c / n);
+        if (!hull_covers(world_of(domain_cell(g)))) {
+            sum += vec2<f32>(state(g).x, 1.0);
+        }
+    }
+    free_sums[lid] = sum;
+    workgroupBarrier();
+    for (var half = 128u; half > 0u; half >>= 1u) {
+        if (lid < half) {
+            free_sums[lid] += free_sums[lid + half];
+        }
+        workgroupBarrier();
+    }
+    if (lid == 0u) {
+        let total = free_sums[0];
+        ledger.free_level = select(0.0, total.x / total.y, total.y > 0.0);
+    }
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     let f = params.fft_size;
@@ -289,8 +371,10 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     // ∂φ/∂t = −g·(h + d): the bodies' pressure heads, one step's worth,
     // where the water touches the hulls (water that fell away below a
     // hull's bottom feels no push from it).
-    if (h_before >= -here_down - HULL_GAP) {
-        s.y -= params.gravity * here_down * params.dt;
+    // The head is that of the hull's bottom below the free water around
+    // (ledger.free_level), not below the mean level. Twin: free_level.
+    if (here && h_before >= -here_down - HULL_GAP) {
+        s.y -= params.gravity * (here_down + ledger.free_level) * params.dt;
     }
     let first = params.first_drop;
     for (var i = 0; i < params.drop_count; i++) {
@@ -311,13 +395,18 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     if (was > here_down && h_before >= -was - HULL_GAP && rise > 0.0) {
         let units = round(rise * PUSHED_UNITS_PER_M);
         s.x += units / PUSHED_UNITS_PER_M;
-        atomicSub(&pushed, i32(units));
+        atomicSub(&ledger.pushed, i32(units));
     }
     let excess = s.x + here_down;
     if (here && excess > 0.0) {
         let units = round(excess * PUSHED_UNITS_PER_M);
         s.x -= units / PUSHED_UNITS_PER_M;
-        atomicAdd(&pushed, i32(units));
+        atomicAdd(&ledger.pushed, i32(units));
+    }
+    // A lifted body's hollow takes the free water's φ from beside it.
+    let source = released_source(w);
+    if (source >= 0) {
+        s.y = state(vec2<u32>(u32(source) % f, u32(source) / f)).y;
     }
     spatial[grid_index(g)] = vec4<f32>(s.x, -s.y, 0.0, 0.0);
 }
@@ -369,7 +458,7 @@ fn spectral_step(@builtin(global_invocation_id) id: vec3<u32>) {
     if (i == 0u) {
         // The water hulls pushed out raises the level (the sum of h over
         // the grid is the zero wave number's amplitude).
-        hk.x += f32(atomicExchange(&pushed, 0)) / PUSHED_UNITS_PER_M;
+        hk.x += f32(atomicExchange(&ledger.pushed, 0)) / PUSHED_UNITS_PER_M;
     }
     // Open water has no level of its own: what the window gains or loses
     // flows away to the ocean around it.
@@ -487,5 +576,5 @@ fn land_liquid(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    atomicAdd(&pushed, i32(round(v / area * params.landing_images * PUSHED_UNITS_PER_M)));
+    atomicAdd(&ledger.pushed, i32(round(v / area * params.landing_images * PUSHED_UNITS_PER_M)));
 }
