@@ -93,34 +93,57 @@ fn box_crossing_the_pool() -> hydrolux::core::scene::Scene {
     s
 }
 
+/// The CPU twin of [`box_crossing_the_pool`] for `steps` steps, the box
+/// lifted out to `lift.1` before step `lift.0`: the heights, and how many
+/// steps let a hollow go.
+fn box_crossing_twin(
+    s: &hydrolux::core::scene::Scene,
+    steps: u64,
+    lift: Option<(u64, glam::DVec3)>,
+) -> (Vec<f64>, usize) {
+    use hydrolux::core::bodies::BodyWorld;
+    use hydrolux::core::waves::ripples::{RippleSim, RippleWindow, resting_heights};
+    let settings = s.ripple_settings().unwrap();
+    let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
+    let mut world = BodyWorld::new(&s.bodies(), settings.dt).unwrap();
+    // The water starts at rest around the hull: in its hollow.
+    let start = world.moves_since(&world.poses());
+    sim.h = resting_heights(&settings.grid, &sim.window, &start);
+    let mut released = 0;
+    for k in 0..steps {
+        if let Some((at, to)) = lift
+            && k == at
+        {
+            world.place(0, to);
+        }
+        let before = world.poses();
+        world.step(&|_, _, _| 0.0);
+        let mut moves = world.moves_since(&before);
+        world.release_hollows(&mut moves);
+        released += moves.iter().filter(|m| m.released.is_some()).count();
+        sim.step_with(&[], &moves);
+    }
+    (sim.heights(), released)
+}
+
+/// The GPU's heights within 0.5% of the twin's waves, and waves there are.
+fn assert_heights_match(gpu: &[f32], cpu: &[f64]) {
+    let scale = cpu.iter().fold(0.0f64, |m, h| m.max(h.abs()));
+    assert!(scale > 1e-3, "the hull made waves ({scale} m)");
+    let worst = gpu.iter().zip(cpu).map(|(g, c)| (*g as f64 - c).abs()).fold(0.0, f64::max);
+    assert!(worst < 5e-3 * scale, "GPU vs CPU max error {worst:e} m, waves {scale:e} m");
+}
+
 #[test]
 fn bodies_moving_through_the_water_match_the_cpu_twin() {
-    use hydrolux::core::bodies::BodyWorld;
-    use hydrolux::core::waves::ripples::{RippleSim, RippleWindow};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let s = box_crossing_the_pool();
     let mut r = renderer(&ctx, &s);
     let t = 0.5;
     r.simulate(&s.camera(), (16, 16), t);
     let gpu = r.read_ripples().unwrap();
-    let settings = s.ripple_settings().unwrap();
-    let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
-    let mut world = BodyWorld::new(&s.bodies(), settings.dt).unwrap();
-    // The water starts at rest around the hull: in its hollow.
-    let start = world.moves_since(&world.poses());
-    sim.h = hydrolux::core::waves::ripples::resting_heights(&settings.grid, &sim.window, &start);
-    for _ in 0..(t * 60.0).round() as u64 {
-        let before = world.poses();
-        world.step(&|_, _, _| 0.0);
-        let moves = world.moves_since(&before);
-        sim.step_with(&[], &moves);
-    }
-    let cpu = sim.heights();
-    let scale = cpu.iter().fold(0.0f64, |m, h| m.max(h.abs()));
-    assert!(scale > 1e-3, "the hull made waves ({scale} m)");
-    let worst =
-        gpu.heights.iter().zip(&cpu).map(|(g, c)| (*g as f64 - c).abs()).fold(0.0, f64::max);
-    assert!(worst < 5e-3 * scale, "GPU vs CPU max error {worst:e} m, waves {scale:e} m");
+    let (cpu, _) = box_crossing_twin(&s, (t * 60.0).round() as u64, None);
+    assert_heights_match(&gpu.heights, &cpu);
     // The box moved as scripted, and the renderer reports it.
     let b = r.bodies();
     assert!((b[0].pose.position.x - (-0.2 + 0.8 * t)).abs() < 0.02, "{:?}", b[0].pose);
@@ -131,8 +154,6 @@ fn bodies_moving_through_the_water_match_the_cpu_twin() {
 /// from the free water's level (`free_level`), on the GPU as in the twin.
 #[test]
 fn a_body_lifted_out_of_the_water_matches_the_cpu_twin() {
-    use hydrolux::core::bodies::BodyWorld;
-    use hydrolux::core::waves::ripples::{RippleSim, RippleWindow};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let s = box_crossing_the_pool();
     let mut r = renderer(&ctx, &s);
@@ -142,30 +163,10 @@ fn a_body_lifted_out_of_the_water_matches_the_cpu_twin() {
     r.place_body(0, away);
     r.simulate(&s.camera(), (16, 16), end);
     let gpu = r.read_ripples().unwrap();
-    let settings = s.ripple_settings().unwrap();
-    let mut sim = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
-    let mut world = BodyWorld::new(&s.bodies(), settings.dt).unwrap();
-    let start = world.moves_since(&world.poses());
-    sim.h = hydrolux::core::waves::ripples::resting_heights(&settings.grid, &sim.window, &start);
-    let mut released = 0;
-    for k in 0..(end * 60.0).round() as u64 {
-        if k == (lift * 60.0).round() as u64 {
-            world.place(0, away.as_dvec3());
-        }
-        let before = world.poses();
-        world.step(&|_, _, _| 0.0);
-        let mut moves = world.moves_since(&before);
-        world.release_hollows(&mut moves);
-        released += moves.iter().filter(|m| m.released.is_some()).count();
-        sim.step_with(&[], &moves);
-    }
+    let steps = |t: f64| (t * 60.0).round() as u64;
+    let (cpu, released) = box_crossing_twin(&s, steps(end), Some((steps(lift), away.as_dvec3())));
     assert_eq!(released, 1, "one step lets the hollow go");
-    let cpu = sim.heights();
-    let scale = cpu.iter().fold(0.0f64, |m, h| m.max(h.abs()));
-    assert!(scale > 1e-3, "the hull made waves ({scale} m)");
-    let worst =
-        gpu.heights.iter().zip(&cpu).map(|(g, c)| (*g as f64 - c).abs()).fold(0.0, f64::max);
-    assert!(worst < 5e-3 * scale, "GPU vs CPU max error {worst:e} m, waves {scale:e} m");
+    assert_heights_match(&gpu.heights, &cpu);
     assert!(r.bodies()[0].pose.position.y > 1.0, "the box is out of the water");
 }
 
