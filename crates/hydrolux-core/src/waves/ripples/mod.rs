@@ -249,11 +249,13 @@ pub fn released_source(
     bodies: &[BodyMove],
     w: [f64; 2],
 ) -> Option<usize> {
+    // The lifted bodies first: every cell asks every step, and almost
+    // always none was lifted.
+    let lifted =
+        bodies.iter().find(|b| b.released.is_some() && b.depth_before(w[0], w[1]) > 0.0)?;
     if bodies.iter().any(|b| b.depth(w[0], w[1]) > 0.0) {
         return None;
     }
-    let lifted =
-        bodies.iter().find(|b| b.released.is_some() && b.depth_before(w[0], w[1]) > 0.0)?;
     let c = lifted.held().position;
     let (dx, dz) = (w[0] - c.x, w[1] - c.z);
     let len = dx.hypot(dz);

@@ -164,9 +164,8 @@ fn hull_covers(w: vec2<f32>) -> bool {
 // the line from the body's centre (-1 elsewhere). Twin:
 // ripples::released_source.
 fn released_source(w: vec2<f32>) -> i32 {
-    if (hull_covers(w)) {
-        return -1;
-    }
+    // The lifted bodies first: every cell runs this every step, and
+    // almost always none was lifted.
     var lifted = -1;
     for (var b = 0; b < params.move_count; b++) {
         let m = moves[params.first_move + b];
@@ -175,7 +174,7 @@ fn released_source(w: vec2<f32>) -> i32 {
             break;
         }
     }
-    if (lifted < 0) {
+    if (lifted < 0 || hull_covers(w)) {
         return -1;
     }
     let m = moves[lifted];
