@@ -242,3 +242,19 @@ fn fluid_open_sides_are_a_list_of_names() {
     let err = Scene::load("dam_break", &["fluid.open=[1]".into()]).unwrap_err().to_string();
     assert!(err.contains("an array of strings"), "{err}");
 }
+
+/// Foam tiles with an FFT ocean's patch only where there is no interactive
+/// water: a wake's or a splash's foam is drawn once, in the interactive
+/// water's window, not again every patch across the sea.
+#[test]
+fn foam_tiles_only_on_an_ocean_without_interactive_water() {
+    let storm = Scene::load("storm", &[]).unwrap();
+    assert!(storm.foam_tiles());
+    for name in ["wake", "harbor", "pool"] {
+        let s = Scene::load(name, &[]).unwrap();
+        assert!(!s.foam_tiles(), "{name}");
+        assert_eq!(s.foam_extent(), s.ripples.extent, "{name}");
+    }
+    let wider = Scene::load("wake", &["whitewater.extent=200".into()]).unwrap();
+    assert_eq!(wider.foam_extent(), 200.0);
+}

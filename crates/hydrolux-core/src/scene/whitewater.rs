@@ -16,7 +16,9 @@ pub struct WhitewaterDesc {
     /// Foam cells per side (a power of two, 32 to 1024).
     pub resolution: u32,
     /// Side (m) of the foam's square window around the camera; 0 = the
-    /// interactive water's domain over flat water, else 256 m.
+    /// interactive water's domain where there is interactive water, else
+    /// 256 m. An FFT ocean without interactive water tiles its foam with
+    /// the ocean's patch instead (see `Scene::foam_tiles`).
     pub extent: f32,
     /// Foam lifetime τ (s); 0 = from `water.salinity` (Monahan: 3.85 s in
     /// sea water, 2.54 s in fresh water).
@@ -151,12 +153,21 @@ impl Scene {
         }
     }
 
-    /// Side (m) of the foam's window.
+    /// Whether the foam field tiles the plane with the FFT ocean's patch
+    /// (its whitecaps repeat as the waves do). Only an ocean without
+    /// interactive water: a wake or a splash is foam at one place, and in
+    /// a tiling field it came back every patch across the sea (the far
+    /// "white ovals" under `wake`'s 3.5 m/s breeze, which raises almost no
+    /// whitecaps: Monahan's cover there is 0.03%). With interactive water
+    /// the foam's window is its domain and follows it.
+    pub fn foam_tiles(&self) -> bool {
+        self.water.model == WaterModel::Fft && self.ripple_settings().is_none()
+    }
+
+    /// Side (m) of the foam's window (when it does not tile).
     pub fn foam_extent(&self) -> f32 {
         match self.whitewater.extent {
-            0.0 if self.water.model == WaterModel::Flat && self.water.dynamic => {
-                self.ripples.extent
-            }
+            0.0 if self.ripple_settings().is_some() => self.ripples.extent,
             0.0 => 256.0,
             e => e,
         }

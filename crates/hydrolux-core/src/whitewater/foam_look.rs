@@ -26,6 +26,19 @@ use glam::Vec2;
 pub const FOAM_REFERENCE_CELL: f32 = 1.5625;
 /// Side of the lace's bubble cells (m, across the wind).
 pub const LACE_CELL: f32 = 0.5;
+/// The finest lace drawn (m): a splash's raft of millimetre bubbles still
+/// gathers into clusters and filaments centimetres across, so a fine field
+/// (the pool's 1.6 cm cells would give 5 mm lace, too fine to show from
+/// the deck: the splash's foam was a smooth white blob) draws its lace no
+/// finer than this.
+pub const FINEST_LACE: f32 = 0.02;
+
+/// The scale of the look's sizes over a foam field of `cell` (m): they are
+/// for [`FOAM_REFERENCE_CELL`] and scale with the field's cell, down to
+/// lace [`FINEST_LACE`] across. As `foam_units` in WGSL.
+pub fn look_units(cell: f32) -> f32 {
+    (cell / FOAM_REFERENCE_CELL).max(FINEST_LACE / LACE_CELL)
+}
 /// Size of the noise that breaks the foam into patches (m, across the wind).
 pub const BREAKUP: f32 = 3.0;
 /// How far the lace's walls wander (cells) and the size of their wander (cells).
@@ -37,6 +50,15 @@ pub const EDGE_SPAN: f32 = 0.6;
 pub const LACE_WEIGHT: f32 = 0.5;
 /// t − s over which foam goes from a film to its full thickness.
 pub const THICK_SPAN: f32 = 0.1;
+/// A dense sheet is marbled: where the structure lies between
+/// `MARBLE_FROM` and `MARBLE_TO` (the bubble cells' middles, the first to
+/// burst), the sheet is a film at most `MARBLE` thinner, so a whitecap
+/// shows its network of thick walls over thinner cells, as photographs of
+/// breaking seas do, instead of one flat sheet. Only covers over about
+/// 0.65 reach these s, so lace and sparse foam are untouched.
+pub const MARBLE: f32 = 0.6;
+pub const MARBLE_FROM: f32 = 0.45;
+pub const MARBLE_TO: f32 = 0.7;
 
 /// The structure's quantiles at cover c = 0, 1/16, …, 1: foam shows where
 /// s < t(c), so that a fraction c of the surface is foam (measured over a
@@ -182,15 +204,62 @@ pub fn foam_structure(along: f32, across: f32, streak: f32) -> [f32; 3] {
 /// footprint): whether it is foam and how thick (0–1).
 pub fn foam_at(c: f32, s: f32) -> (bool, f32) {
     let t = foam_threshold(c);
-    (c > 0.0 && s < t, ((t - s) / THICK_SPAN).clamp(0.0, 1.0))
+    (c > 0.0 && s < t, ((t - s) / THICK_SPAN).clamp(0.0, 1.0) * marbling(s))
+}
+
+/// How much of a dense sheet's thickness a point of structure `s` keeps
+/// (1 on the walls, 1 − [`MARBLE`] in the cells' middles). As
+/// `foam_marbling` in WGSL.
+pub fn marbling(s: f32) -> f32 {
+    let x = ((s - MARBLE_FROM) / (MARBLE_TO - MARBLE_FROM)).clamp(0.0, 1.0);
+    1.0 - MARBLE * x * x * (3.0 - 2.0 * x)
 }
 
 /// The mean thickness of the foam where a cover `c` puts it (0.3 +
-/// 0.65·c^0.6 within 0.04, measured by `mean_thickness_is_the_fit`): what
+/// 0.65·c^0.6, less the marbling of dense sheets, 0.115·((c − 0.6)/0.4)²
+/// above 0.6; within 0.04, measured by `mean_thickness_is_the_fit`): what
 /// a pixel too coarse for any of the structure's magnifications shows, so
-/// the opacity and shade of near and far foam agree.
+/// the opacity and shade of near and far foam agree. As
+/// `foam_mean_thickness` in WGSL.
 pub fn mean_thickness(c: f32) -> f32 {
-    0.3 + 0.65 * c.clamp(0.0, 1.0).powf(0.6)
+    let c = c.clamp(0.0, 1.0);
+    let dense = (c - 0.6).max(0.0) / 0.4;
+    0.3 + 0.65 * c.powf(0.6) - 0.115 * dense * dense
+}
+
+/// How far past a lump's terminator the sun reaches foam: a raft scatters
+/// light through its depth, so it is lit half-Lambert over this wrap.
+pub const FOAM_WRAP: f32 = 0.3;
+/// The shade of a thin film relative to a thick sheet: light goes on into
+/// the water through a film, so its shade runs from this to 1 with thickness.
+pub const FOAM_FILM_SHADE: f32 = 0.65;
+
+/// The radiance foam sends to the eye (it is diffuse: the same in every
+/// direction). A raft of albedo [`super::FOAM_ALBEDO`] whose top faces
+/// `top` (unit; the wave's normal tilted by the foam's lumps), of
+/// `thickness` 0–1, lit by the sun (`sun_dir` unit, `sun_irradiance` on a
+/// plane facing it, shadow already applied) and the sky
+/// (`sky_irradiance_up` on a level plane). A tilted top sees (1 + top.y)/2
+/// of the dome (an even sky's view factor), and the sea over the rest of
+/// its view sends back a few percent, left out; so foam on a wave's face
+/// takes the sky's hue and brightness as a white card would, and the sun
+/// lights the faces turned to it. As `foam_radiance` in WGSL.
+pub fn foam_radiance(
+    top: glam::Vec3,
+    thickness: f32,
+    sun_dir: glam::Vec3,
+    sun_irradiance: glam::Vec3,
+    sky_irradiance_up: glam::Vec3,
+) -> glam::Vec3 {
+    let lit = if sun_dir.y >= 0.0 {
+        ((top.dot(sun_dir) + FOAM_WRAP) / (1.0 + FOAM_WRAP)).max(0.0)
+    } else {
+        0.0
+    };
+    let sky_seen = 0.5 * (1.0 + top.y);
+    let shade = FOAM_FILM_SHADE + (1.0 - FOAM_FILM_SHADE) * thickness.clamp(0.0, 1.0);
+    (sky_irradiance_up * sky_seen + sun_irradiance * lit)
+        * (super::FOAM_ALBEDO * shade / std::f32::consts::PI)
 }
 
 #[cfg(test)]
@@ -256,7 +325,24 @@ mod tests {
     fn sparse_foam_is_thin_lace_dense_foam_a_thick_sheet() {
         let s = samples(Vec2::new(-40.0, 17.0));
         let (sparse, dense) = (mean_thickness_at(&s, 0.05), mean_thickness_at(&s, 0.9));
-        assert!(sparse < 0.5 && dense > 0.85, "thickness: sparse {sparse:.2}, dense {dense:.2}");
+        assert!(sparse < 0.5 && dense > 0.8, "thickness: sparse {sparse:.2}, dense {dense:.2}");
+    }
+
+    /// A whitecap's sheet is marbled, not flat: its cells' middles are a
+    /// thinner film (a fifth to a half of it under 0.7 of full thickness)
+    /// between walls of full thickness; lace is never marbled.
+    #[test]
+    fn a_dense_sheet_is_marbled_lace_is_not() {
+        let s = samples(Vec2::new(77.0, -31.0));
+        let sheet: Vec<f32> = s.iter().map(|&v| foam_at(1.0, v).1).collect();
+        let thin = sheet.iter().filter(|&&t| t < 0.7).count() as f32 / sheet.len() as f32;
+        let walls = s.iter().zip(&sheet).filter(|(v, _)| **v < 0.4).map(|(_, t)| *t);
+        assert!((0.2..0.5).contains(&thin), "{thin:.2} of a full sheet is thinner than 0.7");
+        assert!(walls.clone().count() > 1000 && walls.clone().all(|t| t == 1.0));
+        assert!((marbling(MARBLE_TO) - (1.0 - MARBLE)).abs() < 1e-6);
+        // Lace (cover 0.3, threshold 0.38) lies below where marbling starts.
+        assert!(foam_threshold(0.3) < MARBLE_FROM);
+        assert_eq!(marbling(foam_threshold(0.3)), 1.0);
     }
 
     #[test]
@@ -316,5 +402,46 @@ mod tests {
             assert!((0.0..=1.0).contains(&c) && c >= last);
             last = c;
         }
+    }
+
+    /// A thick level sheet under the sky alone is a white card: albedo ×
+    /// E/π (Lambert). The sun adds E·(cos θ + wrap)/(1 + wrap); a face
+    /// turned from the sun past the wrap gets none, a vertical face half
+    /// the sky; a film is FOAM_FILM_SHADE as bright as a sheet.
+    #[test]
+    fn foam_radiance_is_a_lambertian_raft() {
+        use crate::whitewater::FOAM_ALBEDO;
+        use glam::Vec3;
+        use std::f32::consts::PI;
+        let sky = Vec3::new(28.0, 29.0, 30.0);
+        let sun = Vec3::new(36.0, 20.0, 7.0);
+        let sun_dir = Vec3::new(0.0, 0.5, -0.75_f32.sqrt());
+        let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 1e-4 * b.max_element();
+        let card = foam_radiance(Vec3::Y, 1.0, Vec3::new(0.0, -1.0, 0.0), sun, sky);
+        assert!(close(card, sky * FOAM_ALBEDO / PI), "{card}");
+        let lit = foam_radiance(Vec3::Y, 1.0, sun_dir, sun, sky);
+        assert!(close(lit, (sky + sun * (0.5 + FOAM_WRAP) / (1.0 + FOAM_WRAP)) * FOAM_ALBEDO / PI));
+        let away = foam_radiance(-sun_dir.with_y(0.0).normalize(), 1.0, sun_dir, sun, sky);
+        assert!(close(away, sky * 0.5 * FOAM_ALBEDO / PI), "{away}");
+        let film = foam_radiance(Vec3::Y, 0.0, sun_dir, sun, sky);
+        assert!(close(film, lit * FOAM_FILM_SHADE));
+        let toward = foam_radiance(
+            (Vec3::Y + 0.3 * sun_dir.with_y(0.0)).normalize(),
+            1.0,
+            sun_dir,
+            sun,
+            sky,
+        );
+        assert!(toward.x > lit.x && lit.x > away.x);
+    }
+
+    /// A whitecap's field keeps the reference sizes, a harbor's wake is
+    /// scaled down with its cells, and a pool's fine field stops at the
+    /// finest lace.
+    #[test]
+    fn look_units_follow_the_cell_down_to_the_finest_lace() {
+        assert_eq!(look_units(FOAM_REFERENCE_CELL), 1.0);
+        assert!((look_units(32.0 / 256.0) - 0.08).abs() < 1e-6);
+        assert!((look_units(4.0 / 256.0) * LACE_CELL - FINEST_LACE).abs() < 1e-6);
     }
 }

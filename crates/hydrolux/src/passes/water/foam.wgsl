@@ -39,12 +39,23 @@ fn ripple_view(p: vec2<f32>, n: vec3<f32>) -> vec4<f32> {
 // 512 cells); they scale with the field's own cell.
 const FOAM_REFERENCE_CELL: f32 = 1.5625;
 const LACE_CELL: f32 = 0.5;
+// The finest lace drawn (m; twin FINEST_LACE, look_units).
+const FINEST_LACE: f32 = 0.02;
 const BREAKUP: f32 = 3.0;
 const LACE_WARP: f32 = 0.35;
 const WARP_SCALE: f32 = 2.3;
 const EDGE_SPAN: f32 = 0.6;
 const LACE_WEIGHT: f32 = 0.5;
 const THICK_SPAN: f32 = 0.1;
+// A dense sheet is marbled: between MARBLE_FROM and MARBLE_TO of s (the
+// bubble cells' middles) it thins by up to MARBLE (twin: marbling).
+const MARBLE: f32 = 0.6;
+const MARBLE_FROM: f32 = 0.45;
+const MARBLE_TO: f32 = 0.7;
+// The sun wraps this far past a lump's terminator; a film is this shade of
+// a thick sheet (twins: FOAM_WRAP, FOAM_FILM_SHADE).
+const FOAM_WRAP: f32 = 0.3;
+const FOAM_FILM_SHADE: f32 = 0.65;
 // The structure is magnified until its finer network's cells span this
 // many pixels, up to 2^FOAM_MAX_LEVEL (16 times: 3 m lace cells at the
 // storm's scale); beyond, the foam is its mean.
@@ -167,9 +178,33 @@ fn foam_structure(along: f32, across: f32, streak_length: f32) -> vec3<f32> {
     return vec3<f32>(LACE_WEIGHT * e + (1.0 - LACE_WEIGHT) * m, LACE_WEIGHT * ge + (1.0 - LACE_WEIGHT) * gm);
 }
 
-// The mean thickness of the foam a cover c puts down (twin: mean_thickness).
-fn foam_mean_thickness(c: f32) -> f32 {
-    return 0.3 + 0.65 * pow(clamp(c, 0.0, 1.0), 0.6);
+// The mean thickness of the foam a cover c puts down, dense sheets'
+// marbling counted (twin: mean_thickness).
+fn foam_mean_thickness(c_in: f32) -> f32 {
+    let c = clamp(c_in, 0.0, 1.0);
+    let dense = max(c - 0.6, 0.0) / 0.4;
+    return 0.3 + 0.65 * pow(c, 0.6) - 0.115 * dense * dense;
+}
+
+// How much of a dense sheet's thickness a point of structure s keeps: all
+// on the network's walls, 1 − MARBLE in its cells' middles, so a whitecap
+// is a network of thick walls over thinner film rather than a flat sheet
+// (twin: marbling). Covers under about ½ never reach these s.
+fn foam_marbling(s: f32) -> f32 {
+    let x = clamp((s - MARBLE_FROM) / (MARBLE_TO - MARBLE_FROM), 0.0, 1.0);
+    return 1.0 - MARBLE * x * x * (3.0 - 2.0 * x);
+}
+
+// The radiance foam sends to the eye (twin: foam_radiance, which says
+// why): a diffuse raft of albedo FOAM_ALBEDO whose top faces `top`, lit
+// by the sun (irradiance facing it, shadow applied) wrapped FOAM_WRAP past
+// the terminator, and by the sky's irradiance on a level plane times the
+// share of the dome the top sees, (1 + top.y)/2; a film is darker.
+fn foam_radiance(top: vec3<f32>, thickness: f32, sun_dir: vec3<f32>, sun_irradiance: vec3<f32>, sky_irradiance_up: vec3<f32>) -> vec3<f32> {
+    let lit = max((dot(top, sun_dir) + FOAM_WRAP) / (1.0 + FOAM_WRAP), 0.0) * step(0.0, sun_dir.y);
+    let sky_seen = 0.5 * (1.0 + top.y);
+    let shade = FOAM_FILM_SHADE + (1.0 - FOAM_FILM_SHADE) * clamp(thickness, 0.0, 1.0);
+    return (sky_irradiance_up * sky_seen + sun_irradiance * lit) * (FOAM_ALBEDO * shade / PI);
 }
 
 // The structure magnified 2^level, at a pixel: how much of it is foam
@@ -186,7 +221,7 @@ fn foam_level(p: vec2<f32>, dpdx_p: vec2<f32>, dpdy_p: vec2<f32>, t: f32, level:
     let grad = (wind * s.y + across * s.z) / zoom;
     let soft = max(0.5 * (abs(dot(grad, dpdx_p)) + abs(dot(grad, dpdy_p))), 0.01);
     let inside = smoothstep(-soft, soft, t - s.x);
-    let depth = clamp((t - s.x) / THICK_SPAN, 0.0, 1.0);
+    let depth = clamp((t - s.x) / THICK_SPAN, 0.0, 1.0) * foam_marbling(s.x);
     var slope = vec2<f32>(0.0);
     let inner = t - s.x - THICK_SPAN;
     if (depth > 0.0 && depth < 1.0) {
@@ -214,8 +249,9 @@ fn foam_look(p_world: vec2<f32>, dpdx_world: vec2<f32>, dpdy_world: vec2<f32>) -
     }
     // The look's sizes are for a field of FOAM_REFERENCE_CELL cells and
     // scale with the field's own (a pool's splash foam is finer than a
-    // whitecap): work in those units (slopes are ratios, they carry over).
-    let units = surface.foam_side / f32(textureDimensions(foam_tex).x) / FOAM_REFERENCE_CELL;
+    // whitecap), its lace no finer than FINEST_LACE: work in those units
+    // (slopes are ratios, they carry over).
+    let units = max(surface.foam_side / f32(textureDimensions(foam_tex).x) / FOAM_REFERENCE_CELL, FINEST_LACE / LACE_CELL);
     let p = p_world / units;
     let dpdx_p = dpdx_world / units;
     let dpdy_p = dpdy_world / units;

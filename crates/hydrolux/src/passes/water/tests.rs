@@ -74,12 +74,18 @@ fn wgsl_foam_look_constants_are_the_twins() {
     for (name, value) in [
         ("FOAM_REFERENCE_CELL", twin::FOAM_REFERENCE_CELL),
         ("LACE_CELL", twin::LACE_CELL),
+        ("FINEST_LACE", twin::FINEST_LACE),
         ("BREAKUP", twin::BREAKUP),
         ("LACE_WARP", twin::LACE_WARP),
         ("WARP_SCALE", twin::WARP_SCALE),
         ("EDGE_SPAN", twin::EDGE_SPAN),
         ("LACE_WEIGHT", twin::LACE_WEIGHT),
         ("THICK_SPAN", twin::THICK_SPAN),
+        ("MARBLE", twin::MARBLE),
+        ("MARBLE_FROM", twin::MARBLE_FROM),
+        ("MARBLE_TO", twin::MARBLE_TO),
+        ("FOAM_WRAP", twin::FOAM_WRAP),
+        ("FOAM_FILM_SHADE", twin::FOAM_FILM_SHADE),
     ] {
         assert_eq!(literal(init(name)), value, "{name}");
     }

@@ -353,22 +353,16 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // Foam: a raft of bubbles (albedo 0.8) over the water and its glint.
     // Its top is the wave's surface tilted by the foam's own lumps, so the
     // sun lights a sheet's clumps and edges and leaves their lee and the
-    // wave's back in shade; the light it scatters spreads through its
-    // depth, so the sun wraps a little past the lumps' terminators (half-
-    // Lambert over 0.3), and thin film and hollows are darker (light goes
-    // on into the water there) and let the water show (foam_opacity).
+    // wave's back in shade, and the sky lights it by the share of the dome
+    // the top sees (foam_radiance): foam takes the sky's own light, warm
+    // under a low sun, as a white card would. Thin film and hollows are
+    // darker (light goes on into the water there) and let the water show
+    // (foam_opacity).
     let foam_alpha = foam_opacity(foam);
     if (foam_alpha > 0.0) {
         let top = normalize(n - vec3<f32>(foam.slope.x, 0.0, foam.slope.y));
-        let wrap = max((dot(top, l) + 0.3) / 1.3, 0.0) * step(0.0, l.y);
-        let sun_lit = frame.light.sun_illuminance * wrap * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
-        // The sky it sees: a bubble raft scatters the light from every
-        // direction above it, and a hazy or low sky is brightest near the
-        // horizon, so the sky's mean radiance around its top (a coarse mip
-        // of the sky cube: each texel there spans 22°), times π.
-        let sky_lit = PI * textureSampleLevel(sky_cube, sky_sampler, normalize(vec3<f32>(top.x, abs(top.y), top.z)), 6.0).rgb * exposure();
-        let depth_shade = 0.65 + 0.35 * foam.thickness;
-        let foam_color = FOAM_ALBEDO * depth_shade * (sky_lit + sun_lit) / PI;
+        let sun = frame.light.sun_illuminance * sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
+        let foam_color = foam_radiance(top, foam.thickness, l, sun, frame.light.sky_ambient);
         color = mix(color, foam_color, foam_alpha);
     }
 

@@ -243,7 +243,7 @@ impl Whitewater {
         let w = &scene.whitewater;
         let cells = w.resolution;
         let fft = scene.water.model == WaterModel::Fft;
-        let grid = if fft {
+        let grid = if scene.foam_tiles() {
             FoamGrid::periodic(cells, spectrum.settings.patch_size as f32)
         } else {
             FoamGrid::centred(cells, scene.foam_extent(), [0.0, 0.0])
