@@ -16,6 +16,7 @@ pub mod godrays;
 pub mod medium;
 pub mod npy;
 pub mod optics;
+pub mod path;
 pub mod projective;
 pub mod raytrace;
 pub mod rng;

@@ -699,8 +699,7 @@ impl FluidDesc {
 /// mesh (by the sign of its signed distance: `Scene::fluid_start`). Planes
 /// have no inside.
 pub fn is_fluid_solid(o: &ObjectDesc) -> bool {
-    !o.dynamic
-        && o.velocity == [0.0; 3]
+    !o.moving()
         && (!o.mesh.is_empty()
             || matches!(o.primitive, Primitive::Box | Primitive::Sphere | Primitive::Cylinder))
 }
@@ -761,15 +760,14 @@ impl Scene {
     }
 
     /// Whether object `o` is a body of the liquid: it moves (dynamic, or
-    /// kinematic with a velocity), has an exact shape and starts with its
+    /// kinematic with a velocity or a path), has an exact shape and starts with its
     /// centre in the liquid's domain. The liquid's world moves it, under
     /// the liquid's pressure (`fluid::coupled`); every other moving body
     /// floats on the surface water (`Scene::surface_bodies`).
     pub fn in_liquid(&self, o: &ObjectDesc) -> bool {
-        let moving = o.dynamic || o.velocity.iter().any(|&v| v != 0.0);
-        let inside =
-            (0..3).all(|a| (self.fluid.min[a]..=self.fluid.max[a]).contains(&o.position[a]));
-        self.fluid.enabled() && moving && inside && crate::coupling::Shape::of(o).is_some()
+        let start = o.start_position();
+        let inside = (0..3).all(|a| (self.fluid.min[a]..=self.fluid.max[a]).contains(&start[a]));
+        self.fluid.enabled() && o.moving() && inside && crate::coupling::Shape::of(o).is_some()
     }
 
     /// The body world of the surface water: every moving body but the
@@ -816,6 +814,7 @@ impl Scene {
                     shape: Some(crate::coupling::Shape::Box { half: 0.5 * scale.as_dvec3() }),
                     scale: scale.to_array(),
                     velocity: [0.0; 3],
+                    path: None,
                     dynamic: false,
                     density: 1000.0,
                     elsewhere: false,

@@ -211,6 +211,7 @@ impl super::Scene {
                     shape: Shape::of(o),
                     scale: o.scale,
                     velocity: o.velocity,
+                    path: o.path.as_ref().and_then(|p| p.build().ok()),
                     dynamic: o.dynamic,
                     density: o.density,
                     elsewhere: false,

@@ -114,7 +114,13 @@ const STRING_LISTS: [&str; 1] = ["fluid.open"];
 fn array_schema(name: &str) -> Option<Table> {
     let table = |t: Result<Table, _>| t.expect("a default entry serialises");
     match name {
-        "objects" => Some(table(Table::try_from(super::ObjectDesc::default()))),
+        "objects" => {
+            // `path` is optional (absent from the default): its own table.
+            let mut t = table(Table::try_from(super::ObjectDesc::default()));
+            let path = table(Table::try_from(crate::path::PathDesc::default()));
+            t.insert("path".into(), Value::Table(path));
+            Some(t)
+        }
         "drops" => Some(table(Table::try_from(super::DropDesc::default()))),
         "emitters" => Some(table(Table::try_from(super::EmitterDesc::default()))),
         "fluid.sources" => Some(table(Table::try_from(super::FluidSource::default()))),
@@ -194,6 +200,25 @@ fn check_value(
                 Ok(())
             } else {
                 Err(wrong(v, "an array of strings".into()))
+            }
+        }
+        // An empty default: a list of any length, of numbers or of
+        // [x, y, z] points (`objects.path.times`, `.points`).
+        (Value::Array(e), Value::Array(a)) if e.is_empty() => {
+            let number = |item: &mut Value| {
+                if let Value::Integer(i) = item {
+                    *item = Value::Float(*i as f64);
+                }
+                matches!(item, Value::Float(_))
+            };
+            let ok = a.iter_mut().all(|item| match item {
+                Value::Array(p) => p.len() == 3 && p.iter_mut().all(number),
+                other => number(other),
+            });
+            if ok {
+                Ok(())
+            } else {
+                Err(wrong(v, "a list of numbers or of [x, y, z] points".into()))
             }
         }
         (Value::Array(e), Value::Array(a)) => {
@@ -608,7 +633,22 @@ impl Scene {
                 1000.0,
                 "must be finite, each component within ±1000 m/s",
             )?;
-            let moving = o.dynamic || o.velocity.iter().any(|&v| v != 0.0);
+            if let Some(path) = &o.path {
+                let key = format!("objects[{i}].path");
+                if o.dynamic || o.velocity.iter().any(|&v| v != 0.0) {
+                    return Err(SceneError::OutOfRange {
+                        key,
+                        value: "a path with dynamic or a velocity".into(),
+                        allowed:
+                            "a path moves a kinematic object: leave dynamic false and velocity zero"
+                                .into(),
+                    });
+                }
+                if let Err((value, allowed)) = path.build() {
+                    return Err(SceneError::OutOfRange { key, value, allowed });
+                }
+            }
+            let moving = o.moving();
             if moving && crate::coupling::Shape::of(o).is_none() {
                 return Err(SceneError::OutOfRange {
                     key: format!("objects[{i}].dynamic"),

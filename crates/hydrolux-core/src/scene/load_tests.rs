@@ -258,3 +258,33 @@ fn foam_tiles_only_on_an_ocean_without_interactive_water() {
     let wider = Scene::load("wake", &["whitewater.extent=200".into()]).unwrap();
     assert_eq!(wider.foam_extent(), 200.0);
 }
+
+/// A path is checked when the scene loads: one line naming the key, the
+/// bad value and what is allowed.
+#[test]
+fn a_bad_path_is_a_clear_error() {
+    let scene = |path: &str| {
+        Scene::from_toml(
+            &format!("[[objects]]\nprimitive = \"box\"\n[objects.path]\n{path}\n"),
+            "test",
+            &[],
+        )
+    };
+    assert!(scene("points = [[0, 0, 0], [4, 0, 0]]\nspeed = 2").is_ok());
+    for (bad, says) in [
+        ("points = [[0, 0, 0]]\nspeed = 2", "2 to 256 points"),
+        ("points = [[0, 0, 0], [4, 0, 0]]\ntimes = [0, 2]\nspeed = 2", "not both"),
+        ("points = [[0, 0, 0], [4, 0, 0]]\ntimes = [1, 2]", "increasing times from 0"),
+        ("points = [[0, 0, 0], [4, 0, 0]]", "speed"),
+        ("points = [[0, 0], [4, 0, 0]]\nspeed = 2", "[x, y, z] points"),
+    ] {
+        let e = scene(bad).unwrap_err().to_string();
+        assert!(e.contains("objects[0].path") && e.contains(says), "{bad}: {e}");
+    }
+    let both = Scene::from_toml(
+        "[[objects]]\nprimitive = \"box\"\nvelocity = [1, 0, 0]\n[objects.path]\npoints = [[0, 0, 0], [4, 0, 0]]\nspeed = 2\n",
+        "test",
+        &[],
+    );
+    assert!(both.unwrap_err().to_string().contains("leave dynamic false and velocity zero"));
+}

@@ -263,7 +263,11 @@ impl Scene {
         let rotation = glam::Quat::from_rotation_z(r[2])
             * glam::Quat::from_rotation_y(r[1])
             * glam::Quat::from_rotation_x(r[0]);
-        glam::Mat4::from_scale_rotation_translation(o.scale.into(), rotation, o.position.into())
+        glam::Mat4::from_scale_rotation_translation(
+            o.scale.into(),
+            rotation,
+            o.start_position().into(),
+        )
     }
 
     /// The scene as a TOML table (for editing and for `--set` merging).

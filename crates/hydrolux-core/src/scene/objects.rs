@@ -34,6 +34,25 @@ pub struct ObjectDesc {
     /// Velocity (m/s): a dynamic object's at the start; any other object
     /// keeps it, moving steadily through the scene (a boat crossing).
     pub velocity: [f32; 3],
+    /// A scripted path (`[objects.path]`, not with `dynamic` or `velocity`):
+    /// the object follows its waypoints (world positions of its centre; its
+    /// `position` is the path's at time 0) and turns with its heading.
+    pub path: Option<crate::path::PathDesc>,
+}
+
+impl ObjectDesc {
+    /// Whether it moves: dynamic, kinematic with a velocity, or on a path.
+    pub fn moving(&self) -> bool {
+        self.dynamic || self.velocity.iter().any(|&v| v != 0.0) || self.path.is_some()
+    }
+
+    /// Where its centre is at time 0: its path's first point, or `position`.
+    pub fn start_position(&self) -> [f32; 3] {
+        match &self.path {
+            Some(p) if !p.points.is_empty() => p.points[0],
+            _ => self.position,
+        }
+    }
 }
 
 impl Default for ObjectDesc {
@@ -49,6 +68,7 @@ impl Default for ObjectDesc {
             dynamic: false,
             density: 500.0,
             velocity: [0.0; 3],
+            path: None,
         }
     }
 }

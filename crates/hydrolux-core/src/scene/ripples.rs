@@ -102,7 +102,7 @@ impl Scene {
         let water = self.ripple_settings().map_or(0.0, |r| r.memory());
         let foam =
             if self.has_whitewater() { (self.whitewater.memory as f64).max(1.0) } else { 0.0 };
-        let moving = self.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
+        let moving = self.objects.iter().any(|o| o.moving());
         let bodies = if moving { BODY_MEMORY_S } else { 0.0 };
         // A liquid never forgets its start (it may slosh for minutes): the
         // longest memory the clock takes, so any time under 20 minutes is

@@ -141,7 +141,7 @@ impl Scene {
         let w = &self.whitewater;
         let moving = matches!(self.water.model, WaterModel::Fft | WaterModel::Sines)
             || self.water.dynamic
-            || self.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
+            || self.objects.iter().any(|o| o.moving());
         self.has_water() && (w.foam || w.particles) && moving
     }
 

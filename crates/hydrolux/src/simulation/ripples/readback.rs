@@ -13,9 +13,10 @@ fn no_water(scene: &Scene) -> Option<&'static str> {
 }
 
 fn no_bodies(scene: &Scene) -> Option<&'static str> {
-    let moving = scene.objects.iter().any(|o| o.dynamic || o.velocity.iter().any(|&v| v != 0.0));
-    (!moving)
-        .then_some("the scene has no moving object (an object with dynamic = true or a velocity)")
+    let moving = scene.objects.iter().any(|o| o.moving());
+    (!moving).then_some(
+        "the scene has no moving object (an object with dynamic = true, a velocity or a path)",
+    )
 }
 
 /// `ripples`: the heights over the domain; `bodies`: the moving bodies (JSON).
