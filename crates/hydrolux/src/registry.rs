@@ -212,7 +212,7 @@ impl Techniques {
         sky: SkyParams,
     ) -> World {
         World {
-            shadow_bounds: shared.geometry.shadow_bounds,
+            shadow_bounds: shared.geometry.shadow_bounds(),
             refractive_bounds: crate::passes::water_object::refractive_bounds(
                 &shared.geometry,
                 scene,

@@ -69,6 +69,21 @@ impl Mesh {
         Some(it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
     }
 
+    /// The box around box `(lo, hi)` once `transform` has moved it (its
+    /// eight corners': a moving body's shadow caster where it is now).
+    pub fn moved_bounds(transform: &Mat4, (lo, hi): (Vec3, Vec3)) -> (Vec3, Vec3) {
+        (0..8)
+            .map(|k| {
+                let corner = Vec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                );
+                transform.transform_point3(corner)
+            })
+            .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(a, b), p| (a.min(p), b.max(p)))
+    }
+
     /// Append `other`, shifting its indices.
     pub fn append(&mut self, other: &Mesh) {
         let base = self.positions.len() as u32;
@@ -92,6 +107,20 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A box moved and turned is the box around its corners where they went.
+    #[test]
+    fn moved_bounds_hold_the_moved_box() {
+        let b = (Vec3::new(-1.0, -0.5, -2.0), Vec3::new(1.0, 0.5, 2.0));
+        let shifted = Mesh::moved_bounds(&Mat4::from_translation(Vec3::new(10.0, 0.0, -3.0)), b);
+        assert_eq!(shifted, (Vec3::new(9.0, -0.5, -5.0), Vec3::new(11.0, 0.5, -1.0)));
+        let turn = Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2);
+        let (lo, hi) = Mesh::moved_bounds(&turn, b);
+        assert!(
+            lo.distance(Vec3::new(-2.0, -0.5, -1.0)) < 1e-6
+                && hi.distance(Vec3::new(2.0, 0.5, 1.0)) < 1e-6
+        );
+    }
 
     #[test]
     fn degenerate_triangles_are_skipped() {

@@ -8,6 +8,7 @@
 use crate::gpu_util::*;
 use crate::shaders;
 use crate::uniforms::{ObjectUniforms, ViewUniforms};
+use hydrolux_core::geometry::Mesh;
 use hydrolux_core::geometry::load::{AssetError, load_texture};
 use hydrolux_core::scene::Scene;
 use wgpu::util::DeviceExt;
@@ -55,6 +56,8 @@ struct GpuObject {
     uniforms: ObjectUniforms,
     /// Where it is now (a moving body's last move).
     model: std::cell::Cell<glam::Mat4>,
+    /// Its box in its own space, if it casts shadows.
+    caster: Option<(glam::Vec3, glam::Vec3)>,
     /// A clear refractive object (`material.ior` > 0): drawn by water_object.
     refractive: bool,
 }
@@ -84,6 +87,16 @@ impl SceneGeometry {
         queue.write_buffer(&o.buffer, 0, bytemuck::bytes_of(&u));
     }
 
+    /// The union of the shadow casters' boxes where they are now (`None`:
+    /// nothing casts shadows): the sun's shadow view follows a moving body
+    /// rather than staying where the scene started.
+    pub fn shadow_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        self.objects
+            .iter()
+            .filter_map(|o| o.caster.map(|b| Mesh::moved_bounds(&o.model.get(), b)))
+            .reduce(|(a, b), (lo, hi)| (a.min(lo), b.max(hi)))
+    }
+
     /// Where `[[objects]]` entry `index` is now.
     pub fn object_model(&self, index: usize) -> Option<glam::Mat4> {
         self.objects.get(self.first_object + index).map(|o| o.model.get())
@@ -97,8 +110,6 @@ pub struct SceneGeometry {
     objects: Vec<GpuObject>,
     /// Entries of `objects` before the scene's `[[objects]]` (the floor).
     first_object: usize,
-    /// Union of the shadow casters' boxes (`None`: nothing casts shadows).
-    pub shadow_bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// Union of the refractive objects' boxes (`None`: there are none).
     pub refractive_bounds: Option<(glam::Vec3, glam::Vec3)>,
     pub triangle_count: usize,
@@ -267,7 +278,6 @@ impl GeometryPass {
     ) -> Result<SceneGeometry, AssetError> {
         let built = scene.build_geometry()?;
         let (mut vertices, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
-        let mut shadow_bounds: Option<(glam::Vec3, glam::Vec3)> = None;
         let mut refractive_bounds: Option<(glam::Vec3, glam::Vec3)> = None;
         for o in &built {
             let base_vertex = vertices.len() as i32;
@@ -280,13 +290,11 @@ impl GeometryPass {
                 },
             ));
             indices.extend_from_slice(&o.mesh.indices);
-            if let Some((lo, hi)) = o.shadow_bounds {
-                shadow_bounds =
-                    Some(shadow_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
-                if o.material.ior > 0.0 {
-                    refractive_bounds =
-                        Some(refractive_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
-                }
+            if let Some((lo, hi)) = o.shadow_bounds
+                && o.material.ior > 0.0
+            {
+                refractive_bounds =
+                    Some(refractive_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
             }
             let m = &o.material;
             let texture = if m.texture.is_empty() {
@@ -337,6 +345,7 @@ impl GeometryPass {
                 buffer,
                 uniforms: u,
                 model: std::cell::Cell::new(o.transform),
+                caster: o.shadow_bounds.and(o.mesh.bounds(&glam::Mat4::IDENTITY)),
                 refractive: m.ior > 0.0,
             });
         }
@@ -364,7 +373,6 @@ impl GeometryPass {
             triangle_count: (indices.len() - 1) / 3,
             first_object: built.len() - scene.objects.len(),
             objects,
-            shadow_bounds,
             refractive_bounds,
         })
     }
