@@ -130,11 +130,11 @@ pub struct Body {
     handle: rp::RigidBodyHandle,
     /// Constant velocity of a kinematic body (m/s).
     velocity: DVec3,
-    /// A kinematic body's scripted path, its pose as the scene places it
-    /// (before it faces along the path), and its heading now (rad about
+    /// A kinematic body's scripted path, its rotation as the scene places
+    /// it (before it faces along the path), and its heading now (rad about
     /// +y: its own +x points along the path).
     path: Option<crate::path::KinematicPath>,
-    start: Pose,
+    placed: DQuat,
     turned: f64,
 }
 
@@ -274,7 +274,7 @@ impl BodyWorld {
                 handle,
                 velocity,
                 path: o.path.clone(),
-                start: Pose { position: position.as_dvec3(), rotation: rotation.as_dquat() },
+                placed: rotation.as_dquat(),
                 turned: heading,
             });
         }
@@ -501,7 +501,7 @@ impl BodyWorld {
             match &b.path {
                 Some(path) => {
                     b.turned = Self::turn_at(&b.path, time, b.turned);
-                    let rotation = glam::DQuat::from_rotation_y(b.turned) * b.start.rotation;
+                    let rotation = DQuat::from_rotation_y(b.turned) * b.placed;
                     rb.set_translation(v3(path.at(time).0), true);
                     rb.set_rotation(rotation_of(rotation.as_quat()), true);
                 }

@@ -334,14 +334,9 @@ impl FramePlan {
 
 /// The sun's orthographic view-projection around the shadow casters'
 /// bounds, in refraction-bent shadow space.
-fn shadow_fit((lo, hi): (Vec3, Vec3), sun: Vec3, travel: Vec3) -> Mat4 {
+fn shadow_fit(bounds: (Vec3, Vec3), sun: Vec3, travel: Vec3) -> Mat4 {
     let mut bent = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for i in 0..8 {
-        let c = Vec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        );
+    for c in hydrolux_core::geometry::Mesh::box_corners(bounds) {
         let p = shadow_space(c, sun, travel);
         bent = (bent.0.min(p), bent.1.max(p));
     }
@@ -558,13 +553,7 @@ mod tests {
         let m = plan(&s, &w, 5.0).matrices.shadow.expect("shadows");
         let sun = s.sun_direction();
         let travel = UnderwaterLight::new(sun, Vec3::ONE, Vec3::ZERO, s.water.ior).sun_travel;
-        let (lo, hi) = w.shadow_bounds.unwrap();
-        for i in 0..8 {
-            let c = Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            );
+        for c in hydrolux_core::geometry::Mesh::box_corners(w.shadow_bounds.unwrap()) {
             let clip = m.project_point3(shadow_space(c, sun, travel));
             assert!(clip.x.abs() <= 1.0 + 1e-4 && clip.y.abs() <= 1.0 + 1e-4, "{clip}");
             assert!((-1e-4..=1.0 + 1e-4).contains(&clip.z), "{clip}");

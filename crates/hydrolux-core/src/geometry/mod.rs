@@ -69,18 +69,23 @@ impl Mesh {
         Some(it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
     }
 
+    /// The eight corners of box `(lo, hi)`.
+    pub fn box_corners((lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
+        std::array::from_fn(|k| {
+            Vec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            )
+        })
+    }
+
     /// The box around box `(lo, hi)` once `transform` has moved it (its
     /// eight corners': a moving body's shadow caster where it is now).
-    pub fn moved_bounds(transform: &Mat4, (lo, hi): (Vec3, Vec3)) -> (Vec3, Vec3) {
-        (0..8)
-            .map(|k| {
-                let corner = Vec3::new(
-                    if k & 1 == 0 { lo.x } else { hi.x },
-                    if k & 2 == 0 { lo.y } else { hi.y },
-                    if k & 4 == 0 { lo.z } else { hi.z },
-                );
-                transform.transform_point3(corner)
-            })
+    pub fn moved_bounds(transform: &Mat4, bounds: (Vec3, Vec3)) -> (Vec3, Vec3) {
+        Self::box_corners(bounds)
+            .into_iter()
+            .map(|c| transform.transform_point3(c))
             .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(a, b), p| (a.min(p), b.max(p)))
     }
 
