@@ -820,4 +820,64 @@ mod tests {
         assert!(a.position.distance(b.position) < 1e-3, "{} vs {}", a.position, b.position);
         assert!(a.rotation.angle_between(b.rotation) < 1e-3);
     }
+
+    /// A small buoy on the FFT sea rides its waves: its heave follows the
+    /// height of the surface the FFT draws where it floats (all 4096
+    /// modes; the buoy reads the strongest 1024), in phase and at full
+    /// height, as a body whose own heave period (~1 s) is far below the
+    /// waves' (5–9 s) must. Sampled every 0.25 s over 40 s after 10 s of
+    /// settling.
+    #[test]
+    fn a_buoy_heaves_with_the_fft_sea_in_phase() {
+        use crate::waves::ocean::{OceanFields, OceanSpectrum};
+        let scene = Scene::from_toml(
+            "[water]\nmodel = \"fft\"\n[ocean]\nwind_speed = 10.0\npatch_size = 400.0\n\
+             resolution = 64\ncascades = 1\nchoppiness = 0.8\nseed = 3\n[floor]\ndepth = 40.0\n\
+             [[objects]]\nprimitive = \"sphere\"\nposition = [12.0, 0.0, -7.0]\n\
+             scale = [0.8, 0.8, 0.8]\ndynamic = true\ndensity = 500.0\n",
+            "test",
+            &[],
+        )
+        .unwrap();
+        let waves = scene.floating_waves().expect("the FFT sea has waves");
+        let spectrum = OceanSpectrum::new(&scene.ocean_settings());
+        let dt = 1.0 / 60.0;
+        let mut world = BodyWorld::new(&scene.bodies(), dt).unwrap();
+        let (mut heave, mut surface) = (Vec::new(), Vec::new());
+        for step in 0..60 * 50 {
+            let t = step as f64 * dt;
+            let p = world.poses()[0];
+            let half = world.bodies[0].shape.horizontal_half_extent(&p);
+            let patch = waves.patch_around(t, [p.position.x, p.position.z], half[0].max(half[1]));
+            world.step(&|_, x, z| patch.height_at(x, z));
+            if step >= 600 && step % 15 == 0 {
+                let p = world.poses()[0].position;
+                let fields = OceanFields::evaluate(&spectrum, t + dt);
+                heave.push(p.y);
+                surface.push(fields.height_at(p.x, p.z) as f64);
+            }
+        }
+        let centred = |v: &[f64]| {
+            let m = v.iter().sum::<f64>() / v.len() as f64;
+            v.iter().map(|x| x - m).collect::<Vec<_>>()
+        };
+        let (y, h) = (centred(&heave), centred(&surface));
+        // Correlation of the heave with the surface `lag` samples earlier.
+        let correlation = |lag: i64| {
+            let pairs: Vec<(f64, f64)> = (0..y.len() as i64)
+                .filter(|&i| i - lag >= 0 && i - lag < h.len() as i64)
+                .map(|i| (y[i as usize], h[(i - lag) as usize]))
+                .collect();
+            let dot = |f: &dyn Fn(&(f64, f64)) -> f64| pairs.iter().map(f).sum::<f64>();
+            dot(&|p| p.0 * p.1) / (dot(&|p| p.0 * p.0) * dot(&|p| p.1 * p.1)).sqrt()
+        };
+        let best = (-4..=4).max_by(|&a, &b| correlation(a).total_cmp(&correlation(b))).unwrap();
+        let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+        let gain = y.iter().zip(&h).map(|(a, b)| a * b).sum::<f64>()
+            / h.iter().map(|b| b * b).sum::<f64>();
+        assert!(rms(&h) > 0.2, "the sea must have waves: {} m rms", rms(&h));
+        assert!(correlation(0) > 0.98, "heave and surface correlate by {}", correlation(0));
+        assert!(best.abs() <= 1, "the heave lags the surface by {} s", best as f64 * 0.25);
+        assert!((gain - 1.0).abs() < 0.1, "heave over surface height: {gain}");
+    }
 }

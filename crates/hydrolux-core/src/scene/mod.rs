@@ -62,6 +62,8 @@ use serde::{Deserialize, Serialize};
 
 /// The latest `start_time` a scene may set (s).
 pub const MAX_START_TIME_S: f64 = 3600.0;
+/// Modes of the FFT sea floating bodies read (~99% of its height variance).
+pub const FLOATING_WAVES: usize = 1024;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -157,6 +159,26 @@ impl Scene {
             depth: o.depth as f64,
             peak_enhancement: o.peak_enhancement as f64,
             spreading: o.spreading as f64,
+        }
+    }
+
+    /// The waves a body floats on, as the surface model draws them: the
+    /// sines themselves, or the FFT sea's [`FLOATING_WAVES`] strongest
+    /// modes (`OceanSpectrum::strongest_waves`). `None` where the surface
+    /// model has no waves (flat water, a user's still heightfield).
+    pub fn floating_waves(&self) -> Option<crate::waves::sines::SineWaves> {
+        match self.water.model {
+            WaterModel::Sines => Some(crate::waves::sines::SineWaves::from_sea_state(
+                &self.sea_state(),
+                self.sines.count as usize,
+                self.ocean.seed,
+                self.sines.gerstner as f64,
+            )),
+            WaterModel::Fft => Some(
+                crate::waves::ocean::OceanSpectrum::new(&self.ocean_settings())
+                    .strongest_waves(FLOATING_WAVES),
+            ),
+            _ => None,
         }
     }
 

@@ -43,14 +43,16 @@ fn evolve(@builtin(global_invocation_id) id: vec3<u32>) {
     if (k > 0.0) {
         inv_k = 1.0 / k;
     }
+    // D = +i·λ·(k/|k|)·h̃: with the e^(+ik·x) sum this moves points towards
+    // the crests (Gerstner's x₀ − Q·k̂·A·sin θ), so crests sharpen and fold.
     let lambda = params.choppiness;
-    let dx = cmul_i(h * (-lambda * kv.x * inv_k));
-    let dz = cmul_i(h * (-lambda * kv.y * inv_k));
+    let dx = cmul_i(h * (lambda * kv.x * inv_k));
+    let dz = cmul_i(h * (lambda * kv.y * inv_k));
     let hx = cmul_i(h * kv.x);
     let hz = cmul_i(h * kv.y);
-    let dxx = h * (lambda * kv.x * kv.x * inv_k);
-    let dzz = h * (lambda * kv.y * kv.y * inv_k);
-    let dxz = h * (lambda * kv.x * kv.y * inv_k);
+    let dxx = h * (-lambda * kv.x * kv.x * inv_k);
+    let dzz = h * (-lambda * kv.y * kv.y * inv_k);
+    let dxz = h * (-lambda * kv.x * kv.y * inv_k);
     // A + i·B for complex A, B.
     let f0 = dx + cmul_i(h);
     let f1 = dz + cmul_i(hx);

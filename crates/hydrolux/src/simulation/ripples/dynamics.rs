@@ -11,7 +11,7 @@
 
 use super::{MAX_STEPS, RipplePass, StepInput};
 use hydrolux_core::bodies::{BodyState, BodyWorld, Pose};
-use hydrolux_core::scene::{CLOCK_HZ, Scene, WaterModel};
+use hydrolux_core::scene::{CLOCK_HZ, Scene};
 use hydrolux_core::waves::ripples::{BodyMove, RippleBoundary, resting_heights};
 use hydrolux_core::waves::sines::SineWaves;
 
@@ -65,8 +65,9 @@ pub struct Dynamics {
     pub bodies: Option<BodyWorld>,
     /// Scale of each body's object (its transform is scale × pose).
     scales: Vec<[f32; 3]>,
-    /// The surface model's waves, for buoyancy (sines; flat water is 0).
-    sines: Option<SineWaves>,
+    /// The surface model's waves, for buoyancy (`Scene::floating_waves`:
+    /// the sines, or the FFT sea's strongest modes; flat water is 0).
+    waves: Option<SineWaves>,
     seen: Option<HeightsSeen>,
     /// The heights' copy on its way to the CPU (made at the last sync step).
     readback: Option<crate::gpu_util::AsyncReadback>,
@@ -97,19 +98,12 @@ impl Dynamics {
         let scales = bodies.as_ref().map_or(Vec::new(), |w| {
             w.bodies.iter().map(|b| scene.objects[b.object].scale).collect()
         });
-        let sines = (scene.water.model == WaterModel::Sines).then(|| {
-            SineWaves::from_sea_state(
-                &scene.sea_state(),
-                scene.sines.count as usize,
-                scene.ocean.seed,
-                scene.sines.gerstner as f64,
-            )
-        });
+        let waves = if bodies.is_some() { scene.floating_waves() } else { None };
         let mut d = Dynamics {
             ripples,
             bodies,
             scales,
-            sines,
+            waves,
             seen: None,
             readback: None,
             readback_origin: [0.0; 2],
@@ -251,19 +245,35 @@ impl Dynamics {
     }
 
     /// The water height body `i` floats on at world (x, z) and time t: the
-    /// surface model's, raised by the interactive water's level
+    /// surface model's waves (read from a patch about each body where it is
+    /// now, `poses`), raised by the interactive water's level
     /// (`water_levels`) averaged over [`LEVEL_SMOOTHING_S`]. The body rides
     /// the slow swell of the water it is in; the quick reply of the water
     /// to the body's own bobbing is left out (read back 0.1 s late, it would
     /// pump the bobbing instead of damping it).
-    fn water(&self, t: f64) -> impl Fn(usize, f64, f64) -> f64 + '_ {
+    /// Kinematic bodies, which the water does not move, get no patch
+    /// unless `all` (their states, for dumps and the viewer).
+    fn water(&self, t: f64, world: &BodyWorld, all: bool) -> impl Fn(usize, f64, f64) -> f64 + '_ {
         let has_water = self.scene.has_water();
         let levels = &self.levels;
+        let patches: Vec<_> = match &self.waves {
+            Some(w) if has_water => world
+                .bodies
+                .iter()
+                .zip(world.poses())
+                .map(|(b, p)| {
+                    let half = b.shape.horizontal_half_extent(&p);
+                    let centre = [p.position.x, p.position.z];
+                    (all || b.dynamic).then(|| w.patch_around(t, centre, half[0].max(half[1])))
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
         move |i, x, z| {
             if !has_water {
                 return f64::NEG_INFINITY;
             }
-            let base = self.sines.as_ref().map_or(0.0, |s| s.height_at(x, z, t) as f64);
+            let base = patches.get(i).and_then(Option::as_ref).map_or(0.0, |p| p.height_at(x, z));
             base + levels.get(i).copied().unwrap_or(0.0)
         }
     }
@@ -369,7 +379,7 @@ impl Dynamics {
     fn step_bodies(&mut self, s: u64) -> Vec<BodyMove> {
         let Some(mut world) = self.bodies.take() else { return Vec::new() };
         let before = world.poses();
-        world.step(&self.water(s as f64 * self.dt));
+        world.step(&self.water(s as f64 * self.dt, &world, false));
         let mut moves = world.moves_since(&before);
         world.release_hollows(&mut moves);
         self.bodies = Some(world);
@@ -391,7 +401,7 @@ impl Dynamics {
     pub fn states(&self) -> Vec<BodyState> {
         let t = self.clock_steps as f64 / CLOCK_HZ as f64;
         let Some(w) = &self.bodies else { return Vec::new() };
-        let water = self.water(t);
+        let water = self.water(t, w, true);
         // Each body's state against its own water.
         (0..w.bodies.len()).map(|i| w.states(&|x, z| water(i, x, z))[i]).collect()
     }

@@ -19,6 +19,14 @@ impl crate::simulation::Simulation for Whitewater {
         Whitewater::fits(self, scene)
     }
 
+    /// Its foam and particles are built up from the clock's origin: made
+    /// anew mid-run it started empty, and a live edit (the viewer's panel
+    /// changing the medium) showed a sea without its foam, unlike a fresh
+    /// render of the edited scene.
+    fn restarts_clock(&self) -> bool {
+        true
+    }
+
     fn connect(
         &mut self,
         shared: &crate::technique::Shared,
