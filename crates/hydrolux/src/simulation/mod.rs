@@ -307,6 +307,9 @@ impl Simulations {
     ) -> Result<(), RenderError> {
         let surface = self.surface.as_mut().expect("the surface is always built");
         surface.update_heightfield(queue, heights)?;
+        if let Some(d) = &mut self.ripples {
+            d.heightfield_updated(heights);
+        }
         self.republish();
         Ok(())
     }

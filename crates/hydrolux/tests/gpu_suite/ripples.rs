@@ -324,3 +324,38 @@ fn a_moving_body_casts_its_shadow_where_it_is() {
     }
     assert!(golden::within_tolerance(mean, p99), "mean ΔE {mean:.2}, p99 {p99:.2}");
 }
+
+/// A ball floats on a user's heightfield (`water.model = "heightfield"`)
+/// where its heights are, half under at 500 kg/m³, and follows them when
+/// the caller changes them (`Renderer::update_heightfield`). It floated on
+/// the mean level, 0, whatever the surface.
+#[test]
+fn a_ball_floats_on_a_users_heightfield_and_follows_its_updates() {
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let n = 8;
+    let path =
+        std::env::temp_dir().join(format!("hydrolux-heightfield-float-{}.npy", std::process::id()));
+    std::fs::write(&path, hydrolux::core::npy::encode_f32(&[n, n], &vec![0.3; n * n]))
+        .expect("temp file");
+    let s = Scene::from_toml(
+        &format!(
+            "[water]\nmodel = \"heightfield\"\nheightfield = \"{}\"\nsize = [8.0, 8.0]\n\
+             [floor]\ndepth = 3.0\n[whitewater]\nfoam = false\nparticles = false\n\
+             [[objects]]\nprimitive = \"sphere\"\nposition = [0.5, 0.7, -0.5]\n\
+             scale = [0.5, 0.5, 0.5]\ndynamic = true\ndensity = 500.0\n",
+            path.display()
+        ),
+        "heightfield-float",
+        &[],
+    )
+    .expect("scene");
+    let mut r = renderer(&ctx, &s);
+    r.simulate(&s.camera(), (16, 16), 8.0);
+    let y = r.bodies()[0].pose.position.y;
+    assert!((y - 0.3).abs() < 0.02, "afloat at {y} m on water 0.3 m high");
+    r.update_heightfield(&vec![-0.2; n * n]).expect("same size");
+    r.simulate(&s.camera(), (16, 16), 16.0);
+    let y = r.bodies()[0].pose.position.y;
+    assert!((y + 0.2).abs() < 0.02, "afloat at {y} m on water lowered to −0.2 m");
+    let _ = std::fs::remove_file(&path);
+}

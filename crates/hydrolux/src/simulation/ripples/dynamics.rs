@@ -12,6 +12,7 @@
 use super::{MAX_STEPS, RipplePass, StepInput};
 use hydrolux_core::bodies::{BodyState, BodyWorld, Pose};
 use hydrolux_core::scene::{CLOCK_HZ, Scene};
+use hydrolux_core::waves::heightfield::Heightfield;
 use hydrolux_core::waves::ripples::{BodyMove, RippleBoundary, resting_heights};
 use hydrolux_core::waves::sines::SineWaves;
 
@@ -68,6 +69,9 @@ pub struct Dynamics {
     /// The surface model's waves, for buoyancy (`Scene::floating_waves`:
     /// the sines, or the FFT sea's strongest modes; flat water is 0).
     waves: Option<SineWaves>,
+    /// A user's surface (`water.model = "heightfield"`), as the caller last
+    /// set it (`Renderer::update_heightfield`).
+    heightfield: Option<Heightfield>,
     seen: Option<HeightsSeen>,
     /// The heights' copy on its way to the CPU (made at the last sync step).
     readback: Option<crate::gpu_util::AsyncReadback>,
@@ -99,11 +103,17 @@ impl Dynamics {
             w.bodies.iter().map(|b| scene.objects[b.object].scale).collect()
         });
         let waves = if bodies.is_some() { scene.floating_waves() } else { None };
+        // The surface failed to load it already if it cannot be loaded.
+        let heightfield = (bodies.is_some()
+            && scene.water.model == hydrolux_core::scene::WaterModel::Heightfield)
+            .then(|| scene.load_heightfield().ok())
+            .flatten();
         let mut d = Dynamics {
             ripples,
             bodies,
             scales,
             waves,
+            heightfield,
             seen: None,
             readback: None,
             readback_origin: [0.0; 2],
@@ -153,6 +163,19 @@ impl Dynamics {
             && scene.objects == self.scene.objects
             && scene.surface_bodies() == self.scene.surface_bodies()
             && scene.ripples.rate == self.scene.ripples.rate
+            && self.floats_on_the_same_surface(scene)
+    }
+
+    /// Whether bodies in `scene` would float on the surface this state's
+    /// bodies float on (its waves or heightfield).
+    fn floats_on_the_same_surface(&self, scene: &Scene) -> bool {
+        let (a, b) = (&scene.water, &self.scene.water);
+        self.bodies.is_none()
+            || (a.model == b.model
+                && a.heightfield == b.heightfield
+                && a.size == b.size
+                && (self.waves.is_none()
+                    || (scene.ocean == self.scene.ocean && scene.sines == self.scene.sines)))
     }
 
     /// Start again from the initial state at clock step `from` (an origin
@@ -273,7 +296,11 @@ impl Dynamics {
             if !has_water {
                 return f64::NEG_INFINITY;
             }
-            let base = patches.get(i).and_then(Option::as_ref).map_or(0.0, |p| p.height_at(x, z));
+            let base = match (&self.heightfield, patches.get(i).and_then(Option::as_ref)) {
+                (Some(h), _) => h.height(x as f32, z as f32) as f64,
+                (None, Some(p)) => p.height_at(x, z),
+                _ => 0.0,
+            };
             base + levels.get(i).copied().unwrap_or(0.0)
         }
     }
@@ -404,6 +431,16 @@ impl Dynamics {
         let water = self.water(t, w, true);
         // Each body's state against its own water.
         (0..w.bodies.len()).map(|i| w.states(&|x, z| water(i, x, z))[i]).collect()
+    }
+
+    /// The caller's heightfield changed (its size already checked): bodies
+    /// float on the new heights from the next step.
+    pub fn heightfield_updated(&mut self, heights: &[f32]) {
+        if let Some(h) = &mut self.heightfield
+            && h.heights.len() == heights.len()
+        {
+            h.heights.copy_from_slice(heights);
+        }
     }
 
     /// Pull moving body `i` towards `target` (the viewer's drag).
