@@ -154,8 +154,16 @@ pub struct SurfacePatch {
 }
 
 impl SineWaves {
-    /// The surface at time t over the square `centre` ± `half` (m).
-    pub fn patch(&self, t: f64, centre: [f64; 2], half: f64, nodes: usize) -> SurfacePatch {
+    /// The surface at time t over the square `centre` ± `half` (m), of
+    /// the waves at least `shortest` (m) long.
+    pub fn patch(
+        &self,
+        t: f64,
+        centre: [f64; 2],
+        half: f64,
+        nodes: usize,
+        shortest: f64,
+    ) -> SurfacePatch {
         use rustfft::num_complex::Complex64;
         let n = nodes.max(2);
         let half = half.max(1e-3);
@@ -164,6 +172,9 @@ impl SineWaves {
         let mut fields = vec![[0.0f64; 3]; n * n];
         for w in &self.waves {
             let k = w.kx.hypot(w.kz).max(1e-9);
+            if 2.0 * PI / k < shortest {
+                continue;
+            }
             let q = w.steepness / k;
             let (ux, uz) = (w.kx / k, w.kz / k);
             let phase = (w.phase0 - w.omega * t).rem_euclid(2.0 * PI);
@@ -190,7 +201,9 @@ impl SineWaves {
     /// The patch a body reaching `half` (m) from `centre` floats on at t:
     /// wider by three standard deviations of the horizontal displacement
     /// (where its displaced points come from), with six nodes to the
-    /// shortest wave (9 to 33 a side).
+    /// shortest wave (9 to 17 a side). Waves under four nodes long are
+    /// left out: the patch could not hold them, and the body, wider than
+    /// two of them, averages them out (a hull does not heave on ripples).
     pub fn patch_around(&self, t: f64, centre: [f64; 2], half: f64) -> SurfacePatch {
         let sway: f64 = self
             .waves
@@ -203,8 +216,9 @@ impl SineWaves {
             .map(|w| 2.0 * PI / w.kx.hypot(w.kz).max(1e-9))
             .fold(f64::MAX, f64::min);
         let reach = half + 3.0 * sway.sqrt();
-        let nodes = ((2.0 * reach / (shortest / 6.0)).ceil() as usize + 1).clamp(9, 33);
-        self.patch(t, centre, reach, nodes)
+        let nodes = ((2.0 * reach / (shortest / 6.0)).ceil() as usize + 1).clamp(9, 17);
+        let spacing = 2.0 * reach / (nodes - 1) as f64;
+        self.patch(t, centre, reach, nodes, 4.0 * spacing)
     }
 }
 
@@ -304,7 +318,7 @@ mod tests {
         let (half, margin) = (2.0, 3.0);
         let nodes = (2.0 * (half + margin) / (shortest / 12.0)).ceil() as usize + 1;
         let (t, centre) = (123.4, [31.0, -17.0]);
-        let patch = w.patch(t, centre, half + margin, nodes);
+        let patch = w.patch(t, centre, half + margin, nodes, 0.0);
         for i in 0..40 {
             let (x, z) = (centre[0] - half + 0.1 * i as f64, centre[1] + half - 0.07 * i as f64);
             let (a, b) = (patch.height_at(x, z), w.height_at(x, z, t) as f64);
