@@ -195,9 +195,7 @@ impl SineWaves {
         }
         SurfacePatch { low, spacing, nodes: n, fields }
     }
-}
 
-impl SineWaves {
     /// The patch a body reaching `half` (m) from `centre` floats on at t:
     /// wider by three standard deviations of the horizontal displacement
     /// (where its displaced points come from), with six nodes to the
@@ -242,20 +240,13 @@ impl SurfacePatch {
         out
     }
 
-    /// Height of the displaced surface above world (x, z), as
-    /// [`super::height_at_displaced`] finds it.
+    /// Height of the displaced surface above world (x, z).
     pub fn height_at(&self, x: f64, z: f64) -> f64 {
-        let (mut px, mut pz) = (x, z);
-        for _ in 0..12 {
-            let s = self.sample(px, pz);
-            let (ex, ez) = (px + s[0] - x, pz + s[2] - z);
-            if ex.abs() < 1e-4 && ez.abs() < 1e-4 {
-                break;
-            }
-            px -= ex;
-            pz -= ez;
-        }
-        self.sample(px, pz)[1]
+        let sample = |px, pz| {
+            let [dx, h, dz] = self.sample(px, pz);
+            SurfaceSample { displacement: [dx as f32, h as f32, dz as f32], ..Default::default() }
+        };
+        super::height_at_displaced(sample, x, z) as f64
     }
 }
 
