@@ -277,14 +277,16 @@ fn pressure_head(shape: &Shape, pose: &Pose, x: f64, z: f64) -> f64 {
         .map_or(0.0, |(y0, y1)| if y1 > 0.0 { (-y0).max(0.0) } else { 0.0 })
 }
 
-/// The water a spray particle carries: a parcel drawn `spray_size` wide is a
-/// cloud of drops, about 1% water by volume (dense spray near a splash's
-/// crown or a breaking crest; spume farther out is thinner).
+/// The water a spray particle carries by default (`whitewater.spray_water`):
+/// a parcel drawn `spray_size` wide is a cloud of drops, about 1% water by
+/// volume (dense spray near a splash's crown or a breaking crest; spume
+/// blown off a crest is thinner).
 pub const SPRAY_LIQUID_FRACTION: f64 = 0.01;
 
-/// Water (m³) in one spray parcel drawn `spray_size` m wide.
-pub fn spray_parcel_volume(spray_size: f32) -> f64 {
-    std::f64::consts::PI / 6.0 * (spray_size as f64).powi(3) * SPRAY_LIQUID_FRACTION
+/// Water (m³) in one spray parcel drawn `spray_size` m wide, `water` of it
+/// by volume.
+pub fn spray_parcel_volume(spray_size: f32, water: f32) -> f64 {
+    std::f64::consts::PI / 6.0 * (spray_size as f64).powi(3) * water as f64
 }
 
 /// Fixed point of the landing spray's kicks: units per m/s of downward
@@ -304,8 +306,8 @@ pub fn kick_units(speed: f32) -> u32 {
 /// pressure P = ρ·V·v / A over the cell (the drops are far smaller than
 /// it), and the linearised Bernoulli equation ∂φ/∂t = −p/ρ − g·h turns an
 /// impulse into a jump of the surface potential, Δφ = −V·v / A.
-pub fn kick_per_unit(spray_size: f32, cell: f64) -> f64 {
-    kick_per_unit_of_volume(spray_parcel_volume(spray_size), cell)
+pub fn kick_per_unit(spray_size: f32, water: f32, cell: f64) -> f64 {
+    kick_per_unit_of_volume(spray_parcel_volume(spray_size, water), cell)
 }
 
 /// Depth (m) the plume under a plunging liquid reaches per m/s of its

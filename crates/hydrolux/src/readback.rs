@@ -148,6 +148,22 @@ impl Renderer {
         )
     }
 
+    /// A spray parcel's look as the shaders draw it (the GPU side of
+    /// `hydrolux_core::whitewater::spray_look`'s twin test), at quad point
+    /// `at` of parcel `id`: [opacity, optical depth, asymmetry, the sky's
+    /// share seen along a view whose vertical is `at[1]`].
+    pub fn probe_spray(
+        &self,
+        queries: &[([f32; 2], hydrolux_core::whitewater::spray_look::SprayShape, u32)],
+    ) -> Vec<[f32; 4]> {
+        self.probe.spray(
+            self.device(),
+            self.queue(),
+            [&self.bound.globals, &self.bound.surface],
+            queries,
+        )
+    }
+
     /// Radiance (kcd/m²) of the baked sky cube map in the given directions.
     pub fn probe_sky(&self, dirs: &[[f32; 3]]) -> Vec<[f32; 3]> {
         self.probe.sky(

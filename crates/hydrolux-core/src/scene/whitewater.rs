@@ -37,6 +37,11 @@ pub struct WhitewaterDesc {
     /// Drawn size (m) of a spray parcel and of a bubble cloud particle.
     pub spray_size: f32,
     pub bubble_size: f32,
+    /// Water in a spray parcel, by volume (0.01: dense spray by a splash or
+    /// a breaking crest; spume blown off a crest is thinner). With the
+    /// parcel's size it sets how many drops it holds, how much water lands
+    /// with it, and how much light it stops.
+    pub spray_water: f32,
 }
 
 impl Default for WhitewaterDesc {
@@ -54,6 +59,7 @@ impl Default for WhitewaterDesc {
             bubble_rate: 2.0,
             spray_size: 0.06,
             bubble_size: 0.012,
+            spray_water: crate::coupling::SPRAY_LIQUID_FRACTION as f32,
         }
     }
 }
@@ -130,6 +136,12 @@ impl WhitewaterDesc {
         {
             range(key, v, v > 0.0 && v <= 10.0, "must be in (0, 10] m")?;
         }
+        range(
+            "whitewater.spray_water",
+            w.spray_water,
+            w.spray_water > 0.0 && w.spray_water <= 0.1,
+            "must be in (0, 0.1] (water's share of a spray parcel's volume)",
+        )?;
         Ok(())
     }
 }

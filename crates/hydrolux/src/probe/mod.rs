@@ -18,6 +18,7 @@ pub struct ProbePass {
     surface: wgpu::ComputePipeline,
     sky: wgpu::ComputePipeline,
     fresnel: wgpu::ComputePipeline,
+    spray: wgpu::ComputePipeline,
 }
 
 impl ProbePass {
@@ -51,6 +52,7 @@ impl ProbePass {
             surface: p("probe_surface"),
             sky: p("probe_sky"),
             fresnel: p("probe_fresnel"),
+            spray: p("probe_spray"),
             model,
             layout,
         }
@@ -145,6 +147,31 @@ impl ProbePass {
         let pts: Vec<[f32; 4]> = queries.iter().map(|q| [q.0, q.1, q.2, 0.0]).collect();
         self.run(device, queue, &self.fresnel, groups, &pts)
             .into_iter()
+            .map(|r| [r[0], r[1], r[2], r[3]])
+            .collect()
+    }
+
+    /// A spray parcel's look at quad point `at` (and a view whose vertical
+    /// is `at[1]`): [opacity, optical depth, asymmetry, sky share].
+    pub fn spray(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        groups: [&wgpu::BindGroup; 2],
+        queries: &[([f32; 2], hydrolux_core::whitewater::spray_look::SprayShape, u32)],
+    ) -> Vec<[f32; 4]> {
+        let pts: Vec<[f32; 4]> = queries
+            .iter()
+            .flat_map(|(at, s, id)| {
+                [
+                    [at[0], at[1], s.parcel, s.pixel],
+                    [s.streak, s.cover, s.drops, f32::from_bits(*id)],
+                ]
+            })
+            .collect();
+        self.run(device, queue, &self.spray, groups, &pts)
+            .into_iter()
+            .step_by(2)
             .map(|r| [r[0], r[1], r[2], r[3]])
             .collect()
     }

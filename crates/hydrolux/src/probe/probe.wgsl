@@ -1,7 +1,8 @@
 // Evaluate the surface (as the renderer draws it) and the sky cube map at
 // arbitrary points: GPU height queries for users (buoyancy) and the hook the
-// GPU-versus-CPU tests use; and the shaders' Fresnel formulas.
-#import constants, frame, optics, sky_model, sky_bindings, surface
+// GPU-versus-CPU tests use; the shaders' Fresnel formulas; how a parcel of
+// spray is drawn and lit.
+#import constants, frame, optics, sky_model, sky_bindings, surface, white_water_light
 
 struct ProbeOut {
     disp: vec4<f32>,
@@ -43,4 +44,22 @@ fn probe_fresnel(@builtin(global_invocation_id) id: vec3<u32>) {
         r[m] = fresnel(m, frame.water.fresnel_power, q.x, q.y, q.z);
     }
     results[id.x] = ProbeOut(r, vec4<f32>(0.0), vec4<f32>(0.0));
+}
+
+// A spray parcel as drawn (white_water_light): points 2i and 2i + 1 hold
+// (quad x, quad y, parcel, pixel) and (streak, cover, drops, id's bits);
+// result 2i is (opacity, optical depth, the asymmetry it gives, the sky's
+// share seen along a view whose vertical is quad y).
+@compute @workgroup_size(64, 1, 1)
+fn probe_spray(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (2u * id.x + 1u >= arrayLength(&points)) {
+        return;
+    }
+    let a = points[2u * id.x];
+    let b = points[2u * id.x + 1u];
+    let s = SprayShape(a.z, a.w, b.x, b.y, b.z);
+    let depth = mist_depth(a.xy, s);
+    let g = spray_asymmetry(depth);
+    let r = vec4<f32>(spray_opacity(a.xy, s, bitcast<u32>(b.w)), depth, g, spray_sky_share(a.y, g));
+    results[2u * id.x] = ProbeOut(r, vec4<f32>(0.0), vec4<f32>(0.0));
 }

@@ -234,7 +234,8 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
     // between white water's (three at 60 Hz before each at 20 Hz).
     let settings = s.ripple_settings().expect("interactive water");
     let mut water = RippleSim::new(settings, RippleWindow::centred(&settings.grid, [0.4, -0.3]));
-    water.kick_per_unit = kick_per_unit(s.whitewater.spray_size, settings.grid.cell_size);
+    water.kick_per_unit =
+        kick_per_unit(s.whitewater.spray_size, s.whitewater.spray_water, settings.grid.cell_size);
     let ripple_steps = (settings.dt * rate as f64).recip().round() as u32;
     let mut landed_spray = 0;
     for step in 0..steps {
@@ -331,4 +332,60 @@ fn splash_particles_and_foam_match_the_cpu_twin() {
         error < 0.05 * amplitude,
         "rings: GPU − CPU {error:e} m rms, waves {amplitude:e} m rms"
     );
+}
+
+/// A spray parcel's look as the shaders draw it against its CPU twin
+/// (hydrolux_core::whitewater::spray_look): opacity over its quad, drawn
+/// as sharp, streaked and pixel-sized drops and as mist, its optical
+/// depth, the asymmetry that leaves and the sky's share of it.
+#[test]
+fn spray_is_drawn_and_lit_as_its_cpu_twin() {
+    use hydrolux::core::whitewater::spray_look::*;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let s = scene(SMALL_OCEAN);
+    let r = renderer(&ctx, &s);
+    let shapes = [
+        (0.5, 0.0025, 0.0, 0.06, 0.01),
+        (0.5, 0.02, 0.6, 0.06, 0.01),
+        (0.5, 0.05, 0.0, 0.25, 0.01),
+        (0.35, 0.45, 1.5, 0.25, 0.01),
+        (0.5, 0.01, 0.2, 0.6, 0.002),
+    ];
+    let mut queries = Vec::new();
+    for (k, (parcel, pixel, streak, size, water)) in shapes.into_iter().enumerate() {
+        let shape = SprayShape {
+            parcel,
+            pixel,
+            streak,
+            cover: parcel_cover(size, water),
+            drops: parcel_drops(size, water),
+        };
+        // Ids whose bits are a normal float (they travel as one).
+        let id = 0x4000_0000 + 97 * k as u32;
+        for j in 0..24 {
+            for i in 0..24 {
+                let at = [-1.0 + (i as f32 + 0.5) / 12.0, -1.0 + (j as f32 + 0.5) / 12.0];
+                queries.push((at, shape, id));
+            }
+        }
+        // On a drop's centre, where the opacity is steepest.
+        let c = drop_centre(id, 0, parcel, drawn_drop_radius(shape.cover));
+        queries.push((c, shape, id));
+    }
+    let got = r.probe_spray(&queries);
+    assert_eq!(got.len(), queries.len());
+    let (mut seen, mut most) = (0.0f32, 0.0f32);
+    for ((at, shape, id), g) in queries.iter().zip(&got) {
+        let depth = mist_depth(*at, shape);
+        let asymmetry = spray_asymmetry(depth);
+        let want =
+            [spray_opacity(*at, shape, *id), depth, asymmetry, spray_sky_share(at[1], asymmetry)];
+        for (w, g) in want.iter().zip(g) {
+            most = most.max((w - g).abs());
+            assert!((w - g).abs() < 2e-4, "{at:?} {shape:?}: GPU {g:?} CPU {want:?}");
+        }
+        seen += want[0];
+    }
+    assert!(seen > 10.0, "the parcels are drawn at all ({seen})");
+    eprintln!("spray twin: largest difference {most:e}");
 }

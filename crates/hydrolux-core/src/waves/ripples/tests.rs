@@ -187,7 +187,7 @@ fn steady_spray_presses_the_water_down_by_its_momentum_flux_over_g() {
     // Damping lets it settle; it shifts the balance by γ²/(g·k) ≈ 0.1%.
     s.damping = 0.3;
     let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
-    sim.kick_per_unit = crate::coupling::kick_per_unit(0.06, s.grid.cell_size);
+    sim.kick_per_unit = crate::coupling::kick_per_unit(0.06, 0.01, s.grid.cell_size);
     let (lo, hi) = (12, 20);
     let speed = 5.0;
     for _ in 0..1800 {
@@ -502,7 +502,7 @@ fn landing_liquid_hands_the_pool_its_volume_and_its_momentum() {
     // the one part of it no wave moves: the k = 0 mode does not rotate).
     let s = settings(RippleBoundary::Walls, 32, 0.125, 1.0);
     let mut sim = RippleSim::new(s, RippleWindow { origin: [0, 0] });
-    sim.kick_per_unit = crate::coupling::kick_per_unit(0.02, 0.125);
+    sim.kick_per_unit = crate::coupling::kick_per_unit(0.02, 0.01, 0.125);
     let (mut volume, mut momentum) = (0.0, 0.0);
     for k in 0..300 {
         let (x, z) = (0.3 + 0.011 * k as f64, 2.0 + 0.4 * ((k % 7) as f64 - 3.0));

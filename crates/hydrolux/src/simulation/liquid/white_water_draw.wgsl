@@ -120,5 +120,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // Spray: soft where it meets what is behind it.
     let density = (1.0 - r2) * (1.0 - r2);
     let alpha = 0.4 * density * soft * in.weight * transmittance(under).g;
-    return vec4<f32>(through_fog(eye, in.centre, spray_radiance(view)) * alpha, alpha);
+    return vec4<f32>(through_fog(eye, in.centre, spray_radiance(view, -log(1.0 - min(alpha, 0.999)))) * alpha, alpha);
 }

@@ -115,7 +115,7 @@ fn kick_per_unit(scene: &Scene, settings: &RippleSettings) -> f32 {
     let w = &scene.whitewater;
     let cell = settings.grid.cell_size;
     if scene.has_whitewater() && w.particles {
-        hydrolux_core::whitewater::kick_per_unit(w.spray_size, cell) as f32
+        hydrolux_core::whitewater::kick_per_unit(w.spray_size, w.spray_water, cell) as f32
     } else if let Some(l) = scene.fluid_landing() {
         hydrolux_core::coupling::kick_per_unit_of_volume(l.particle_volume, cell) as f32
     } else {

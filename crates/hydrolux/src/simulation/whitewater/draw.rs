@@ -19,7 +19,7 @@ uniform! { DrawParams;
         pub capacity: u32,
         pub list: u32,
         pub spray_cover: f32,
-        pub _pad1: u32,
+        pub spray_drops: f32,
         pub spray_size: f32,
         pub bubble_size: f32,
         pub shutter: f32,
@@ -112,8 +112,14 @@ impl ParticleDraw {
         let u = DrawUniforms {
             capacity: particles.capacity,
             list: particles.list,
-            spray_cover: hydrolux_core::whitewater::spray_look::parcel_cover(w.spray_size),
-            _pad1: 0,
+            spray_cover: hydrolux_core::whitewater::spray_look::parcel_cover(
+                w.spray_size,
+                w.spray_water,
+            ),
+            spray_drops: hydrolux_core::whitewater::spray_look::parcel_drops(
+                w.spray_size,
+                w.spray_water,
+            ),
             spray_size: w.spray_size,
             bubble_size: w.bubble_size,
             shutter: SHUTTER_S,

@@ -2,7 +2,7 @@
 // water's (particles.wgsl) and the volumetric liquid's
 // (liquid/white_water_draw.wgsl): the quad over a particle, spray's
 // forward scattering and a bubble's bright rim.
-#import constants, frame, sky_bindings, medium, hash
+#import constants, frame, sky_bindings, medium, hash, lighting
 
 // Corner v (0–5, two triangles) of a quad, in [-1, 1]².
 fn quad_corner(v: u32) -> vec2<f32> {
@@ -70,16 +70,18 @@ const SPREAD: f32 = 2.0;
 
 // A parcel as its quad is drawn, in the quad's units (half its width
 // across the motion is 1; the quad spans the drops' SPREAD): its radius, a pixel, how far it moves either
-// way over the shutter, and how much of its disc its drops cover.
+// way over the shutter, how much of its disc its drops cover, and how many
+// real drops it holds.
 struct SprayShape {
     parcel: f32,
     pixel: f32,
     streak: f32,
     cover: f32,
+    drops: f32,
 }
 
-fn spray_shape(q: ParticleQuad, size: f32, cover: f32) -> SprayShape {
-    return SprayShape(size / q.drawn, q.pixel / (0.5 * q.drawn), q.travel / q.drawn, cover);
+fn spray_shape(q: ParticleQuad, size: f32, cover: f32, drops: f32) -> SprayShape {
+    return SprayShape(size / q.drawn, q.pixel / (0.5 * q.drawn), q.travel / q.drawn, cover, drops);
 }
 
 // A drawn drop's radius in parcel radii: DRAWN_DROPS of them cover `cover`.
@@ -116,8 +118,8 @@ fn drops_opacity(quad: vec2<f32>, s: SprayShape, id: u32) -> f32 {
     return min(covered * energy, 1.0);
 }
 
-// The mist the drops make where they are too small to draw.
-fn mist_opacity(quad: vec2<f32>, s: SprayShape) -> f32 {
+// The parcel's optical depth with its drops spread evenly.
+fn mist_depth(quad: vec2<f32>, s: SprayShape) -> f32 {
     let r2 = quad.x * quad.x + quad.y * quad.y;
     if (r2 > 1.0) {
         return 0.0;
@@ -126,31 +128,62 @@ fn mist_opacity(quad: vec2<f32>, s: SprayShape) -> f32 {
     return 3.0 * s.cover * density * s.parcel * s.parcel / (1.0 + s.streak);
 }
 
-// How much of the parcel is drawn as drops rather than mist: by the
-// drops' mean spacing in pixels.
+// The mist the drops make where they are too small to draw.
+fn mist_opacity(quad: vec2<f32>, s: SprayShape) -> f32 {
+    return 1.0 - exp(-mist_depth(quad, s));
+}
+
+// How much of the parcel is drawn as drops rather than mist: by its real
+// drops' mean spacing in pixels (the drawn ones' where it has fewer).
 fn drops_resolved(s: SprayShape) -> f32 {
     let spread = SPREAD * s.parcel;
-    let spacing = spread * sqrt(PI / f32(DRAWN_DROPS)) / s.pixel;
+    let drops = max(s.drops, f32(DRAWN_DROPS));
+    let spacing = spread * sqrt(PI / drops) / s.pixel;
     let t = clamp((spacing - MIST_BELOW_SPACING) / (DROPS_FROM_SPACING - MIST_BELOW_SPACING), 0.0, 1.0);
     return t * t * (3.0 - 2.0 * t);
 }
 
+// What the parcel hides of what is behind it, less what its drops pass on
+// straight ahead (FORWARD_SHARE).
 fn spray_opacity(quad: vec2<f32>, s: SprayShape, id: u32) -> f32 {
     let resolved = drops_resolved(s);
-    var drops = 0.0;
-    if (resolved > 0.0) {
-        drops = drops_opacity(quad, s, id);
+    if (resolved == 0.0) {
+        return 1.0 - exp(-(1.0 - FORWARD_SHARE) * mist_depth(quad, s));
     }
-    return mist_opacity(quad, s) * (1.0 - resolved) + drops * resolved;
+    let drops = drops_opacity(quad, s, id);
+    return (mist_opacity(quad, s) * (1.0 - resolved) + drops * resolved) * (1.0 - FORWARD_SHARE);
 }
 
-// A dense parcel of spray seen along `view`: drops scatter the sun mostly
-// forward (g ≈ 0.8 for millimetre drops' halo), bright against the light,
-// and the sky from above.
-fn spray_radiance(view: vec3<f32>) -> vec3<f32> {
-    let phase = henyey_greenstein(dot(view, frame.light.sun_dir), 0.8);
-    let sky = textureSampleLevel(sky_cube, sky_sampler, vec3<f32>(0.0, 1.0, 0.0), 6.0).rgb;
-    return frame.light.sun_illuminance * phase * 0.9 + sky * 0.85;
+// Twins: hydrolux_core::whitewater::spray_look::{spray_asymmetry,
+// spray_sky_share}. The delta-Eddington split: g² of what a drop scatters
+// goes straight on (the background shows through), the rest with
+// asymmetry g/(1 + g), forgotten over τ' = (1 − g²)τ scatterings.
+const DROP_ASYMMETRY: f32 = 0.8;
+const FORWARD_SHARE: f32 = DROP_ASYMMETRY * DROP_ASYMMETRY;
+
+fn spray_asymmetry(tau: f32) -> f32 {
+    let scattered = (1.0 - FORWARD_SHARE) * max(tau, 0.0);
+    return DROP_ASYMMETRY / (1.0 + DROP_ASYMMETRY) / (1.0 + scattered);
+}
+
+fn spray_sky_share(view_y: f32, g_in: f32) -> f32 {
+    let g = clamp(g_in, 0.01, 0.95);
+    let up = (1.0 + g) / (2.0 * g) - (1.0 - g * g) / (2.0 * g * sqrt(1.0 + g * g));
+    let b = 1.5 * pow((1.0 - g) / g, 1.12);
+    return 0.5 + (up - 0.5) * (1.0 + b) * view_y / (abs(view_y) + b);
+}
+
+// Spray seen along `view` where its optical depth is `tau`: thin, its
+// drops throw the sun and the sky forward, bright against the light;
+// thick, the light inside has scattered many times and comes out evenly,
+// white from every side. The sky is the mean radiance its irradiance
+// gives (as foam is lit), the world below the grey world's bounce.
+fn spray_radiance(view: vec3<f32>, tau: f32) -> vec3<f32> {
+    let g = spray_asymmetry(tau);
+    let phase = henyey_greenstein(dot(view, frame.light.sun_dir), g);
+    let share = spray_sky_share(view.y, g);
+    let sky = frame.light.sky_ambient / PI * share + below_horizon_radiance() * (1.0 - share);
+    return frame.light.sun_illuminance * phase + sky;
 }
 
 // A sphere of air in water at quad radius² r2 (0 centre, 1 rim) in `light`

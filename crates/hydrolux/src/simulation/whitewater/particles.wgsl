@@ -11,11 +11,12 @@
 
 struct DrawParams {
     // Capacity C, which alive list is drawn (0, 1); how much of a spray
-    // parcel's disc its drops cover (hydrolux_core's `parcel_cover`).
+    // parcel's disc its drops cover and how many drops it holds
+    // (hydrolux_core's `parcel_cover`, `parcel_drops`).
     capacity: u32,
     list: u32,
     spray_cover: f32,
-    _pad1: u32,
+    spray_drops: f32,
     // Spray parcel size (m), bubble cloud size (m), shutter (s), vertical
     // reach of the surface (m).
     spray_size: f32,
@@ -39,8 +40,9 @@ struct VertexOut {
     // Opacity that keeps a sub-pixel particle's energy (its area over the
     // pixel's), and how much the streak thins it.
     @location(3) weight: f32,
-    // Spray: the parcel's shape (SprayShape) and which parcel it is;
-    // bubbles: x is how far its look is resolved (1) or a soft blob (0).
+    // Spray: the parcel's shape (SprayShape, less its drops, a uniform)
+    // and which parcel it is; bubbles: x is how far its look is resolved
+    // (1) or a soft blob (0).
     @location(4) @interpolate(flat) shape: vec4<f32>,
     @location(5) @interpolate(flat) id: u32,
 }
@@ -77,7 +79,7 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ve
         // Resolved from 3 pixels across to 6.
         out.shape = vec4<f32>(smoothstep(3.0, 6.0, size / q.pixel), 0.0, 0.0, 0.0);
     } else {
-        let s = spray_shape(q, size, params.spray_cover);
+        let s = spray_shape(q, size, params.spray_cover, params.spray_drops);
         out.shape = vec4<f32>(s.parcel, s.pixel, s.streak, s.cover);
     }
     return out;
@@ -119,12 +121,12 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     }
     // Soft where it meets what is behind it (no hard cut at the water).
     let soft = clamp((scene_distance - particle_distance) / 0.3, 0.0, 1.0);
-    let shape = SprayShape(in.shape.x, in.shape.y, in.shape.z, in.shape.w);
+    let shape = SprayShape(in.shape.x, in.shape.y, in.shape.z, in.shape.w, params.spray_drops);
     let alpha = spray_opacity(in.quad, shape, in.id) * soft;
     if (alpha <= 0.0) {
         discard;
     }
-    let color = spray_radiance(view);
+    let color = spray_radiance(view, mist_depth(in.quad, shape));
     // In the scene's fog: dimmed by the air between, and the fog's own glow
     // in front of it put back over what the parcel hides.
     return vec4<f32>(through_fog(eye, in.centre, color) * alpha, alpha);
