@@ -111,6 +111,36 @@ for (const entry of report) {
   console.log(`${scene} running: ${JSON.stringify(entry.played)}`);
   if (played.error) break;
 }
+// A scene's TOML dropped onto the page opens as the picker's scenes do:
+// its name on the page, its frames drawn, no console error.
+{
+  const started = Date.now();
+  errors = [];
+  const toml = [
+    'description = "a calm sea, dropped onto the page"',
+    "[camera]", "position = [0.0, 3.0, 0.0]", "look_at = [10.0, 1.0, -50.0]",
+    "[water]", 'model = "sines"',
+    "[sines]", "count = 8",
+  ].join("\n");
+  const transfer = await page.evaluateHandle((text) => {
+    const d = new DataTransfer();
+    d.items.add(new File([text], "dropped-calm.toml", { type: "application/toml" }));
+    return d;
+  }, toml);
+  await page.dispatchEvent("canvas", "drop", { dataTransfer: transfer });
+  let shown = false;
+  try {
+    await page.waitForFunction(
+      () => window.hydrolux && (window.hydrolux.error || (window.hydrolux.scene === "dropped-calm.toml" && window.hydrolux.png)),
+      null, { timeout: 240000, polling: 250 });
+    shown = await page.evaluate(() => window.hydrolux.scene === "dropped-calm.toml" && !!window.hydrolux.png);
+  } catch (e) {
+    errors.push(`timed out waiting for the dropped scene: ${e.message.split("\n")[0]}`);
+  }
+  const dropped = { shown, errors, seconds: (Date.now() - started) / 1000 };
+  writeFileSync(`${outdir}/dropped.json`, JSON.stringify(dropped));
+  console.log(`dropped scene: ${JSON.stringify(dropped)}`);
+}
 await browser.close();
 writeFileSync(`${outdir}/report.json`, JSON.stringify(report, null, 1));
 

@@ -3,7 +3,8 @@
 //! parameters appear without UI code). winit 0.30 + egui 0.37.
 //!
 //! Keys: W A S D fly, Q/E down/up, Shift faster, right mouse drag (or arrow
-//! keys) to look, Space pause, [ and ] time scale, V next debug view,
+//! keys) to look, O to orbit instead (the drag swings the camera around the
+//! point it looks at), the wheel to move along the view, Space pause, [ and ] time scale, V next debug view,
 //! P screenshot, Tab fold or unfold the panel, Esc quit. The water is drawn
 //! beside the panel, not under it: into an image the size of the rest of
 //! the window, copied in next to the panel.
@@ -19,7 +20,7 @@ use hydrolux_ui::{FlyCamera, Playback, Pointer, SceneEditor, header_ui};
 use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
-use winit::event::{ElementState, MouseButton, WindowEvent};
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
@@ -183,7 +184,7 @@ impl Viewer {
     }
 
     fn panel(&mut self, ui: &mut egui::Ui) {
-        let actions = header_ui(ui, &mut self.clock, "screenshot (P)");
+        let actions = header_ui(ui, &mut self.clock, &mut self.camera, "screenshot (P)");
         if actions.step {
             self.clock.step();
         }
@@ -191,7 +192,9 @@ impl Viewer {
             self.clock.restart();
         }
         if actions.reset_camera {
+            let orbit = self.camera.orbit;
             self.camera = FlyCamera::from_scene(&self.scene.camera());
+            self.camera.orbit = orbit;
         }
         self.screenshot_requested |= actions.screenshot;
         // What a key or a screenshot just did, for a few seconds (a line
@@ -488,6 +491,18 @@ impl ApplicationHandler for Viewer {
                             KeyCode::KeyP => self.screenshot_requested = true,
                             KeyCode::Tab => self.panel_open = !self.panel_open,
                             KeyCode::KeyN => self.clock.step(),
+                            KeyCode::KeyO => {
+                                self.camera.orbit = !self.camera.orbit;
+                                let what = if self.camera.orbit {
+                                    format!(
+                                        "orbiting the point {:.1} m ahead (O: fly)",
+                                        self.camera.distance
+                                    )
+                                } else {
+                                    "flying (O: orbit)".to_string()
+                                };
+                                self.say(what);
+                            }
                             KeyCode::KeyR => self.clock.restart(),
                             KeyCode::KeyB => {
                                 let (ndc, aspect) = self.cursor_ndc();
@@ -513,6 +528,13 @@ impl ApplicationHandler for Viewer {
                         self.keys.remove(&code);
                     }
                 }
+            }
+            WindowEvent::MouseWheel { delta, .. } if !consumed => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.camera.dolly(lines);
             }
             WindowEvent::MouseInput { button: MouseButton::Right, state, .. } => {
                 self.looking = state == ElementState::Pressed && !consumed;

@@ -54,8 +54,14 @@ pub struct HeaderActions {
 }
 
 /// The panel's header, the same in the viewer and the page: title, frame
-/// time and clock, play/pause and time scale, camera reset and screenshot.
-pub fn header_ui(ui: &mut egui::Ui, p: &mut Playback, screenshot_label: &str) -> HeaderActions {
+/// time and clock, play/pause and time scale, camera reset, flying or
+/// orbiting, and screenshot.
+pub fn header_ui(
+    ui: &mut egui::Ui,
+    p: &mut Playback,
+    camera: &mut FlyCamera,
+    screenshot_label: &str,
+) -> HeaderActions {
     ui.heading("Hydrolux");
     ui.label(format!(
         "{:.1} ms/frame   t = {:.1} s{}",
@@ -79,6 +85,10 @@ pub fn header_ui(ui: &mut egui::Ui, p: &mut Playback, screenshot_label: &str) ->
     ui.add(egui::Slider::new(&mut p.time_scale, 0.0..=4.0).text("time ×"));
     ui.horizontal(|ui| {
         actions.reset_camera = ui.button("reset camera").clicked();
+        ui.checkbox(&mut camera.orbit, "orbit").on_hover_text(format!(
+            "O: a drag swings the camera around the point {:.1} m ahead (the wheel closes in)",
+            camera.distance
+        ));
         actions.screenshot = ui.button(screenshot_label).clicked();
     });
     actions

@@ -48,9 +48,14 @@ impl Options {
     }
 }
 
+/// A dropped file's name and its bytes (or why they could not be read).
+type DroppedScene = (String, Result<Vec<u8>, String>);
+
 thread_local! {
     /// A scene asked for from JavaScript (`hydrolux_show`), taken by the next frame.
     static REQUESTED: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+    /// A file dropped onto the page, once read.
+    static DROPPED: std::cell::RefCell<Option<DroppedScene>> = const { std::cell::RefCell::new(None) };
     /// A time scale asked for from JavaScript (`hydrolux_play`).
     static PLAY: std::cell::Cell<Option<f64>> = const { std::cell::Cell::new(None) };
 }
@@ -209,7 +214,21 @@ impl WebApp {
     }
 
     fn switch_scene(&mut self, name: &str) {
-        match Scene::load(name, &self.options.sets) {
+        self.show_scene(name, Scene::load(name, &self.options.sets));
+    }
+
+    /// A scene's TOML dropped onto the page (`name` its file's): opened as
+    /// a built-in is, or its error said in the panel.
+    fn open_dropped(&mut self, name: &str, bytes: &[u8]) {
+        let scene = match std::str::from_utf8(bytes) {
+            Ok(text) => Scene::from_toml(text, name, &self.options.sets).map_err(|e| e.to_string()),
+            Err(_) => Err(format!("{name} is not text: a scene is a TOML file")),
+        };
+        self.show_scene(name, scene);
+    }
+
+    fn show_scene<E: std::fmt::Display>(&mut self, name: &str, scene: Result<Scene, E>) {
+        match scene {
             Ok(s) => {
                 self.editor = SceneEditor::new(&s);
                 self.camera = FlyCamera::from_scene(&s.camera());
@@ -276,7 +295,7 @@ impl WebApp {
     }
 
     fn panel(&mut self, ui: &mut egui::Ui) {
-        let actions = header_ui(ui, &mut self.clock, "screenshot");
+        let actions = header_ui(ui, &mut self.clock, &mut self.camera, "screenshot");
         if actions.step {
             self.clock.step();
         }
@@ -302,7 +321,9 @@ impl WebApp {
             self.switch_scene(name);
         }
         if actions.reset_camera {
+            let orbit = self.camera.orbit;
             self.camera = FlyCamera::from_scene(&self.scene.camera());
+            self.camera.orbit = orbit;
         }
         if actions.screenshot && self.readback.is_none() {
             self.start_screenshot(false);
@@ -312,8 +333,9 @@ impl WebApp {
             ui.colored_label(egui::Color32::from_rgb(240, 200, 110), hint);
         }
         ui.label(
-            "drag: look (on the water: ripples; on the ball: pull it) · B: drop the ball · \
-             wheel / pinch: move · W A S D Q E: fly (Shift: fast)",
+            "drag: look, or orbit (O) (on the water: ripples; on the ball: pull it) · \
+             B: drop the ball · wheel / pinch: move · W A S D Q E: fly (Shift: fast) · \
+             drop a scene's .toml here to open it",
         );
         ui.separator();
         changed |= self.editor.sections_ui(ui);
@@ -326,6 +348,9 @@ impl WebApp {
     fn fly(&mut self, ctx: &egui::Context, dt: f32) {
         if ctx.egui_wants_keyboard_input() {
             return;
+        }
+        if ctx.input(|i| i.key_pressed(egui::Key::O)) {
+            self.camera.orbit = !self.camera.orbit;
         }
         let m = ctx.input(|i| {
             let k = |key| if i.key_down(key) { 1.0 } else { 0.0 };
@@ -536,6 +561,24 @@ impl eframe::App for WebApp {
             self.clock.sim_time += dt * self.clock.time_scale;
         }
         self.finish_screenshot();
+        // A file dropped onto the page is read (browsers read files only
+        // asynchronously) and opened on a later frame.
+        if let Some(file) = ctx.input(|i| i.raw.dropped_files.first().cloned()) {
+            wasm_bindgen_futures::spawn_local(async move {
+                let name = file.path().to_string_lossy().into_owned();
+                let bytes = file.bytes_async().await;
+                DROPPED.with(|d| *d.borrow_mut() = Some((name, bytes)));
+            });
+        }
+        if let Some((name, bytes)) = DROPPED.with(|d| d.borrow_mut().take()) {
+            let name = if name.is_empty() { "dropped.toml".to_string() } else { name };
+            match bytes {
+                Ok(bytes) => self.open_dropped(&name, &bytes),
+                Err(e) => self.editor.error = Some(format!("{name} could not be read: {e}")),
+            }
+            self.clock.frame_ms = 0.0;
+            publish(&[("png", JsValue::UNDEFINED)]);
+        }
         if let Some(name) = REQUESTED.with(|r| r.borrow_mut().take()) {
             self.switch_scene(&name);
             self.clock.frame_ms = 0.0;

@@ -197,6 +197,15 @@ fn every_scene_runs_in_headless_chromium_and_looks_as_it_does_natively() {
     }
     assert!(failures.is_empty(), "in the browser: {}", failures.join("; "));
 
+    let dropped: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("dropped.json")).unwrap()).unwrap();
+    eprintln!("a scene dropped onto the page: {dropped}");
+    assert!(
+        dropped["shown"].as_bool() == Some(true)
+            && dropped["errors"].as_array().is_some_and(|e| e.is_empty()),
+        "a scene's TOML dropped onto the page opens: {dropped}"
+    );
+
     let without: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("no-webgpu.json")).unwrap()).unwrap();
     let said = without["status"].as_str().unwrap_or("");
