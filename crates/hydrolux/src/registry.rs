@@ -227,7 +227,7 @@ impl Techniques {
             sky,
             sky_irradiance: self.sky.irradiance,
             caustics_current: self.caustics.current,
-            object_light_current: self.water_objects.current,
+            object_light_current: self.water_objects.current && !shared.geometry.refractive_moved(),
         }
     }
 

@@ -75,6 +75,9 @@ impl SceneGeometry {
     /// the next frame on.
     pub fn move_object(&self, queue: &wgpu::Queue, index: usize, transform: glam::Mat4) {
         let Some(o) = self.objects.get(self.first_object + index) else { return };
+        if o.refractive && o.model.get() != transform {
+            self.refractive_moved.set(true);
+        }
         o.model.set(transform);
         let normal = glam::Mat3::from_mat4(transform).inverse().transpose();
         let mut u = o.uniforms;
@@ -97,6 +100,27 @@ impl SceneGeometry {
             .reduce(|(a, b), (lo, hi)| (a.min(lo), b.max(hi)))
     }
 
+    /// The union of the clear refractive objects' boxes where they are now
+    /// (`None`: there are none): their light view follows them.
+    pub fn refractive_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        self.objects
+            .iter()
+            .filter(|o| o.refractive)
+            .filter_map(|o| o.caster.map(|b| Mesh::moved_bounds(&o.model.get(), b)))
+            .reduce(|(a, b), (lo, hi)| (a.min(lo), b.max(hi)))
+    }
+
+    /// Whether a refractive object has moved since the last call: what was
+    /// traced through it in its light view is stale.
+    pub fn take_refractive_moved(&self) -> bool {
+        self.refractive_moved.replace(false)
+    }
+
+    /// Whether a refractive object has moved since its light view was drawn.
+    pub fn refractive_moved(&self) -> bool {
+        self.refractive_moved.get()
+    }
+
     /// Where `[[objects]]` entry `index` is now.
     pub fn object_model(&self, index: usize) -> Option<glam::Mat4> {
         self.objects.get(self.first_object + index).map(|o| o.model.get())
@@ -110,8 +134,8 @@ pub struct SceneGeometry {
     objects: Vec<GpuObject>,
     /// Entries of `objects` before the scene's `[[objects]]` (the floor).
     first_object: usize,
-    /// Union of the refractive objects' boxes (`None`: there are none).
-    pub refractive_bounds: Option<(glam::Vec3, glam::Vec3)>,
+    /// A refractive object moved (`move_object`) since its light view was drawn.
+    refractive_moved: std::cell::Cell<bool>,
     pub triangle_count: usize,
 }
 
@@ -278,7 +302,6 @@ impl GeometryPass {
     ) -> Result<SceneGeometry, AssetError> {
         let built = scene.build_geometry()?;
         let (mut vertices, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
-        let mut refractive_bounds: Option<(glam::Vec3, glam::Vec3)> = None;
         for o in &built {
             let base_vertex = vertices.len() as i32;
             let first = indices.len() as u32;
@@ -290,12 +313,6 @@ impl GeometryPass {
                 },
             ));
             indices.extend_from_slice(&o.mesh.indices);
-            if let Some((lo, hi)) = o.shadow_bounds
-                && o.material.ior > 0.0
-            {
-                refractive_bounds =
-                    Some(refractive_bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
-            }
             let m = &o.material;
             let texture = if m.texture.is_empty() {
                 None
@@ -373,7 +390,7 @@ impl GeometryPass {
             triangle_count: (indices.len() - 1) / 3,
             first_object: built.len() - scene.objects.len(),
             objects,
-            refractive_bounds,
+            refractive_moved: std::cell::Cell::new(false),
         })
     }
 

@@ -197,3 +197,33 @@ fn light_through_a_glass_wall_leaves_it_unbent_with_the_glass_transmittance() {
     assert!((median - 1.0).abs() < 0.01, "median flux ratio {median}");
     assert!(worst_dir < 0.01, "the wall bends the light: 99th percentile error {worst_dir}");
 }
+
+/// A clear sphere carried 12 m across a floor (a kinematic object) casts
+/// its shadow and focuses its caustic where it is, as the same sphere
+/// standing there does: the refractive objects' light view is fitted to
+/// them where they are and drawn again when they move (it was fitted where
+/// the scene started and drawn once).
+#[test]
+fn a_moving_glass_sphere_lights_the_floor_where_it_is() {
+    let toml = |position: &str, velocity: &str| {
+        format!(
+            "[camera]\nposition = [0.0, 9.0, 0.01]\nlook_at = [0.0, 0.0, 0.0]\nfov_y_deg = 45.0\n\
+             [sun]\nelevation_deg = 35.0\nazimuth_deg = 0.0\n\
+             [water]\nmodel = \"none\"\nmedium = \"pure\"\n[floor]\ndepth = 1.0\n\
+             [[objects]]\nprimitive = \"sphere\"\nposition = {position}\nscale = [1.5, 1.5, 1.5]\n\
+             velocity = {velocity}\n[objects.material]\nior = 1.5\n"
+        )
+    };
+    let (w, h) = (96, 54);
+    let moved =
+        Scene::from_toml(&toml("[-12.0, 0.0, 0.0]", "[3.0, 0.0, 0.0]"), "moved", &[]).unwrap();
+    let standing =
+        Scene::from_toml(&toml("[0.0, 0.0, 0.0]", "[0.0, 0.0, 0.0]"), "standing", &[]).unwrap();
+    let (a, _) = render(&moved, (w, h), 4.0);
+    let (b, _) = render(&standing, (w, h), 4.0);
+    let (mean, p99) = golden::mean_and_p99(w, h, &a, &b);
+    if !golden::within_tolerance(mean, p99) {
+        golden::write_failure("moving-glass", w, h, &a, &b);
+    }
+    assert!(golden::within_tolerance(mean, p99), "mean ΔE {mean:.2}, p99 {p99:.2}");
+}

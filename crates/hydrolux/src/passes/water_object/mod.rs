@@ -205,7 +205,7 @@ impl<'a> ClearThings<'a> {
     /// refracting the image with the liquid in it, so water is seen
     /// through a glass's walls; one layer otherwise.
     fn layers(&self) -> Vec<ClearThings<'a>> {
-        let objects = self.objects && self.geometry.refractive_bounds.is_some();
+        let objects = self.objects && self.geometry.refractive_bounds().is_some();
         match (objects, self.liquid) {
             (true, Some(_)) => {
                 vec![ClearThings { objects: false, ..*self }, ClearThings { liquid: None, ..*self }]
@@ -880,7 +880,7 @@ pub fn refractive_bounds(
     scene: &hydrolux_core::scene::Scene,
 ) -> Option<(glam::Vec3, glam::Vec3)> {
     let liquid = scene.liquid_light_bounds().map(|(lo, hi)| (lo.into(), hi.into()));
-    match (geometry.refractive_bounds, liquid) {
+    match (geometry.refractive_bounds(), liquid) {
         (Some((a, b)), Some((c, d))) => Some((a.min(c), b.max(d))),
         (a, b) => a.or(b),
     }
@@ -891,7 +891,7 @@ pub fn refractive_bounds(
 fn camera_may_be_inside(frame: &FrameContext, liquid: bool) -> bool {
     let geometry = &frame.shared.geometry;
     let liquid = liquid.then(|| frame.scene.liquid_mesh_bounds()).flatten();
-    let boxes = [geometry.refractive_bounds, liquid.map(|(lo, hi)| (lo.into(), hi.into()))];
+    let boxes = [geometry.refractive_bounds(), liquid.map(|(lo, hi)| (lo.into(), hi.into()))];
     let eye = frame.plan.camera.position;
     boxes.into_iter().flatten().any(|(lo, hi): (glam::Vec3, glam::Vec3)| {
         let margin = glam::Vec3::splat(INSIDE_MARGIN);
@@ -982,14 +982,16 @@ impl Technique for WaterObjects {
                     liquid_faces,
                     timer,
                 );
-                // The liquid changes every frame; the objects do not.
+                // The liquid changes every frame; the objects only when they
+                // move (drawn again the frame after).
+                shared.geometry.take_refractive_moved();
                 self.current = liquid.is_none() && liquid_faces.is_none() && !compared;
             }
             Stage::Composite => {
                 let targets = frame.targets();
                 // (The liquid drawn by screen-space fluid rendering is in
                 // the light view, not here: it draws itself.)
-                let anything = liquid.is_some() || shared.geometry.refractive_bounds.is_some();
+                let anything = liquid.is_some() || shared.geometry.refractive_bounds().is_some();
                 if let Some(object_targets) = self.targets.as_ref().filter(|_| anything) {
                     let things = ClearThings {
                         meshes: &shared.meshes,
