@@ -64,20 +64,18 @@ for (const [i, scene] of scenes.entries()) {
   if (state.error) break;
 }
 // Then every scene runs, as a person leaves the page open: unpaused until
-// its clock has advanced PLAY_SECONDS of simulated time (at PLAY_SCALE× real
-// time: a frame on a software adapter takes over 0.1 s, so each frame steps
-// 0.3 s, three of the simulations' 0.1 s sync steps, and a few frames get
-// there), with the pointer dragged across the view (on the pool: ripples, a
+// its clock has advanced PLAY_SECONDS of simulated time at PLAY_SCALE× real
+// time, with the pointer dragged across the view (on the pool: ripples, a
 // pulled ball). Any console error fails the scene (the pool once crashed on
-// its second frame: a blocking readback a browser cannot do). A faster clock
-// only made each frame step more water: 20× took ten minutes for the lot.
-// The volumetric liquid's scenes (named in $LIQUID_SCENES) play
-// PLAY_SECONDS_LIQUID at real time: SwiftShader takes about a second a liquid
-// step, and at 3× a frame steps the 0.3 s cap at once (18 clock steps, each
-// of one or more liquid steps), so 0.3 s played as 0.9 s and the next scene
-// waited minutes for the queue to drain. At 1× the first played frame steps
-// the time since the last (about 0.2 s): still a dozen liquid steps or more.
-const PLAY_SECONDS = 0.9, PLAY_SECONDS_LIQUID = 0.1, PLAY_SCALE = 3, PLAY_SCALE_LIQUID = 1;
+// its second frame: a blocking readback a browser cannot do). A frame on a
+// software adapter takes over 0.1 s and steps at most 0.1 s × the scale, so
+// 0.3 s at 1× is three frames or more of up to twelve 120 Hz clock steps
+// each (0.9 s at 3× was as many frames of three times the steps: the same
+// frames and code paths for three times the wait). The volumetric liquid's
+// scenes (named in $LIQUID_SCENES) take about a second a liquid step on
+// SwiftShader: they play PLAY_SECONDS_LIQUID at a quarter of real time,
+// two frames or more of three clock steps.
+const PLAY_SECONDS = 0.3, PLAY_SECONDS_LIQUID = 0.05, PLAY_SCALE = 1, PLAY_SCALE_LIQUID = 0.25;
 const liquidScenes = new Set((process.env.LIQUID_SCENES || "").split(",").filter((s) => s));
 for (const entry of report) {
   if (entry.state.error) break;
