@@ -128,6 +128,21 @@ pub struct WaterDesc {
     pub salinity: f32,
 }
 
+impl WaterDesc {
+    /// Whether `other` moves as this water does, for what simulates on it
+    /// (white water, bodies): the same surface (its model, heightfield and
+    /// size), interactive or not, and the same salinity. The optical fields
+    /// (medium, Fresnel, refraction, tracing, …) only change how it is
+    /// drawn: editing them live keeps the foam and spray where they are.
+    pub fn moves_as(&self, other: &WaterDesc) -> bool {
+        self.model == other.model
+            && self.heightfield == other.heightfield
+            && self.size == other.size
+            && self.dynamic == other.dynamic
+            && self.salinity == other.salinity
+    }
+}
+
 impl Default for WaterDesc {
     fn default() -> Self {
         WaterDesc {
@@ -277,5 +292,37 @@ impl WaterDesc {
             "must be 0 (fresh) to 45 PSU",
         )?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The optical fields do not change how the water moves; its surface,
+    /// interactivity and salinity do.
+    #[test]
+    fn only_the_surface_and_salinity_change_how_the_water_moves() {
+        let base = WaterDesc::default();
+        let optical = WaterDesc {
+            medium: MediumName::Coastal,
+            fresnel: Fresnel::Schlick,
+            ior: 1.4,
+            phase_g: 0.5,
+            method: WaterMethod::Raytrace,
+            refraction: RefractionLookup::Plane,
+            roughness_scale: 0.2,
+            ..base.clone()
+        };
+        assert!(base.moves_as(&optical));
+        for moved in [
+            WaterDesc { model: WaterModel::Sines, ..base.clone() },
+            WaterDesc { dynamic: true, ..base.clone() },
+            WaterDesc { salinity: 0.0, ..base.clone() },
+            WaterDesc { size: [4.0, 4.0], ..base.clone() },
+            WaterDesc { heightfield: "h.npy".into(), ..base.clone() },
+        ] {
+            assert!(!base.moves_as(&moved), "{moved:?}");
+        }
     }
 }

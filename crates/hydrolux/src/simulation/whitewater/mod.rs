@@ -495,7 +495,7 @@ impl Whitewater {
     /// Whether `scene` keeps this state.
     pub fn fits(&self, scene: &Scene) -> bool {
         scene.whitewater == self.scene.whitewater
-            && scene.water == self.scene.water
+            && scene.water.moves_as(&self.scene.water)
             && scene.ocean == self.scene.ocean
             && scene.floor.depth == self.scene.floor.depth
             && scene.fluid_landing() == self.scene.fluid_landing()
