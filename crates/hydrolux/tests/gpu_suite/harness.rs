@@ -63,6 +63,20 @@ pub(crate) fn render(scene: &Scene, size: (u32, u32), time: f64) -> (Vec<u8>, Ve
     (px, hdr)
 }
 
+/// A thing carried to where it stands in `standing` (scenes that differ in
+/// its start and velocity) is drawn, at 4 s, as it is standing there
+/// (within the golden metric; `name` its failure images).
+pub(crate) fn assert_moved_looks_standing(name: &str, moved: &Scene, standing: &Scene) {
+    let (w, h) = (96, 54);
+    let (a, _) = render(moved, (w, h), 4.0);
+    let (b, _) = render(standing, (w, h), 4.0);
+    let (mean, p99) = golden::mean_and_p99(w, h, &a, &b);
+    if !golden::within_tolerance(mean, p99) {
+        golden::write_failure(name, w, h, &a, &b);
+    }
+    assert!(golden::within_tolerance(mean, p99), "{name}: mean ΔE {mean:.2}, p99 {p99:.2}");
+}
+
 /// Render `s` at `size` and time `t` with `r`, and return a lookup of the
 /// linear HDR pixel under the projection of a world point.
 pub(crate) fn render_and_project(
