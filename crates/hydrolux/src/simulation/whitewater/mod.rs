@@ -642,6 +642,7 @@ mod tests {
             ("MIST_BELOW_SPACING", twin::MIST_BELOW_SPACING),
             ("DROPS_FROM_SPACING", twin::DROPS_FROM_SPACING),
             ("SPREAD", twin::SPREAD),
+            ("DROP_ASYMMETRY", twin::DROP_ASYMMETRY),
         ] {
             assert_eq!(literal(name), F32(value), "{name}");
         }
