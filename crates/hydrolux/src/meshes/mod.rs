@@ -94,8 +94,14 @@ impl SceneGeometry {
     /// nothing casts shadows): the sun's shadow view follows a moving body
     /// rather than staying where the scene started.
     pub fn shadow_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
+        self.bounds_where(|_| true)
+    }
+
+    /// The union of the casters' boxes that `pick` keeps, where they are now.
+    fn bounds_where(&self, pick: impl Fn(&GpuObject) -> bool) -> Option<(glam::Vec3, glam::Vec3)> {
         self.objects
             .iter()
+            .filter(|o| pick(o))
             .filter_map(|o| o.caster.map(|b| Mesh::moved_bounds(&o.model.get(), b)))
             .reduce(|(a, b), (lo, hi)| (a.min(lo), b.max(hi)))
     }
@@ -103,11 +109,12 @@ impl SceneGeometry {
     /// The union of the clear refractive objects' boxes where they are now
     /// (`None`: there are none): their light view follows them.
     pub fn refractive_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
-        self.objects
-            .iter()
-            .filter(|o| o.refractive)
-            .filter_map(|o| o.caster.map(|b| Mesh::moved_bounds(&o.model.get(), b)))
-            .reduce(|(a, b), (lo, hi)| (a.min(lo), b.max(hi)))
+        self.bounds_where(|o| o.refractive)
+    }
+
+    /// Whether the scene has clear refractive objects at all.
+    pub fn has_refractive(&self) -> bool {
+        self.objects.iter().any(|o| o.refractive)
     }
 
     /// Whether a refractive object has moved since the last call: what was

@@ -205,7 +205,7 @@ impl<'a> ClearThings<'a> {
     /// refracting the image with the liquid in it, so water is seen
     /// through a glass's walls; one layer otherwise.
     fn layers(&self) -> Vec<ClearThings<'a>> {
-        let objects = self.objects && self.geometry.refractive_bounds().is_some();
+        let objects = self.objects && self.geometry.has_refractive();
         match (objects, self.liquid) {
             (true, Some(_)) => {
                 vec![ClearThings { objects: false, ..*self }, ClearThings { liquid: None, ..*self }]
@@ -991,7 +991,7 @@ impl Technique for WaterObjects {
                 let targets = frame.targets();
                 // (The liquid drawn by screen-space fluid rendering is in
                 // the light view, not here: it draws itself.)
-                let anything = liquid.is_some() || shared.geometry.refractive_bounds().is_some();
+                let anything = liquid.is_some() || shared.geometry.has_refractive();
                 if let Some(object_targets) = self.targets.as_ref().filter(|_| anything) {
                     let things = ClearThings {
                         meshes: &shared.meshes,
