@@ -5,8 +5,10 @@
 
 use super::rules::range;
 use super::{Quality, Scene, SceneError};
+use crate::coupling::Pose;
+use crate::waves::ripples::bed::Obstacle;
 use crate::waves::ripples::{
-    Drop, RippleBoundary, RippleGrid, RippleSettings, WATER_TENSION, WATER_VISCOSITY,
+    Drop, RippleBed, RippleBoundary, RippleGrid, RippleSettings, WATER_TENSION, WATER_VISCOSITY,
 };
 use serde::{Deserialize, Serialize};
 
@@ -29,8 +31,10 @@ pub struct RipplesDesc {
     /// Its centre [x, z] (m); open water centres it below the camera instead.
     pub center: [f32; 2],
     pub edges: RippleEdges,
-    /// Water depth (m) under the domain; 0 = the floor's depth, or deep
-    /// water (100 m) without a floor.
+    /// Water depth (m) under the whole domain; 0 = each cell's own, down
+    /// to the floor, the terrain or a static object's top (deep water,
+    /// 100 m, without a floor). Static objects through the surface are
+    /// walls either way.
     pub depth: f32,
     /// Kinematic viscosity ν (m²/s): waves of wave number k decay at 2νk².
     pub viscosity: f32,
@@ -329,13 +333,6 @@ impl Scene {
             return None;
         }
         let r = &self.ripples;
-        let depth = if r.depth > 0.0 {
-            r.depth as f64
-        } else if self.floor.depth > 0.0 {
-            self.floor.depth as f64
-        } else {
-            100.0
-        };
         Some(RippleSettings {
             grid: RippleGrid {
                 boundary: match r.edges {
@@ -348,8 +345,82 @@ impl Scene {
             tension: r.surface_tension as f64,
             viscosity: r.viscosity as f64,
             damping: r.damping as f64,
-            depths: [depth, depth],
+            depths: self.ripple_depth_levels(),
             dt: 1.0 / r.rate as f64,
+        })
+    }
+
+    /// The interactive water's depth (m) where nothing stands on its floor:
+    /// `ripples.depth`, else the floor's, else deep water's (100 m).
+    fn ripple_depth(&self) -> f64 {
+        if self.ripples.depth > 0.0 {
+            self.ripples.depth as f64
+        } else if self.floor.depth > 0.0 {
+            self.floor.depth as f64
+        } else {
+            100.0
+        }
+    }
+
+    /// The two depth levels the interactive water blends between
+    /// (`RippleSettings::depths`): the deepest water and the shallowest the
+    /// bed makes (a shelf's top; a terrain's shore), no shallower than a
+    /// sixteenth of the deepest (a blend linear in √d is exact for long
+    /// waves at any depth between, and deep water's short waves feel no
+    /// floor: the two levels then 4× apart in √d cover both).
+    fn ripple_depth_levels(&self) -> [f64; 2] {
+        let deep = self.ripple_depth();
+        let least = deep / 16.0;
+        if self.ripples.depth > 0.0 {
+            return [deep; 2];
+        }
+        let mut shallow = deep;
+        if self.floor.terrain != super::TerrainKind::None {
+            shallow = least;
+        }
+        for o in self.ripple_obstacles() {
+            let c = o.pose.position;
+            if let Some((y0, y1)) = crate::coupling::body_column(&o.shape, &o.pose, c.x, c.z)
+                && y1 < 0.0
+                && y0 <= -deep + 1e-6
+            {
+                shallow = shallow.min(-y1);
+            }
+        }
+        [shallow.max(least), deep]
+    }
+
+    /// The static objects the interactive water meets, as it takes them:
+    /// each primitive's exact shape, a mesh's box of its scale (as the
+    /// rigid bodies take it), a plane as a flat box.
+    pub fn ripple_obstacles(&self) -> Vec<Obstacle> {
+        self.bodies()
+            .objects
+            .iter()
+            .zip(&self.objects)
+            .filter(|(b, _)| !b.moving())
+            .map(|(b, o)| {
+                let (_, rotation, position) = b.transform.to_scale_rotation_translation();
+                let mut half = glam::DVec3::from(o.scale.map(|c| c.abs() as f64)) * 0.5;
+                if o.primitive == super::Primitive::Plane && o.mesh.is_empty() {
+                    half.y = 0.0;
+                }
+                Obstacle {
+                    shape: b.shape.unwrap_or(crate::coupling::Shape::Box { half }),
+                    pose: Pose { position: position.as_dvec3(), rotation: rotation.as_dquat() },
+                }
+            })
+            .collect()
+    }
+
+    /// What the interactive water stands on: its depth, the terrain (where
+    /// `ripples.depth` does not set one) and the static objects (reads a
+    /// heightmap file).
+    pub fn ripple_bed(&self) -> Result<RippleBed, crate::geometry::load::AssetError> {
+        Ok(RippleBed {
+            depth: self.ripple_depth(),
+            terrain: if self.ripples.depth > 0.0 { None } else { self.terrain()? },
+            obstacles: self.ripple_obstacles(),
         })
     }
 
@@ -412,6 +483,46 @@ mod tests {
         // Still water without simulations has none.
         let still = Scene::from_toml("[whitewater]\nfoam = false\nparticles = false\n", "t", &[]);
         assert_eq!(still.unwrap().simulation_memory(), 0.0);
+    }
+
+    #[test]
+    fn the_interactive_water_stands_on_the_floor_the_terrain_and_the_objects() {
+        // The harbour: its piles and quay stand through the water (dry
+        // cells, walls to its waves); the open water is the floor's 6 m.
+        let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
+        let harbor = Scene::load("harbor", &[]).unwrap();
+        let bed = harbor.ripple_bed().unwrap();
+        assert_eq!(bed.depth_at(-2.0, -5.1), 0.0, "a pile");
+        assert!(near(bed.depth_at(-2.0 + 0.2, -5.1), 6.0), "beside the pile (0.175 m round)");
+        assert_eq!(bed.depth_at(-10.0, 0.0), 0.0, "the quay");
+        assert!(near(bed.depth_at(0.0, 5.0), 6.0), "open water");
+        assert_eq!(harbor.ripple_settings().unwrap().depths, [6.0, 6.0], "one depth");
+        // A shelf on a 1.6 m floor: 0.8 m of water over it, and one level
+        // at its depth; a block hanging in the water is passed under.
+        let shelf = Scene::from_toml(
+            "[water]\ndynamic = true\n[floor]\ndepth = 1.6\n\
+             [[objects]]\nprimitive = \"box\"\nposition = [1.0, -1.2, 0.0]\nscale = [2.0, 0.8, 4.0]\n\
+             [[objects]]\nprimitive = \"box\"\nposition = [-1.0, -0.8, 0.0]\nscale = [1.0, 0.4, 1.0]\n",
+            "t",
+            &[],
+        )
+        .unwrap();
+        let bed = shelf.ripple_bed().unwrap();
+        assert!(near(bed.depth_at(1.0, 0.5), 0.8), "{}", bed.depth_at(1.0, 0.5));
+        assert!(near(bed.depth_at(-1.0, 0.0), 1.6), "under the hanging block");
+        let [a, b] = shelf.ripple_settings().unwrap().depths;
+        assert!(near(a, 0.8) && near(b, 1.6), "levels {a}, {b}");
+        // The lake's basin: the terrain's depth, down to its shore, and
+        // levels from a sixteenth of the deepest.
+        let lake = Scene::load("lake", &["water.dynamic=true".into()]).unwrap();
+        let terrain = lake.terrain().unwrap().unwrap();
+        let bed = lake.ripple_bed().unwrap();
+        for (x, z) in [(0.0, 0.0), (-30.0, 26.0), (60.0, -40.0), (140.0, 0.0)] {
+            let expected = (-terrain.height_at(x as f32, z as f32) as f64).max(0.0);
+            assert!(near(bed.depth_at(x, z), expected), "({x}, {z})");
+        }
+        assert_eq!(bed.depth_at(140.0, 0.0), 0.0, "the shore is dry");
+        assert_eq!(lake.ripple_settings().unwrap().depths, [5.0 / 16.0, 5.0]);
     }
 
     #[test]

@@ -2,15 +2,34 @@
 
 use super::harness::*;
 
+/// A post standing through the water beside the first drop, and a shelf
+/// on the floor under the domain's +x side: a wall inside the water and
+/// 0.2 m of water over 0.5 m.
+fn post_and_shelf() -> Vec<hydrolux::core::scene::ObjectDesc> {
+    use hydrolux::core::scene::{ObjectDesc, Primitive};
+    vec![
+        ObjectDesc {
+            primitive: Primitive::Cylinder,
+            position: [0.3, 0.0, -0.1],
+            scale: [0.2, 1.0, 0.2],
+            ..Default::default()
+        },
+        ObjectDesc { position: [0.95, -0.35, -0.3], scale: [0.7, 0.3, 1.8], ..Default::default() },
+    ]
+}
+
 #[test]
 fn interactive_water_matches_the_cpu_twin_with_walls_and_open_edges() {
     use hydrolux::core::waves::ripples::{RippleSim, RippleWindow};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     for edges in ["walls", "open"] {
         // The water alone: the drops' splashes would kick it with their
-        // spray (checked with the white water's twin).
+        // spray (checked with the white water's twin). It stands on a
+        // post and a shelf.
         let mut s = ripple_scene(edges);
         s.whitewater.particles = false;
+        s.objects = post_and_shelf();
+        s.validate().expect("valid");
         let mut r = renderer(&ctx, &s);
         let t = 0.5;
         r.simulate(&s.camera(), (16, 16), t);
@@ -26,12 +45,20 @@ fn interactive_water_matches_the_cpu_twin_with_walls_and_open_edges() {
             ),
         };
         assert_eq!(gpu.origin[0], window.low_edge(&settings.grid, 0) as f32, "{edges}: window");
+        let levels = settings.depths;
+        assert!(
+            (levels[0] - 0.2).abs() < 1e-6 && levels[1] == 0.5,
+            "{edges}: levels {levels:?}, the shelf's depth and the floor's"
+        );
         let mut sim = RippleSim::new(settings, window);
+        sim.depth = s.ripple_bed().unwrap().depths(&settings.grid, &window);
+        let post = sim.depth.iter().position(|&d| d == 0.0).expect("the post's cells are dry");
         let steps = (t * 60.0).round() as u64;
         for i in 0..steps {
             sim.step(&s.drops_in_step(i, settings.dt));
         }
         let cpu = sim.heights();
+        assert_eq!(gpu.heights[post], 0.0, "{edges}: the water stands still in the post");
         let scale = cpu.iter().fold(0.0f64, |m, h| m.max(h.abs()));
         assert!(scale > 1e-4, "{edges}: the drops made waves ({scale} m)");
         let worst =

@@ -23,7 +23,11 @@
 //! Depth. The operator K depends on the depth. Two depth levels are
 //! stepped from one forward transform (packed in one inverse transform) and
 //! each cell takes the linear blend of the two by its own depth: waves slow
-//! and shorten where the water shoals.
+//! and shorten where the water shoals. Cells with no depth (an object
+//! standing through the surface, land) are held at rest: walls inside the
+//! domain ([`bed`] says which cells are which).
+
+pub mod bed;
 
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
@@ -31,6 +35,7 @@ use std::f64::consts::PI;
 
 use super::dispersion::GRAVITY;
 pub use crate::coupling::{BodyMove, Drop};
+pub use bed::{RippleBed, wet};
 
 /// Surface tension of clean water over its density, σ/ρ (m³/s²): 0.0728 N/m at 20 °C.
 pub const WATER_TENSION: f64 = 0.0728 / 1000.0;
@@ -630,6 +635,14 @@ impl RippleSim {
             })
             .collect();
         let covered: Vec<bool> = held_down.iter().map(|&d| d > 0.0).collect();
+        // Cells of the bed with no water (obstacles, land), per grid cell.
+        let n = grid.cells;
+        let dry: Vec<bool> = (0..f * f)
+            .map(|i| {
+                let (d, _) = domain_cell(&grid, &self.window, [i % f, i / f]);
+                !wet(self.depth[d[1] * n + d[0]])
+            })
+            .collect();
         // A hull presses with the head of its bottom below the free water
         // around it, not below the mean level: in a walled pool the hulls'
         // hollows raise the free water, and a head short by that rise let
@@ -637,7 +650,12 @@ impl RippleSim {
         // (the contact pushing it back out each step), a current that
         // stored itself in φ and rose as a mound where a floating ball was
         // lifted out. Twin of `free_level` in ripples.wgsl.
-        let free_level = if bodies.is_empty() { 0.0 } else { free_level(&grid, &before, &covered) };
+        let free_level = if bodies.is_empty() {
+            0.0
+        } else {
+            let not_free: Vec<bool> = covered.iter().zip(&dry).map(|(&c, &d)| c || d).collect();
+            free_level(&grid, &before, &not_free)
+        };
         // A hull holds its hollow down: free water does not pour into it by
         // breaking (else the two fight every step, and the ring about a
         // floating ball stands steep), though a hollow rebounding above
@@ -650,6 +668,10 @@ impl RippleSim {
         let holds = |c: usize| before[c] >= -held_down[c] - HULL_GAP;
         let at = |i: usize, p: usize, q: usize| {
             let j = (q % f) * f + p % f;
+            // A dry neighbour is a wall: no water to trade with.
+            if dry[j] {
+                return before[i];
+            }
             let held = covered[i] != covered[j]
                 && (if covered[j] {
                     before[j] < before[i] && holds(j)
@@ -679,7 +701,13 @@ impl RippleSim {
                 // (linearised Bernoulli); P·A = the parcels' momentum.
                 let t = grid_cell(&grid, &self.window, d);
                 self.phi[i] -= self.kicks[t[1] * grid.cells + t[0]] as f64 * self.kick_per_unit;
-                let s = sponge(&grid, d, dt);
+                // Dry cells (obstacles, land) hold no water: what the step
+                // moved into them is taken out, so waves reflect from them.
+                let s = if wet(self.depth[d[1] * grid.cells + d[0]]) {
+                    sponge(&grid, d, dt)
+                } else {
+                    0.0
+                };
                 self.h[i] *= s;
                 self.phi[i] *= s;
             }
@@ -756,9 +784,14 @@ impl RippleSim {
             for p in 0..f {
                 let (d, _) = domain_cell(&grid, &self.window, [p, q]);
                 let n = grid.cells;
-                let wgt = depth_weight(self.settings.depths, self.depth[d[1] * n + d[0]]);
+                let depth = self.depth[d[1] * n + d[0]];
+                let wgt = depth_weight(self.settings.depths, depth);
                 let i = q * f + p;
-                let v = levels[0][i] * (1.0 - wgt) + levels[1][i] * wgt;
+                let v = if wet(depth) {
+                    levels[0][i] * (1.0 - wgt) + levels[1][i] * wgt
+                } else {
+                    Complex64::default()
+                };
                 self.h[i] = v.re;
                 self.phi[i] = v.im;
             }

@@ -465,11 +465,15 @@ impl crate::simulation::Simulation for Dynamics {
         published: &crate::simulation::Published,
     ) -> Result<Option<Self>, crate::error::RenderError> {
         let (device, queue) = (&shared.device, &shared.queue);
-        let ripples = scene.ripple_settings().map(|settings| {
-            let mut pass = RipplePass::new(device, queue, &shared.caps, scene, settings);
-            pass.bind_landings(device, landings(published));
-            pass
-        });
+        let ripples = match scene.ripple_settings() {
+            Some(settings) => {
+                let bed = scene.ripple_bed()?;
+                let mut pass = RipplePass::new(device, queue, &shared.caps, scene, settings, bed);
+                pass.bind_landings(device, landings(published));
+                Some(pass)
+            }
+            None => None,
+        };
         Ok(Dynamics::new(queue, scene, ripples))
     }
 

@@ -17,7 +17,7 @@ use crate::uniforms::uniform;
 use hydrolux_core::scene::Scene;
 use hydrolux_core::waves::dispersion::GRAVITY;
 use hydrolux_core::waves::ripples::{
-    BodyMove, Drop, RippleBoundary, RippleSettings, RippleWindow, sponge_rate,
+    BodyMove, Drop, RippleBed, RippleBoundary, RippleSettings, RippleWindow, sponge_rate,
 };
 
 uniform! { RippleParams;
@@ -73,6 +73,23 @@ pub fn edges_index(b: RippleBoundary) -> u32 {
         RippleBoundary::Open => 1,
         RippleBoundary::Periodic => 2,
     }
+}
+
+/// The floor as the water stands on it: its shape, not its look.
+fn ground(scene: &Scene) -> hydrolux_core::scene::FloorDesc {
+    hydrolux_core::scene::FloorDesc { material: Default::default(), ..scene.floor.clone() }
+}
+
+/// Each domain cell's still-water depth under `window` into `buffer`.
+fn write_depths(
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+    bed: &RippleBed,
+    settings: &RippleSettings,
+    window: &RippleWindow,
+) {
+    let depths: Vec<f32> = bed.depths(&settings.grid, window).iter().map(|&d| d as f32).collect();
+    queue.write_buffer(buffer, 0, bytemuck::cast_slice(&depths));
 }
 
 /// Slots of the per-step uniforms, each at the device's dynamic-offset alignment.
@@ -156,7 +173,12 @@ pub struct RipplePass {
     slot_size: u64,
     spatial: wgpu::Buffer,
     spectral: wgpu::Buffer,
+    /// Each domain cell's still-water depth (m; 0: dry), for `depth_window`.
     depth: wgpu::Buffer,
+    /// What the water stands on: where it is not flat, an open domain's
+    /// depths are taken anew wherever its window goes.
+    bed: RippleBed,
+    depth_window: RippleWindow,
     drops: wgpu::Buffer,
     drop_capacity: u64,
     moves: wgpu::Buffer,
@@ -193,6 +215,7 @@ impl RipplePass {
         caps: &crate::capabilities::Capabilities,
         scene: &Scene,
         settings: RippleSettings,
+        bed: RippleBed,
     ) -> Self {
         let n = settings.grid.cells as u32;
         let f = settings.grid.fft_size() as u32;
@@ -213,11 +236,6 @@ impl RipplePass {
         let kicks = cells((n * n) as u64, 4, "ripples spray kicks", copy);
         let pushed = cells(1, 8, "ripples hulls' ledger", copy);
         let kick_per_unit = kick_per_unit(scene, &settings);
-        queue.write_buffer(
-            &depth,
-            0,
-            bytemuck::cast_slice(&vec![settings.depths[0] as f32; (n * n) as usize]),
-        );
         let drop_capacity = 256;
         let drops = cells(drop_capacity, 16, "ripples drops", copy);
         let slot_size = (std::mem::size_of::<RippleUniforms>() as u64)
@@ -347,10 +365,14 @@ impl RipplePass {
             layout: &fft_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: spatial.as_entire_binding() }],
         });
+        let window = RippleWindow::centred(&settings.grid, scene.ripples.center.map(|c| c as f64));
+        write_depths(queue, &depth, &bed, &settings, &window);
         let mut pass = RipplePass {
             settings,
             scene: scene.clone(),
-            window: RippleWindow::centred(&settings.grid, scene.ripples.center.map(|c| c as f64)),
+            window,
+            bed,
+            depth_window: window,
             pending: Vec::new(),
             last_moves: Vec::new(),
             group: placeholder,
@@ -441,6 +463,8 @@ impl RipplePass {
             && scene.emitters == self.scene.emitters
             && kick_per_unit(scene, &self.settings) == self.kick_per_unit
             && scene.fluid_landing() == self.scene.fluid_landing()
+            && ground(scene) == ground(&self.scene)
+            && scene.ripple_obstacles() == self.bed.obstacles
     }
 
     /// Back to still water (t = 0).
@@ -557,6 +581,11 @@ impl RipplePass {
     ) {
         let count = inputs.len() as u64;
         assert!(count <= MAX_STEPS as u64, "at most {MAX_STEPS} steps per record");
+        // An open domain that moved stands on other ground.
+        if self.window != self.depth_window && !self.bed.is_flat() {
+            write_depths(queue, &self.depth, &self.bed, &self.settings, &self.window);
+            self.depth_window = self.window;
+        }
         let mut drops: Vec<[f32; 4]> = Vec::new();
         let mut moves: Vec<[[f32; 4]; 5]> = Vec::new();
         let mut slots = vec![0u8; (self.slot_size * (count + 1)) as usize];

@@ -243,11 +243,20 @@ fn depth_weight(d: f32) -> f32 {
     return 0.0;
 }
 
-// (h, φ) of grid cell g: its two depth levels blended by its own depth.
+// Whether grid cell g holds water (else an obstacle or land stands there,
+// and the water is held at rest). Twin: ripples::wet.
+fn wet(g: vec2<u32>) -> bool {
+    let d = domain_cell(g);
+    return depth[d.y * params.cells + d.x] > 0.0;
+}
+
+// (h, φ) of grid cell g: its two depth levels blended by its own depth;
+// none in a dry cell.
 fn state(g: vec2<u32>) -> vec2<f32> {
     let d = domain_cell(g);
     let v = spectral[grid_index(g)];
-    return mix(v.xy, v.zw, depth_weight(depth[d.y * params.cells + d.x]));
+    let here = depth[d.y * params.cells + d.x];
+    return select(vec2<f32>(0.0), mix(v.xy, v.zw, depth_weight(here)), here > 0.0);
 }
 
 // The crater of drop (x, z, R, s) at world point w, with its mirror images
@@ -307,7 +316,7 @@ fn free_level(@builtin(local_invocation_index) lid: u32) {
     var sum = vec2<f32>(0.0);
     for (var c = lid; c < n * n; c += 256u) {
         let g = vec2<u32>(c % n, c / n);
-        if (!hull_covers(world_of(domain_cell(g)))) {
+        if (wet(g) && !hull_covers(world_of(domain_cell(g)))) {
             sum += vec2<f32>(state(g).x, 1.0);
         }
     }
@@ -355,6 +364,10 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     let h_before = s.x;
     let here = here_down > 0.0;
     for (var j = 0; j < 4; j++) {
+        // A dry neighbour is a wall: no water to trade with.
+        if (!wet(around[j])) {
+            continue;
+        }
         let h_n = state(around[j]).x;
         let there_down = hull_depth(world_of(domain_cell(around[j])));
         let there = there_down > 0.0;
@@ -381,7 +394,9 @@ fn disturb(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // Landing spray: an impulsive pressure P changes φ by −P/ρ.
     s.y -= f32(atomicLoad(&kicks[texel_of(g)])) * params.kick_per_unit;
-    s *= sponge(d);
+    // Dry cells hold no water: what the step moved into them is taken out,
+    // so waves reflect from them.
+    s *= select(0.0, sponge(d), wet(g));
     // Contact: water touching a hull follows it up, to its new bottom or
     // the mean level; water that rose past a hull's bottom is put back
     // there. What the hulls let in or push out comes from or joins the
