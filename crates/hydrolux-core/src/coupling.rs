@@ -113,11 +113,13 @@ impl Shape {
 
 /// Shape codes on the GPU (the renderer's ray tests and hulls): a sphere
 /// (radius), a box (half-sizes), a cylinder along y (radius, half-height),
-/// and for traced objects a unit plane at y = 0.
+/// and for traced objects a unit plane at y = 0 and a mesh (its tree,
+/// `raytrace::bvh`).
 pub const PRIMITIVE_SPHERE: u32 = 0;
 pub const PRIMITIVE_BOX: u32 = 1;
 pub const PRIMITIVE_CYLINDER: u32 = 2;
 pub const PRIMITIVE_PLANE: u32 = 3;
+pub const PRIMITIVE_MESH: u32 = 4;
 
 /// Where a body is.
 #[derive(Clone, Copy, Debug, PartialEq)]

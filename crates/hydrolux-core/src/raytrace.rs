@@ -24,6 +24,7 @@
 //! [`caustics`] traces the sun's photons through the surface to the ground
 //! (the paper's photon texture) for the light the traced ground receives.
 
+pub mod bvh;
 pub mod caustics;
 
 /// The surface a ray is traced against: y = height(x, z), with the sign of

@@ -119,6 +119,7 @@ pub(crate) fn wgsl() -> String {
         ("PRIMITIVE_BOX", hydrolux_core::coupling::PRIMITIVE_BOX),
         ("PRIMITIVE_CYLINDER", hydrolux_core::coupling::PRIMITIVE_CYLINDER),
         ("PRIMITIVE_PLANE", hydrolux_core::coupling::PRIMITIVE_PLANE),
+        ("PRIMITIVE_MESH", hydrolux_core::coupling::PRIMITIVE_MESH),
         ("PARTICLE_DEAD", hydrolux_core::whitewater::DEAD),
         ("PARTICLE_BUBBLE", hydrolux_core::whitewater::BUBBLE),
         ("PARTICLE_SPRAY", hydrolux_core::whitewater::SPRAY),
@@ -147,7 +148,7 @@ mod tests {
     fn every_variant_has_one_constant_and_distinct_numbers_per_enum() {
         let src = wgsl();
         let module = naga::front::wgsl::parse_str(&src).expect("the modes module parses");
-        assert_eq!(module.constants.len(), 13 + 4 + 2 + 2 + 2 + 3 + 5 + 10 + 3);
+        assert_eq!(module.constants.len(), 13 + 4 + 2 + 2 + 2 + 3 + 5 + 11 + 3);
         assert!(src.contains("const VIEW_NORMALS: u32 = 4u;"));
         assert!(src.contains("const FRESNEL_JENSEN_GOLIAS: u32 = 2u;"));
         assert!(src.contains("const MODEL_HEIGHTFIELD: u32 = 3u;"));

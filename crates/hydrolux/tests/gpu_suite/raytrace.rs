@@ -115,6 +115,18 @@ fn traced_refraction_shows_an_object_where_snells_law_puts_it() {
     };
     let object = "{primitive=\"plane\", position=[0.0, -0.6, -0.2], scale=[1.4, 1.0, 0.9], material={albedo=[0.8, 0.05, 0.05]}}";
     let (_, _) = snell_places_a_traced_object(&ctx, object, nothing_above, hits_plane, 150);
+    // …and a mesh, the bunny on the floor, found through its tree (the CPU
+    // twin: MeshBvh::intersect in the bunny's own space).
+    let object = "{mesh=\"builtin:bunny\", position=[0.3, -2.0, -0.2], rotation_deg=[0.0, 30.0, 0.0], scale=[1.2, 1.2, 1.2], material={albedo=[0.9, 0.0, 0.0]}}";
+    let s = Scene::load("ocean", &[format!("objects=[{object}]")]).expect("valid");
+    let mesh = s.object_mesh_file(&s.objects[0]).expect("the bunny");
+    let bvh = hydrolux::core::raytrace::bvh::MeshBvh::build(&mesh.positions, &mesh.indices);
+    let inverse = Scene::object_transform(&s.objects[0]).inverse();
+    let hits_bunny = |o: glam::Vec3, d: glam::Vec3| {
+        let (o, d) = (inverse.transform_point3(o), inverse.transform_vector3(d));
+        bvh.intersect(o, d, 0.0, f32::INFINITY).is_some()
+    };
+    let (_, _) = snell_places_a_traced_object(&ctx, object, nothing_above, hits_bunny, 100);
 }
 
 /// A ball floating half under flat water (the pool's, issue #26): seen

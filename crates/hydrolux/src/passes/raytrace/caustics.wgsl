@@ -16,6 +16,7 @@
 @group(2) @binding(3) var<storage, read> traced_objects: array<TracedObject>;
 @group(2) @binding(4) var<storage, read_write> ground_light: array<f32>;
 @group(2) @binding(5) var<storage, read_write> photon_sum: array<atomic<u32>>;
+@group(2) @binding(6) var<storage, read> traced_meshes: array<vec4<f32>>;
 
 // Fixed-point units per unit of a cell's flat light (the layered maps' scale).
 const PHOTON_FIXED_POINT: f32 = 65536.0;

@@ -58,26 +58,31 @@ uniform! { TracedParams;
     }
 }
 
-/// An object traced as its primitive (WGSL `TracedObject`): the inverse of
-/// its transform, its shape, its material.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub(crate) struct TracedObject {
-    pub inverse_model: [[f32; 4]; 4],
-    pub albedo: [f32; 3],
-    /// The pattern's tile size (m).
-    pub tile_size: f32,
-    /// The pattern's second colour, and the pattern (`modes::pattern`).
-    pub pattern_color: [f32; 3],
-    pub pattern: u32,
-    /// 0 sphere, 1 box, 2 cylinder (unit primitives), 3 plane.
-    pub shape: u32,
-    pub _pad: [u32; 3],
+uniform! { TracedObject;
+    /// An object traced as its primitive or its mesh's tree (WGSL
+    /// `TracedObject`, a storage record checked by name like a uniform):
+    /// the inverse of its transform, its shape, its material.
+    pub(crate) struct TracedObject {
+        pub inverse_model: [[f32; 4]; 4],
+        pub albedo: [f32; 3],
+        /// The pattern's tile size (m).
+        pub tile_size: f32,
+        /// The pattern's second colour, and the pattern (`modes::pattern`).
+        pub pattern_color: [f32; 3],
+        pub pattern: u32,
+        /// 0 sphere, 1 box, 2 cylinder (unit primitives), 3 plane, 4 mesh.
+        pub shape: u32,
+        /// A mesh's first node and first triangle corner in the traced
+        /// meshes' buffer (vec4 indices; [`TracedMeshes`]).
+        pub mesh_nodes: u32,
+        pub mesh_triangles: u32,
+        pub _pad0: u32,
+    }
 }
 
 /// Shape codes of `TracedObject.shape` (the WGSL `PRIMITIVE_*`, generated).
 use hydrolux_core::coupling::{
-    PRIMITIVE_BOX as SHAPE_BOX, PRIMITIVE_CYLINDER as SHAPE_CYLINDER,
+    PRIMITIVE_BOX as SHAPE_BOX, PRIMITIVE_CYLINDER as SHAPE_CYLINDER, PRIMITIVE_MESH as SHAPE_MESH,
     PRIMITIVE_PLANE as SHAPE_PLANE, PRIMITIVE_SPHERE as SHAPE_SPHERE,
 };
 
@@ -85,36 +90,80 @@ fn pattern_code(p: Pattern) -> u32 {
     crate::modes::pattern(p)
 }
 
+/// The traced meshes' trees and triangles, one `vec4<f32>` array
+/// (`traced_meshes` in WGSL): each mesh's nodes as two vec4s (box min and
+/// the first triangle or second child as bits; box max and the leaf's
+/// triangle count as bits), then its triangles as three corners. Each mesh
+/// file once, however many objects show it.
+#[derive(Default)]
+pub(crate) struct TracedMeshes {
+    pub data: Vec<[f32; 4]>,
+    /// Mesh name → its first node and first corner (vec4 indices).
+    at: std::collections::HashMap<String, (u32, u32)>,
+}
+
+impl TracedMeshes {
+    /// Where `name`'s tree is, built and appended the first time.
+    fn place(
+        &mut self,
+        name: &str,
+        mesh: impl FnOnce() -> Result<hydrolux_core::geometry::Mesh, RenderError>,
+    ) -> Result<(u32, u32), RenderError> {
+        if let Some(&at) = self.at.get(name) {
+            return Ok(at);
+        }
+        let mesh = mesh()?;
+        let bvh = hydrolux_core::raytrace::bvh::MeshBvh::build(&mesh.positions, &mesh.indices);
+        let nodes = self.data.len() as u32;
+        for n in &bvh.nodes {
+            self.data.push([n.min.x, n.min.y, n.min.z, f32::from_bits(n.first_or_next)]);
+            self.data.push([n.max.x, n.max.y, n.max.z, f32::from_bits(n.count)]);
+        }
+        let triangles = self.data.len() as u32;
+        for t in &bvh.triangles {
+            self.data.extend(t.iter().map(|p| [p.x, p.y, p.z, 0.0]));
+        }
+        self.at.insert(name.to_string(), (nodes, triangles));
+        Ok((nodes, triangles))
+    }
+}
+
 /// The scene's objects rays can be traced against: opaque boxes, spheres,
-/// cylinders and planes (their unit primitives, transformed), by
-/// `[[objects]]` index. Meshes and refractive objects are not traced.
-fn traceable(scene: &Scene) -> Vec<(usize, TracedObject)> {
+/// cylinders, planes (their unit primitives, transformed) and meshes
+/// (their trees), by `[[objects]]` index. Refractive objects are not traced.
+fn traceable(scene: &Scene) -> Result<(Vec<(usize, TracedObject)>, TracedMeshes), RenderError> {
     use hydrolux_core::scene::Primitive;
-    scene
-        .objects
-        .iter()
-        .enumerate()
-        .filter(|(_, o)| o.mesh.is_empty() && o.material.ior <= 0.0)
-        .map(|(i, o)| {
-            let shape = match o.primitive {
+    let mut meshes = TracedMeshes::default();
+    let mut out = Vec::new();
+    for (i, o) in scene.objects.iter().enumerate().filter(|(_, o)| o.material.ior <= 0.0) {
+        let (mut mesh_nodes, mut mesh_triangles) = (0, 0);
+        let shape = if o.mesh.is_empty() {
+            match o.primitive {
                 Primitive::Box => SHAPE_BOX,
                 Primitive::Sphere => SHAPE_SPHERE,
                 Primitive::Cylinder => SHAPE_CYLINDER,
                 Primitive::Plane => SHAPE_PLANE,
-            };
-            let m = &o.material;
-            let object = TracedObject {
-                inverse_model: Scene::object_transform(o).inverse().to_cols_array_2d(),
-                albedo: m.albedo,
-                tile_size: m.tile_size,
-                pattern_color: m.pattern_color,
-                pattern: pattern_code(m.pattern),
-                shape,
-                _pad: [0; 3],
-            };
-            (i, object)
-        })
-        .collect()
+            }
+        } else {
+            (mesh_nodes, mesh_triangles) =
+                meshes.place(&o.mesh, || Ok(scene.object_mesh_file(o)?))?;
+            SHAPE_MESH
+        };
+        let m = &o.material;
+        let object = TracedObject {
+            inverse_model: Scene::object_transform(o).inverse().to_cols_array_2d(),
+            albedo: m.albedo,
+            tile_size: m.tile_size,
+            pattern_color: m.pattern_color,
+            pattern: pattern_code(m.pattern),
+            shape,
+            mesh_nodes,
+            mesh_triangles,
+            _pad0: 0,
+        };
+        out.push((i, object));
+    }
+    Ok((out, meshes))
 }
 
 /// Side of the water's heightfield window (m): 64 m around the camera
@@ -205,6 +254,7 @@ impl Traced {
                 storage_entry(2, fs, true),
                 storage_entry(3, fs, true),
                 storage_entry(4, fs, true),
+                storage_entry(5, fs, true),
             ],
         })
     }
@@ -263,7 +313,17 @@ impl Traced {
         queue.write_buffer(&bounds, 0, bytemuck::cast_slice(&flat));
         let material = &scene.floor.material;
         let pattern = pattern_code(material.pattern);
-        let objects = if tracing { traceable(scene) } else { Vec::new() };
+        let (objects, meshes) =
+            if tracing { traceable(scene)? } else { (Vec::new(), TracedMeshes::default()) };
+        let meshes_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("traced meshes"),
+            size: (16 * meshes.data.len().max(1)) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        if !meshes.data.is_empty() {
+            queue.write_buffer(&meshes_buffer, 0, bytemuck::cast_slice(&meshes.data));
+        }
         let objects_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("traced objects"),
             size: (objects.len().max(1) * std::mem::size_of::<TracedObject>()) as u64,
@@ -317,6 +377,7 @@ impl Traced {
                 whole(2, &bounds),
                 whole(3, &objects_buffer),
                 whole(4, &ground_light),
+                whole(5, &meshes_buffer),
             ],
         });
         let cs = wgpu::ShaderStages::COMPUTE;
@@ -386,6 +447,7 @@ impl Traced {
                 storage_entry(3, cs, true),
                 storage_entry(4, cs, false),
                 storage_entry(5, cs, false),
+                storage_entry(6, cs, true),
             ],
         });
         let caustic_module = shader(device, "traced caustics", &caustics_source());
@@ -409,6 +471,7 @@ impl Traced {
                     whole(3, &objects_buffer),
                     whole(4, &ground_light),
                     whole(5, &photon_sum),
+                    whole(6, &meshes_buffer),
                 ],
             }),
             light: ground_light,
@@ -653,6 +716,7 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
         vec![
             crate::uniforms::Layout::of::<TracedUniforms>(source()),
             crate::uniforms::Layout::of::<HeightfieldUniforms>(source()),
+            crate::uniforms::Layout::of::<TracedObject>(source()),
         ]
     },
 };

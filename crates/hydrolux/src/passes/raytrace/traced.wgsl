@@ -44,9 +44,12 @@ struct TracedObject {
     pattern_color: vec3<f32>,
     pattern: u32,
     // The shape: PRIMITIVE_SPHERE, PRIMITIVE_BOX, PRIMITIVE_CYLINDER
-    // (ray_primitive.wgsl) or PRIMITIVE_PLANE (traced_hits.wgsl).
+    // (ray_primitive.wgsl), PRIMITIVE_PLANE or PRIMITIVE_MESH
+    // (traced_hits.wgsl).
     shape: u32,
+    // A mesh's tree and triangles in `traced_meshes` (vec4 indices): its
+    // nodes (two each) and its triangles (three corners each).
+    mesh_nodes: u32,
+    mesh_triangles: u32,
     _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
 }

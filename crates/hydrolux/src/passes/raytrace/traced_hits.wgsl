@@ -1,7 +1,9 @@
 // What traced rays meet besides the water (passes/raytrace): the ground's
-// heightfield and the traced objects' primitives. The importing shader
-// declares `traced: TracedParams`, `hf_heights`, `hf_bounds` and
-// `traced_objects: array<TracedObject>` (traced.wgsl).
+// heightfield and the traced objects' primitives and meshes. The importing
+// shader declares `traced: TracedParams`, `hf_heights`, `hf_bounds`,
+// `traced_objects: array<TracedObject>` (traced.wgsl) and
+// `traced_meshes: array<vec4<f32>>` (the meshes' trees, passes/raytrace
+// `TracedMeshes`).
 #import heightfield_trace, traced, ray_primitive
 
 // Where a traced ray first meets the ground (t; NO_ROOT: nowhere).
@@ -65,13 +67,108 @@ fn hit_primitive(shape: u32, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(t.x, primitive_normal(shape, size, o + d * t.x));
 }
 
+// Deepest a mesh's tree goes, plus one: its walk's stack (raytrace::bvh::MAX_DEPTH + 1).
+const BVH_STACK: u32 = 33u;
+
+// Where the ray o + t·d (inv = 1/d) is inside the box lo..hi, within
+// (t0, t1): (near, far), near > far where it misses. Twin: bvh::slab.
+fn bvh_slab(lo: vec3<f32>, hi: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t0: f32, t1: f32) -> vec2<f32> {
+    let a = (lo - o) * inv;
+    let b = (hi - o) * inv;
+    let lo_t = min(a, b);
+    let hi_t = max(a, b);
+    return vec2<f32>(max(max(max(lo_t.x, lo_t.y), lo_t.z), t0), min(min(min(hi_t.x, hi_t.y), hi_t.z), t1));
+}
+
+// Möller–Trumbore: where o + t·d meets the triangle p0 p1 p2 from either
+// side, (t, e1 × e2); t = NO_ROOT where it misses. Twin: bvh::triangle.
+fn bvh_triangle(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
+    let miss = vec4<f32>(NO_ROOT, 0.0, 1.0, 0.0);
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    if (abs(det) < 1e-12) {
+        return miss;
+    }
+    let inv = 1.0 / det;
+    let s = o - p0;
+    let u = dot(s, p) * inv;
+    if (u < 0.0 || u > 1.0) {
+        return miss;
+    }
+    let q = cross(s, e1);
+    let v = dot(d, q) * inv;
+    if (v < 0.0 || u + v > 1.0) {
+        return miss;
+    }
+    return vec4<f32>(dot(e2, q) * inv, cross(e1, e2));
+}
+
+// The first hit of o + t·d (object space) on object `obj`'s mesh with t in
+// (t_min, t_max): (t, object-space normal facing the ray); t = NO_ROOT if
+// none. Walks its tree nearer child first. Twin: MeshBvh::intersect.
+fn trace_mesh(obj: TracedObject, o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32) -> vec4<f32> {
+    var stack: array<u32, BVH_STACK>;
+    var top = 1u;
+    stack[0] = 0u;
+    var best = vec4<f32>(NO_ROOT, 0.0, 1.0, 0.0);
+    var reach = t_max;
+    let inv = 1.0 / d;
+    while (top > 0u) {
+        top -= 1u;
+        let i = stack[top];
+        let a = traced_meshes[obj.mesh_nodes + 2u * i];
+        let b = traced_meshes[obj.mesh_nodes + 2u * i + 1u];
+        let span = bvh_slab(a.xyz, b.xyz, o, inv, t_min, reach);
+        if (span.x > span.y) {
+            continue;
+        }
+        let link = bitcast<u32>(a.w);
+        let count = bitcast<u32>(b.w);
+        if (count > 0u) {
+            for (var k = link; k < link + count; k++) {
+                let c = obj.mesh_triangles + 3u * k;
+                let h = bvh_triangle(traced_meshes[c].xyz, traced_meshes[c + 1u].xyz, traced_meshes[c + 2u].xyz, o, d);
+                if (h.x > t_min && h.x < reach) {
+                    reach = h.x;
+                    best = h;
+                }
+            }
+        } else if (top + 2u <= BVH_STACK) {
+            // The nearer child (by its box's centre along d) walked first.
+            let first = i + 1u;
+            let c_first = traced_meshes[obj.mesh_nodes + 2u * first].xyz + traced_meshes[obj.mesh_nodes + 2u * first + 1u].xyz;
+            let c_link = traced_meshes[obj.mesh_nodes + 2u * link].xyz + traced_meshes[obj.mesh_nodes + 2u * link + 1u].xyz;
+            let first_nearer = dot(0.5 * c_first - o, d) <= dot(0.5 * c_link - o, d);
+            stack[top] = select(first, link, first_nearer);
+            stack[top + 1u] = select(link, first, first_nearer);
+            top += 2u;
+        }
+    }
+    if (best.x < NO_ROOT && dot(best.yzw, d) > 0.0) {
+        best = vec4<f32>(best.x, -best.yzw);
+    }
+    return best;
+}
+
+// The first entry of o + t·d (object space) into traced object i's shape
+// within t_max: (t, object-space normal), t = NO_ROOT if none.
+fn hit_object(i: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> vec4<f32> {
+    let obj = traced_objects[i];
+    if (obj.shape == PRIMITIVE_MESH) {
+        return trace_mesh(obj, o, d, 1e-4, t_max);
+    }
+    return hit_primitive(obj.shape, o, d);
+}
+
 // The first traced object along o + t·d within t_max (world space).
 fn trace_objects(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> ObjectHit {
     var best = ObjectHit(NO_ROOT, 0u, vec3<f32>(0.0, 1.0, 0.0));
     let count = traced.object_count;
     for (var i = 0u; i < count; i++) {
         let inv = traced_objects[i].inverse_model;
-        let h = hit_primitive(traced_objects[i].shape, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
+        let h = hit_object(i, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz, min(best.t, t_max));
         if (h.x < best.t && h.x <= t_max) {
             // World normal: the inverse transpose, i.e. n·M⁻¹.
             best = ObjectHit(h.x, i, normalize((vec4<f32>(h.yzw, 0.0) * inv).xyz));
@@ -86,7 +183,16 @@ fn objects_block(o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
     let count = traced.object_count;
     for (var i = 0u; i < count; i++) {
         let inv = traced_objects[i].inverse_model;
-        let t = traced_interval(traced_objects[i].shape, (inv * vec4<f32>(o, 1.0)).xyz, (inv * vec4<f32>(d, 0.0)).xyz);
+        let oo = (inv * vec4<f32>(o, 1.0)).xyz;
+        let dd = (inv * vec4<f32>(d, 0.0)).xyz;
+        if (traced_objects[i].shape == PRIMITIVE_MESH) {
+            // A mesh has no inside to start in: any surface on the way.
+            if (trace_mesh(traced_objects[i], oo, dd, 1e-4, t_max).x < t_max) {
+                return true;
+            }
+            continue;
+        }
+        let t = traced_interval(traced_objects[i].shape, oo, dd);
         if (t.x <= t.y && t.y > 0.0 && t.x < t_max) {
             return true;
         }

@@ -102,8 +102,8 @@ fn traced_scene(o: vec3<f32>, d: vec3<f32>, t_ground: f32, before: f32, pixel_an
 }
 
 // What the reflected ray r from surface point p (normal n) sees, traced:
-// the ground where it rises out of the water, the next wave, or the sky.
-// Objects are not in traced reflections.
+// an object (primitive or mesh), the ground where it rises out of the
+// water, the next wave, or the sky.
 fn traced_reflection(p: vec3<f32>, n: vec3<f32>, r: vec3<f32>, sky_reflected: vec3<f32>, e_down: vec3<f32>, pixel_angle: f32) -> vec3<f32> {
     // Start on the traced water's side above: the drawn mesh and the
     // resampled heightfield differ by a little, and beyond the window the

@@ -41,6 +41,7 @@ override RAYTRACE: u32 = 0u;
 @group(3) @binding(2) var<storage, read> hf_bounds: array<vec2<f32>>;
 @group(3) @binding(3) var<storage, read> traced_objects: array<TracedObject>;
 @group(3) @binding(4) var<storage, read> ground_light: array<f32>;
+@group(3) @binding(5) var<storage, read> traced_meshes: array<vec4<f32>>;
 
 struct VsOut {
     @invariant @builtin(position) clip: vec4<f32>,
