@@ -13,6 +13,7 @@ pub mod fluid;
 pub mod fuzz;
 pub mod geometry;
 pub mod godrays;
+pub mod irradiance;
 pub mod medium;
 pub mod npy;
 pub mod optics;

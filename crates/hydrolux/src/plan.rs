@@ -46,6 +46,8 @@ pub(crate) struct World {
     /// The sky's parameters and its irradiance on a horizontal plane.
     pub sky: SkyParams,
     pub sky_irradiance: Vec3,
+    /// The sky's and the grey world's light on every normal.
+    pub sky_light: hydrolux_core::irradiance::IrradianceSh,
     /// The caustic map, and the objects' light paths, still match the scene.
     pub caustics_current: bool,
     pub object_light_current: bool,
@@ -254,6 +256,7 @@ impl FramePlan {
                 floor_depth: under.floor_depth,
                 sky_underwater: under.sky_irradiance.into(),
                 floor_albedo: under.floor_albedo,
+                sky_light: world.sky_light.coefficients.map(|c| (c * exposure).extend(0.0).into()),
             },
             water: FrameWater {
                 body_color: s.water.body_color,
@@ -460,6 +463,7 @@ mod tests {
             object_light_resolution: 1,
             sky,
             sky_irradiance: sky_irradiance_up(&sky),
+            sky_light: hydrolux_core::irradiance::sky_light(&sky),
             caustics_current: false,
             object_light_current: false,
         }

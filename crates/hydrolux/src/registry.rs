@@ -226,6 +226,7 @@ impl Techniques {
             object_light_resolution: self.water_objects.light.resolution,
             sky,
             sky_irradiance: self.sky.irradiance,
+            sky_light: self.sky.light,
             caustics_current: self.caustics.current,
             object_light_current: self.water_objects.current && !shared.geometry.refractive_moved(),
         }
@@ -234,6 +235,7 @@ impl Techniques {
     /// The sun or sky changed: bake the sky again.
     pub fn set_sky(&mut self, queue: &wgpu::Queue, sky: SkyParams) {
         self.sky.irradiance = hydrolux_core::sky::sky_irradiance_up(&sky);
+        self.sky.light = hydrolux_core::irradiance::sky_light(&sky);
         self.sky.prepare(queue, sky);
     }
 

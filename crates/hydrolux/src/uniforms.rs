@@ -112,6 +112,9 @@ uniform! { FrameLight;
         pub floor_depth: f32,
         pub sky_underwater: [f32; 3],
         pub floor_albedo: f32,
+        /// The sky's and the grey world's irradiance on any normal in the
+        /// air: nine spherical-harmonic coefficients (rgb, w unused).
+        pub sky_light: [[f32; 4]; 9],
     }
 }
 

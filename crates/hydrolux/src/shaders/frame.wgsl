@@ -41,6 +41,10 @@ struct FrameLight {
     // mean albedo.
     sky_underwater: vec3<f32>,
     floor_albedo: f32,
+    // The sky's and the grey world's irradiance on any normal in the air:
+    // nine spherical-harmonic coefficients (rgb; lighting.wgsl
+    // `sky_irradiance`; twin: hydrolux-core irradiance).
+    sky_light: array<vec4<f32>, 9>,
 }
 
 // The water body and how its surface is shaded.

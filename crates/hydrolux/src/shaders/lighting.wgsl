@@ -5,7 +5,8 @@
 #import constants, frame, modes
 
 // Light bounced off the ground and water below, a grey world of this albedo,
-// so that the undersides reflections show are not black.
+// so that the undersides reflections show are not black (twin:
+// hydrolux-core irradiance::GROUND_ALBEDO).
 const GROUND_ALBEDO: f32 = 0.15;
 
 // Radiance of that grey world below the horizon: what a ray that leaves
@@ -16,16 +17,27 @@ fn below_horizon_radiance() -> vec3<f32> {
     return GROUND_ALBEDO * e_down / PI;
 }
 
+// The sky's and the grey world's irradiance on unit normal n in the air,
+// from its nine spherical-harmonic coefficients (Ramamoorthi & Hanrahan
+// 2001): brighter on the side towards the sun's glow, bluer facing the
+// zenith, dimmer facing down. Twin: hydrolux-core IrradianceSh::irradiance.
+fn sky_irradiance(n: vec3<f32>) -> vec3<f32> {
+    let c = frame.light.sky_light;
+    let e = c[0].rgb * 0.282095
+        + (c[1].rgb * n.y + c[2].rgb * n.z + c[3].rgb * n.x) * 0.488603
+        + (c[4].rgb * (n.x * n.y) + c[5].rgb * (n.y * n.z) + c[7].rgb * (n.x * n.z)) * 1.092548
+        + c[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0))
+        + c[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(e, vec3<f32>(0.0));
+}
+
 // Irradiance on a surface of normal n in the air: the sun (times
 // `sun_factor`: its visibility and what else bends light onto the point,
-// per channel),
-// the sky from above, and GROUND_ALBEDO's bounce from below.
+// per channel), and the sky and GROUND_ALBEDO's grey world around
+// (`sky_irradiance`).
 fn air_irradiance(n: vec3<f32>, sun_factor: vec3<f32>) -> vec3<f32> {
     let l = frame.light.sun_dir;
-    let e_down = frame.light.sky_ambient + frame.light.sun_illuminance * max(l.y, 0.0);
-    return frame.light.sun_illuminance * max(dot(n, l), 0.0) * sun_factor
-        + frame.light.sky_ambient * (0.5 + 0.5 * n.y)
-        + GROUND_ALBEDO * e_down * (0.5 - 0.5 * n.y);
+    return frame.light.sun_illuminance * max(dot(n, l), 0.0) * sun_factor + sky_irradiance(n);
 }
 
 // Where on its plane a pattern is drawn: the plane facing the dominant axis

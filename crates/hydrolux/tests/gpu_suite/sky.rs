@@ -23,3 +23,62 @@ fn sky_cube_map_matches_preetham_in_every_direction() {
         }
     }
 }
+
+/// A white box in the air, its face towards the camera turned from the sun,
+/// is lit by the sky and the grey world alone: its radiance is albedo/π
+/// times the irradiance the nine coefficients give its normal (the CPU
+/// twin, hydrolux-core irradiance), for a face looking at the horizon
+/// away from the sun, edge-on to it, and straight up.
+#[test]
+fn objects_are_lit_by_the_sky_around_them() {
+    use hydrolux::core::irradiance::sky_light;
+    use hydrolux::core::sky::SkyParams;
+    use hydrolux::core::tonemap::exposure_scale;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    // (sun azimuth, camera, look-at, the face's normal): the sun behind
+    // the box (the +z face in its shade), then to one side (the +z face
+    // edge-on to it), then the top seen from above (with the sun's share).
+    let cases = [
+        (-90.0f32, [0.0f32, 1.0, 4.0], [0.0f32, 1.0, 0.0], glam::Vec3::Z),
+        (0.0, [0.0, 1.0, 4.0], [0.0, 1.0, 0.0], glam::Vec3::Z),
+        (150.0, [0.0, 6.0, 0.01], [0.0, 0.0, 0.0], glam::Vec3::Y),
+    ];
+    for (azimuth, eye, at, normal) in cases {
+        let sets = [
+            "water.model=none".to_string(),
+            "floor.depth=1".to_string(),
+            "caustics.method=off".to_string(),
+            "godrays.method=off".to_string(),
+            "sun.elevation_deg=35".to_string(),
+            format!("sun.azimuth_deg={azimuth}"),
+            format!("camera.position={eye:?}"),
+            format!("camera.look_at={at:?}"),
+            "objects=[{primitive=\"box\", position=[0.0, 1.0, 0.0], scale=[2.0, 2.0, 2.0], material={albedo=[0.8, 0.8, 0.8]}}]".to_string(),
+        ];
+        let s = Scene::load("ocean", &sets).expect("valid scene");
+        let mut r = renderer(&ctx, &s);
+        let target = HeadlessTarget::new(&ctx.device, (33, 33));
+        target.render(&mut r, s.camera(), 0.0).expect("frame");
+        let (w, _, hdr) = r.read_hdr().expect("rendered");
+        let got = glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]);
+        let params = SkyParams::new(s.sun_direction(), s.sky.turbidity);
+        let exposure = exposure_scale(s.render.exposure);
+        let sun = glam::Vec3::from_slice(&params.sun_illuminance[..3]) * exposure;
+        let sun_share = sun * normal.dot(s.sun_direction()).max(0.0);
+        let want = 0.8 / std::f32::consts::PI
+            * (sky_light(&params).irradiance(normal) * exposure + sun_share);
+        // The hemisphere model this replaced (sky × (1 + n_y)/2, the grey
+        // world × (1 − n_y)/2) is off by more than the tolerance.
+        let up = hydrolux::core::sky::sky_irradiance_up(&params) * exposure;
+        let e_down = up + sun * s.sun_direction().y.max(0.0);
+        let hemisphere = 0.8 / std::f32::consts::PI
+            * (up * (0.5 + 0.5 * normal.y) + 0.15 * e_down * (0.5 - 0.5 * normal.y) + sun_share);
+        eprintln!("face {normal}: GPU {got}, CPU {want}, the hemisphere model {hemisphere}");
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.03 * want[c] + 2e-3,
+                "face {normal}, sun at azimuth {azimuth}°, channel {c}: GPU {got}, CPU {want}"
+            );
+        }
+    }
+}

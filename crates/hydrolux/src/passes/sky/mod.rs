@@ -36,6 +36,9 @@ pub struct SkyPass {
     /// The sky's irradiance on a horizontal plane (kcd/m² · sr), for the
     /// frame plan.
     pub irradiance: glam::Vec3,
+    /// The sky's and the grey world's light on every normal
+    /// (`hydrolux_core::irradiance`), for the frame plan.
+    pub light: hydrolux_core::irradiance::IrradianceSh,
 }
 
 impl SkyPass {
@@ -128,6 +131,7 @@ impl SkyPass {
             deep_water,
             current: None,
             irradiance: glam::Vec3::ZERO,
+            light: Default::default(),
             dirty: true,
         }
     }
