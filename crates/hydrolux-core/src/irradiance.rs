@@ -40,18 +40,11 @@ impl IrradianceSh {
     /// Project `radiance(direction)` over the sphere (`rings` × 2·`rings`
     /// cells, midpoint rule in θ and φ) and convolve.
     pub fn project(radiance: impl Fn(Vec3) -> Vec3, rings: usize) -> Self {
-        let (nt, np) = (rings, 2 * rings);
         let mut c = [Vec3::ZERO; 9];
-        for i in 0..nt {
-            let theta = (i as f32 + 0.5) / nt as f32 * PI;
-            let d_omega = theta.sin() * (PI / nt as f32) * (2.0 * PI / np as f32);
-            for j in 0..np {
-                let phi = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
-                let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
-                let l = radiance(d) * d_omega;
-                for (k, y) in harmonics(d).into_iter().enumerate() {
-                    c[k] += l * y;
-                }
+        for (d, d_omega) in sphere_cells(rings) {
+            let l = radiance(d) * d_omega;
+            for (k, y) in harmonics(d).into_iter().enumerate() {
+                c[k] += l * y;
             }
         }
         let band = [
@@ -102,18 +95,21 @@ pub fn sky_light(p: &crate::sky::SkyParams) -> IrradianceSh {
 /// The irradiance on normal `n` from `radiance` by direct integration (the
 /// reference the coefficients are tested against).
 pub fn irradiance_integrated(radiance: impl Fn(Vec3) -> Vec3, n: Vec3, rings: usize) -> Vec3 {
+    sphere_cells(rings).map(|(d, d_omega)| radiance(d) * n.dot(d).max(0.0) * d_omega).sum()
+}
+
+/// The sphere in `rings` × 2·`rings` cells of θ and φ: each cell's middle
+/// direction and solid angle (the midpoint rule).
+fn sphere_cells(rings: usize) -> impl Iterator<Item = (Vec3, f32)> {
     let (nt, np) = (rings, 2 * rings);
-    let mut sum = Vec3::ZERO;
-    for i in 0..nt {
+    (0..nt).flat_map(move |i| {
         let theta = (i as f32 + 0.5) / nt as f32 * PI;
         let d_omega = theta.sin() * (PI / nt as f32) * (2.0 * PI / np as f32);
-        for j in 0..np {
+        (0..np).map(move |j| {
             let phi = (j as f32 + 0.5) / np as f32 * 2.0 * PI;
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
-            sum += radiance(d) * n.dot(d).max(0.0) * d_omega;
-        }
-    }
-    sum
+            (Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()), d_omega)
+        })
+    })
 }
 
 #[cfg(test)]
