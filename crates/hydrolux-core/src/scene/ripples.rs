@@ -492,6 +492,16 @@ mod tests {
         let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
         let harbor = Scene::load("harbor", &[]).unwrap();
         let bed = harbor.ripple_bed().unwrap();
+        let settings = harbor.ripple_settings().unwrap();
+        let start = std::time::Instant::now();
+        let window = crate::waves::ripples::RippleWindow::centred(&settings.grid, [0.0, 0.0]);
+        let depths = bed.depths(&settings.grid, &window);
+        eprintln!(
+            "the harbour's {} cells' depths (an open window's move) in {:.2} ms, {} dry",
+            depths.len(),
+            start.elapsed().as_secs_f64() * 1e3,
+            depths.iter().filter(|&&d| d == 0.0).count()
+        );
         assert_eq!(bed.depth_at(-2.0, -5.1), 0.0, "a pile");
         assert!(near(bed.depth_at(-2.0 + 0.2, -5.1), 6.0), "beside the pile (0.175 m round)");
         assert_eq!(bed.depth_at(-10.0, 0.0), 0.0, "the quay");

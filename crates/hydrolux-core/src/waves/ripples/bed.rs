@@ -59,6 +59,11 @@ impl RippleBed {
             None => -self.depth,
         };
         for o in &self.obstacles {
+            // Most columns miss most objects: their bounding sphere first.
+            let (p, r) = (o.pose.position, o.shape.bounding_radius());
+            if (x - p.x).abs() > r || (z - p.z).abs() > r {
+                continue;
+            }
             if let Some((y0, y1)) = body_column(&o.shape, &o.pose, x, z) {
                 if y0 < 0.0 && y1 > 0.0 {
                     return 0.0;
