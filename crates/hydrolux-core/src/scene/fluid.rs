@@ -841,7 +841,7 @@ impl Scene {
     /// interactive water (`water.dynamic`) hands it what falls under it.
     pub fn fluid_landing(&self) -> Option<LandingSurface> {
         let reaches = self.fluid.enabled() && self.fluid.min[1] < 0.0;
-        (reaches && self.ripple_settings().is_some())
+        (reaches && self.has_interactive_water())
             .then(|| LandingSurface { level: 0.0, particle_volume: self.fluid.particle_volume() })
     }
 

@@ -562,7 +562,7 @@ impl Scene {
             DebugView::Fresnel if self.water.model == WaterModel::None => {
                 Some("it is a view of the water, and the scene has none (water.model = \"none\")")
             }
-            DebugView::Ripples if self.ripple_settings().is_none() => Some(
+            DebugView::Ripples if !self.has_interactive_water() => Some(
                 "it shows the interactive water, and the scene has none (it needs water.dynamic = true, with water)",
             ),
             DebugView::Foam if !(self.has_whitewater() && self.whitewater.foam) => Some(

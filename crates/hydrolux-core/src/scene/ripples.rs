@@ -326,10 +326,17 @@ impl Scene {
         Ok(())
     }
 
+    /// Whether the scene runs the interactive water (`water.dynamic`, with
+    /// water): what asking for [`Scene::ripple_settings`] only to test it
+    /// for `None` answers, without building its bed's depth levels.
+    pub fn has_interactive_water(&self) -> bool {
+        self.water.dynamic && self.has_water()
+    }
+
     /// The interactive water's physics and grid, `None` without
     /// `water.dynamic` (or without water: `water.model = "none"`).
     pub fn ripple_settings(&self) -> Option<RippleSettings> {
-        if !self.water.dynamic || !self.has_water() {
+        if !self.has_interactive_water() {
             return None;
         }
         let r = &self.ripples;

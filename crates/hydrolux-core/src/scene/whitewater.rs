@@ -173,13 +173,13 @@ impl Scene {
     /// whitecaps: Monahan's cover there is 0.03%). With interactive water
     /// the foam's window is its domain and follows it.
     pub fn foam_tiles(&self) -> bool {
-        self.water.model == WaterModel::Fft && self.ripple_settings().is_none()
+        self.water.model == WaterModel::Fft && !self.has_interactive_water()
     }
 
     /// Side (m) of the foam's window (when it does not tile).
     pub fn foam_extent(&self) -> f32 {
         match self.whitewater.extent {
-            0.0 if self.ripple_settings().is_some() => self.ripples.extent,
+            0.0 if self.has_interactive_water() => self.ripples.extent,
             0.0 => 256.0,
             e => e,
         }

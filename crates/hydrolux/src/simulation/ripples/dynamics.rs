@@ -157,7 +157,7 @@ impl Dynamics {
     pub fn fits(&self, scene: &Scene) -> bool {
         let water = match &self.ripples {
             Some(r) => r.fits(scene),
-            None => scene.ripple_settings().is_none(),
+            None => !scene.has_interactive_water(),
         };
         water
             && scene.objects == self.scene.objects

@@ -7,7 +7,7 @@ use crate::technique::DumpContext;
 use hydrolux_core::scene::Scene;
 
 fn no_water(scene: &Scene) -> Option<&'static str> {
-    scene.ripple_settings().is_none().then_some(
+    (!scene.has_interactive_water()).then_some(
         "the scene has no interactive water (set water.dynamic = true, with water.model other than \"none\")",
     )
 }

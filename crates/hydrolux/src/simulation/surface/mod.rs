@@ -393,7 +393,7 @@ impl Surface {
 /// How far (m) the interactive water may lift the surface: its scripted
 /// craters' rims and rings, and room for what the viewer throws in.
 fn ripple_reach(scene: &Scene) -> f64 {
-    if scene.ripple_settings().is_none() {
+    if !scene.has_interactive_water() {
         return 0.0;
     }
     let drops = scene.drops.iter().map(|d| d.strength.abs());

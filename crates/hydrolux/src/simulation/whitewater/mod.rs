@@ -258,7 +258,7 @@ impl Whitewater {
         if fft && w.foam {
             run |= RUN_FOLD;
         }
-        if scene.ripple_settings().is_some() && w.foam {
+        if scene.has_interactive_water() && w.foam {
             run |= RUN_RIPPLES;
         }
         if w.particles {
