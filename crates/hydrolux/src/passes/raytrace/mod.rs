@@ -232,9 +232,10 @@ struct TracedCaustics {
     depth: f32,
     /// The light the traced ground reads, and the photons' fixed-point sums.
     light: wgpu::Buffer,
-    clear: wgpu::ComputePipeline,
-    trace: wgpu::ComputePipeline,
-    resolve: wgpu::ComputePipeline,
+    /// Clear, trace, resolve: made only where there are traced caustics
+    /// (the trace walks every object, meshes too: compiled for nothing in
+    /// a projective scene, it held ~23 MB on lavapipe).
+    pipelines: Option<[wgpu::ComputePipeline; 3]>,
     group: wgpu::BindGroup,
     /// The window and emission last traced (not again while they, the
     /// surface and the objects stay).
@@ -458,9 +459,9 @@ impl Traced {
         let caustics = TracedCaustics {
             cells: caustic_cells,
             depth: ground_depth,
-            clear: caustic_pipeline("caustic_clear"),
-            trace: caustic_pipeline("caustic_trace"),
-            resolve: caustic_pipeline("caustic_resolve"),
+            pipelines: (caustic_cells > 0).then(|| {
+                ["caustic_clear", "caustic_trace", "caustic_resolve"].map(caustic_pipeline)
+            }),
             group: device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("traced caustics"),
                 layout: &caustic_layout,
@@ -566,6 +567,9 @@ impl Traced {
             return;
         }
         let c = &self.caustics;
+        let Some([clear, trace, resolve]) = &c.pipelines else {
+            return;
+        };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("traced caustics"),
             timestamp_writes: timer.and_then(|t| t.compute_writes("traced caustics")),
@@ -573,12 +577,12 @@ impl Traced {
         pass.set_bind_group(0, &frame.shared.frame_only, &[]);
         pass.set_bind_group(1, &frame.bound.surface, &[]);
         pass.set_bind_group(2, &c.group, &[]);
-        pass.set_pipeline(&c.clear);
+        pass.set_pipeline(clear);
         pass.dispatch_workgroups((c.cells * c.cells).div_ceil(64), 1, 1);
-        pass.set_pipeline(&c.trace);
+        pass.set_pipeline(trace);
         let [nx, nz] = self.uniforms.emission_count;
         pass.dispatch_workgroups(nx.div_ceil(8), nz.div_ceil(8), 1);
-        pass.set_pipeline(&c.resolve);
+        pass.set_pipeline(resolve);
         pass.dispatch_workgroups(c.cells.div_ceil(8), c.cells.div_ceil(8), 1);
     }
 
