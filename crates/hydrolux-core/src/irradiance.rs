@@ -81,15 +81,16 @@ impl IrradianceSh {
 pub const GROUND_ALBEDO: f32 = 0.15;
 
 /// The sky's and the grey world's light on any normal in the air, as nine
-/// coefficients (the sun's disc apart): Preetham's sky above the
+/// coefficients (the sun's disc apart): the sky above the
 /// horizon, below it a grey world of [`GROUND_ALBEDO`] lit by the sky and
 /// the sun (Lambertian: irradiance × albedo / π; twin of
 /// `below_horizon_radiance` in WGSL).
-pub fn sky_light(p: &crate::sky::SkyParams) -> IrradianceSh {
+pub fn sky_light(sky: &crate::sky::Sky) -> IrradianceSh {
+    let p = &sky.params;
     let sun = Vec3::from_slice(&p.sun_illuminance[..3]);
     let l = Vec3::from_slice(&p.sun_direction[..3]);
-    let ground = GROUND_ALBEDO * (crate::sky::sky_irradiance_up(p) + sun * l.y.max(0.0)) / PI;
-    IrradianceSh::project(|d| if d.y > 0.0 { crate::sky::sky_radiance(p, d) } else { ground }, 48)
+    let ground = GROUND_ALBEDO * (crate::sky::sky_irradiance_up(sky) + sun * l.y.max(0.0)) / PI;
+    IrradianceSh::project(|d| if d.y > 0.0 { sky.radiance(d) } else { ground }, 48)
 }
 
 /// The irradiance on normal `n` from `radiance` by direct integration (the
@@ -115,7 +116,7 @@ fn sphere_cells(rings: usize) -> impl Iterator<Item = (Vec3, f32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sky::{SkyParams, sky_radiance, sun_direction};
+    use crate::sky::{Sky, SkyParams, sun_direction};
 
     fn normals() -> Vec<Vec3> {
         let mut out = vec![Vec3::Y, Vec3::NEG_Y, Vec3::X, Vec3::Z, Vec3::NEG_X];
@@ -148,15 +149,17 @@ mod tests {
         }
     }
 
-    /// Preetham's clear sky over the grey world, at a high, a middle and a
-    /// low sun: the nine coefficients give every normal's irradiance within
-    /// 6% of the direct integral (of the brightest face's).
+    /// A clear sky over the grey world, by either model, at a high, a middle
+    /// and a low sun: the nine coefficients give every normal's irradiance
+    /// within 6% of the direct integral (of the brightest face's).
     #[test]
     fn a_clear_sky_is_held_by_nine_coefficients() {
-        for elevation in [70.0, 35.0, 8.0] {
-            let p = SkyParams::new(sun_direction(elevation, 30.0), 2.5);
+        let models = [SkyParams::new, SkyParams::physical];
+        for (elevation, model) in [70.0, 35.0, 8.0].into_iter().flat_map(|e| models.map(|m| (e, m)))
+        {
+            let p = Sky::new(model(sun_direction(elevation, 30.0), 2.5));
             let ground = 0.15 * crate::sky::sky_irradiance_up(&p) / PI;
-            let radiance = |d: Vec3| if d.y > 0.0 { sky_radiance(&p, d) } else { ground };
+            let radiance = |d: Vec3| if d.y > 0.0 { p.radiance(d) } else { ground };
             let sh = IrradianceSh::project(radiance, 128);
             let exact: Vec<Vec3> =
                 normals().iter().map(|&n| irradiance_integrated(radiance, n, 128)).collect();
@@ -173,8 +176,10 @@ mod tests {
             // Facing up it is the sky's irradiance on the level.
             let up = sh.irradiance(Vec3::Y);
             let level = crate::sky::sky_irradiance_up(&p) + ground * PI * 0.0;
+            // The atmosphere's bright horizon band at a low sun is a sharper
+            // step than nine harmonics hold: 7% there.
             assert!(
-                (up - level).abs().max_element() < 0.06 * level.max_element(),
+                (up - level).abs().max_element() < 0.08 * level.max_element(),
                 "{up} vs {level}"
             );
         }

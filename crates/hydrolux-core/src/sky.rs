@@ -1,8 +1,11 @@
-//! Analytic daylight sky: Preetham, Shirley & Smits, *A Practical Analytic
-//! Model for Daylight* (SIGGRAPH 1999), with the sun's colour from the same
-//! paper's Rayleigh + aerosol transmittance. The sky is baked into an
-//! environment cube map (seed 000 §3.1.2) by `shaders/sky.wgsl`, the WGSL twin
-//! of [`sky_radiance`].
+//! The daylight sky, by one of two models: a physically based atmosphere
+//! (`crate::atmosphere`, the default: Rayleigh, Mie and ozone over a round
+//! Earth, which holds at every sun height) or Preetham, Shirley & Smits'
+//! analytic fit, *A Practical Analytic Model for Daylight* (SIGGRAPH 1999),
+//! with the sun's colour from the same paper's Rayleigh + aerosol
+//! transmittance. Either is written into a sky-view table and baked into an
+//! environment cube map (seed 000 §3.1.2) by `passes/sky`; [`Sky`] is the
+//! CPU twin of what they hold.
 //!
 //! Units: radiance in kcd/m² (Preetham's zenith luminance unit), illuminance
 //! in klx, so a clear noon sky is a few units and the sun ~100.
@@ -13,6 +16,12 @@ use glam::Vec3;
 pub const SUN_ANGULAR_RADIUS: f32 = 0.004_65;
 /// Solar illuminance above the atmosphere, klx.
 pub const SUN_ILLUMINANCE_TOP: f32 = 128.0;
+/// The extraterrestrial sun's colour in linear sRGB (slightly warm of D65).
+pub const SUN_TOP_COLOUR: Vec3 = Vec3::new(1.05, 1.0, 0.94);
+
+/// Which model draws the sky (`SkyParams::model[0]`).
+pub const MODEL_PREETHAM: u32 = 0;
+pub const MODEL_PHYSICAL: u32 = 1;
 
 /// Direction towards the sun: elevation above the horizon, azimuth from +x
 /// towards +z (y up).
@@ -44,9 +53,75 @@ pub struct SkyParams {
     pub sun_direction: [f32; 4],
     /// Sun illuminance on a plane facing it (klx, linear sRGB), w = disk radiance scale 1/Ω.
     pub sun_illuminance: [f32; 4],
+    /// The physical atmosphere (`crate::atmosphere::Atmosphere`): Rayleigh
+    /// scattering (1/km) and its scale height (km);
+    pub rayleigh: [f32; 4],
+    /// Mie scattering (1/km) and its scale height (km);
+    pub mie: [f32; 4],
+    /// Mie extinction (1/km) and the phase function's g;
+    pub mie_extinction: [f32; 4],
+    /// ozone's peak absorption (1/km) and the ground's albedo.
+    pub ozone: [f32; 4],
+    /// x: [`MODEL_PREETHAM`] or [`MODEL_PHYSICAL`].
+    pub model: [u32; 4],
 }
 
 impl SkyParams {
+    /// The physically based sky (`crate::atmosphere`) for this sun, with
+    /// aerosols set by Preetham's turbidity. The sun is dimmed and reddened
+    /// by the same air the sky scatters in, and sets below the horizon.
+    pub fn physical(sun_dir: Vec3, turbidity: f32) -> Self {
+        let atm = crate::atmosphere::Atmosphere::earth(turbidity);
+        let sun = sun_dir.normalize();
+        let r = crate::atmosphere::BOTTOM_RADIUS + crate::atmosphere::OBSERVER_HEIGHT;
+        let through = if crate::atmosphere::hits_ground(r, sun.y) {
+            Vec3::ZERO
+        } else {
+            atm.transmittance_to_top(r, sun.y)
+        };
+        let e = through * SUN_TOP_COLOUR * SUN_ILLUMINANCE_TOP;
+        let omega_sun = 2.0 * std::f32::consts::PI * (1.0 - SUN_ANGULAR_RADIUS.cos());
+        let rs = atm.rayleigh_scattering;
+        SkyParams {
+            sun_direction: [sun.x, sun.y, sun.z, SUN_ANGULAR_RADIUS.cos()],
+            sun_illuminance: [e.x, e.y, e.z, 1.0 / omega_sun],
+            rayleigh: [rs.x, rs.y, rs.z, atm.rayleigh_height],
+            mie: atm.mie_scattering.extend(atm.mie_height).into(),
+            mie_extinction: atm.mie_extinction.extend(atm.mie_g).into(),
+            ozone: [
+                atm.ozone_absorption.x,
+                atm.ozone_absorption.y,
+                atm.ozone_absorption.z,
+                atm.ground_albedo,
+            ],
+            model: [MODEL_PHYSICAL, 0, 0, 0],
+            ..Default::default()
+        }
+    }
+
+    /// The atmosphere these parameters describe (the physical model's air).
+    pub fn atmosphere(&self) -> crate::atmosphere::Atmosphere {
+        crate::atmosphere::Atmosphere {
+            rayleigh_scattering: Vec3::new(self.rayleigh[0], self.rayleigh[1], self.rayleigh[2]),
+            rayleigh_height: self.rayleigh[3],
+            mie_scattering: Vec3::new(self.mie[0], self.mie[1], self.mie[2]),
+            mie_extinction: Vec3::new(
+                self.mie_extinction[0],
+                self.mie_extinction[1],
+                self.mie_extinction[2],
+            ),
+            mie_height: self.mie[3],
+            mie_g: self.mie_extinction[3],
+            ozone_absorption: Vec3::new(self.ozone[0], self.ozone[1], self.ozone[2]),
+            ground_albedo: self.ozone[3],
+        }
+    }
+
+    pub fn is_physical(&self) -> bool {
+        self.model[0] == MODEL_PHYSICAL
+    }
+
+    /// Preetham's analytic sky for this sun and turbidity.
     pub fn new(sun_dir: Vec3, turbidity: f32) -> Self {
         let t = turbidity;
         let cy = [
@@ -93,7 +168,56 @@ impl SkyParams {
             zenith_over_f: [zy / f0(cy), zx / f0(cx), zyy / f0(cyy), 0.0],
             sun_direction: [sun_dir.x, sun_dir.y, sun_dir.z, SUN_ANGULAR_RADIUS.cos()],
             sun_illuminance: [e.x, e.y, e.z, 1.0 / omega_sun],
+            model: [MODEL_PREETHAM, 0, 0, 0],
+            ..Default::default()
         }
+    }
+}
+
+/// The sky as the GPU holds it, on the CPU: what the cube map and the
+/// background show in each direction (kcd/m², the sun's disc apart; below
+/// the horizon the horizon's radiance).
+#[derive(Clone, Debug)]
+pub struct Sky {
+    pub params: SkyParams,
+    /// The physical model's tables and its sky-view table.
+    physical: Option<(crate::atmosphere::AtmosphereTables, crate::atmosphere::Table)>,
+}
+
+impl Sky {
+    pub fn new(params: SkyParams) -> Self {
+        let physical = params.is_physical().then(|| {
+            let tables = crate::atmosphere::AtmosphereTables::new(params.atmosphere());
+            let view = tables.sky_view(params.sun_direction[1].clamp(-1.0, 1.0).asin());
+            (tables, view)
+        });
+        Sky { params, physical }
+    }
+
+    pub fn radiance(&self, dir: Vec3) -> Vec3 {
+        match &self.physical {
+            // Below the horizon, the horizon in the same azimuth (as the
+            // sky-view table holds it).
+            None if dir.y < 0.0 && dir.x.abs() + dir.z.abs() > 0.0 => {
+                sky_radiance(&self.params, Vec3::new(dir.x, 0.0, dir.z))
+            }
+            None => sky_radiance(&self.params, dir),
+            Some((_, view)) => {
+                let sun = Vec3::from_slice(&self.params.sun_direction[..3]);
+                let (u, v) = crate::atmosphere::sky_view_uv(dir.normalize(), sun);
+                view.sample(u, v) * SUN_TOP_COLOUR * SUN_ILLUMINANCE_TOP
+            }
+        }
+    }
+
+    /// The physical model's tables (None for Preetham).
+    pub fn tables(&self) -> Option<&crate::atmosphere::AtmosphereTables> {
+        self.physical.as_ref().map(|(t, _)| t)
+    }
+
+    /// The physical model's sky-view table, per unit solar illuminance.
+    pub fn view_table(&self) -> Option<&crate::atmosphere::Table> {
+        self.physical.as_ref().map(|(_, v)| v)
     }
 }
 
@@ -109,7 +233,8 @@ pub fn xyy_to_linear_srgb(x: f32, y: f32, luminance: f32) -> Vec3 {
     .max(Vec3::ZERO)
 }
 
-/// Sky radiance (kcd/m², linear sRGB) seen in direction `dir`, without the sun disk.
+/// Preetham's sky radiance (kcd/m², linear sRGB) seen in direction `dir`,
+/// without the sun disk ([`Sky::radiance`] for either model).
 /// Below the horizon the horizon's radiance is returned (the open sea's
 /// distant "ground" is sky reflected at grazing angles anyway).
 pub fn sky_radiance(p: &SkyParams, dir: Vec3) -> Vec3 {
@@ -143,13 +268,12 @@ pub fn sun_illuminance(sun_dir: Vec3, turbidity: f32) -> Vec3 {
         let aerosol = beta * l.powf(-1.3);
         (-air_mass * (rayleigh + aerosol)).exp()
     });
-    // The extraterrestrial sun is slightly warm of D65 white in sRGB.
-    Vec3::new(t[0] * 1.05, t[1], t[2] * 0.94) * SUN_ILLUMINANCE_TOP
+    Vec3::from(t) * SUN_TOP_COLOUR * SUN_ILLUMINANCE_TOP
 }
 
 /// Irradiance on an upward-facing plane from the sky dome alone (klx),
 /// integrated numerically; used for the water body's ambient light.
-pub fn sky_irradiance_up(p: &SkyParams) -> Vec3 {
+pub fn sky_irradiance_up(sky: &Sky) -> Vec3 {
     let (nt, np) = (24, 48);
     let mut sum = Vec3::ZERO;
     for i in 0..nt {
@@ -160,7 +284,7 @@ pub fn sky_irradiance_up(p: &SkyParams) -> Vec3 {
             let d_omega = theta.sin()
                 * (std::f32::consts::FRAC_PI_2 / nt as f32)
                 * (std::f32::consts::TAU / np as f32);
-            sum += sky_radiance(p, d) * theta.cos() * d_omega;
+            sum += sky.radiance(d) * theta.cos() * d_omega;
         }
     }
     sum
@@ -198,8 +322,25 @@ mod tests {
     fn sky_irradiance_is_a_fraction_of_the_sun() {
         let sun = sun_direction(45.0, 0.0);
         let p = SkyParams::new(sun, 2.5);
-        let sky = sky_irradiance_up(&p).y;
+        let sky = sky_irradiance_up(&Sky::new(p)).y;
         let direct = sun_illuminance(sun, 2.5).y * sun.y;
         assert!(sky > 0.05 * direct && sky < 0.6 * direct, "sky {sky} sun {direct}");
+    }
+
+    #[test]
+    fn the_physical_sun_is_dimmed_reddened_and_sets() {
+        let noon = SkyParams::physical(sun_direction(70.0, 0.0), 2.5).sun_illuminance;
+        let dusk = SkyParams::physical(sun_direction(3.0, 0.0), 2.5).sun_illuminance;
+        // Clear noon sun: roughly 90–110 klx, as Preetham's model gives.
+        assert!((85.0..120.0).contains(&noon[1]), "{noon:?}");
+        assert!(dusk[0] / dusk[2] > 3.0 * noon[0] / noon[2], "noon {noon:?} dusk {dusk:?}");
+        let set = SkyParams::physical(sun_direction(-2.0, 0.0), 2.5).sun_illuminance;
+        assert_eq!(&set[..3], &[0.0; 3]);
+        // Preetham and the atmosphere agree on a clear midday sky to within
+        // a factor of two on the level (they are different models).
+        let sun = sun_direction(45.0, 0.0);
+        let preetham = sky_irradiance_up(&Sky::new(SkyParams::new(sun, 2.5))).y;
+        let physical = sky_irradiance_up(&Sky::new(SkyParams::physical(sun, 2.5))).y;
+        assert!(physical > 0.5 * preetham && physical < 2.0 * preetham, "{physical} vs {preetham}");
     }
 }

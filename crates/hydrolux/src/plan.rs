@@ -450,7 +450,7 @@ mod tests {
     use hydrolux_core::sky::sky_irradiance_up;
 
     fn world(scene: &Scene) -> World {
-        let sky = SkyParams::new(scene.sun_direction(), scene.sky.turbidity);
+        let sky = scene.sky_params();
         World {
             shadow_bounds: Some((Vec3::new(-5.0, -4.0, -5.0), Vec3::new(5.0, 1.0, 5.0))),
             refractive_bounds: None,
@@ -462,8 +462,8 @@ mod tests {
             shadow_resolution: 1024,
             object_light_resolution: 1,
             sky,
-            sky_irradiance: sky_irradiance_up(&sky),
-            sky_light: hydrolux_core::irradiance::sky_light(&sky),
+            sky_irradiance: sky_irradiance_up(&hydrolux_core::sky::Sky::new(sky)),
+            sky_light: hydrolux_core::irradiance::sky_light(&hydrolux_core::sky::Sky::new(sky)),
             caustics_current: false,
             object_light_current: false,
         }

@@ -234,8 +234,9 @@ impl Techniques {
 
     /// The sun or sky changed: bake the sky again.
     pub fn set_sky(&mut self, queue: &wgpu::Queue, sky: SkyParams) {
-        self.sky.irradiance = hydrolux_core::sky::sky_irradiance_up(&sky);
-        self.sky.light = hydrolux_core::irradiance::sky_light(&sky);
+        let twin = hydrolux_core::sky::Sky::new(sky);
+        self.sky.irradiance = hydrolux_core::sky::sky_irradiance_up(&twin);
+        self.sky.light = hydrolux_core::irradiance::sky_light(&twin);
         self.sky.prepare(queue, sky);
     }
 

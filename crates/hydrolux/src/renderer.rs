@@ -225,7 +225,7 @@ impl Renderer {
     }
 
     fn sky_params(&self) -> SkyParams {
-        SkyParams::new(self.scene.sun_direction(), self.scene.sky.turbidity)
+        self.scene.sky_params()
     }
 
     fn update_sky(&mut self) {

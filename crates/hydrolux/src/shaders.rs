@@ -45,6 +45,7 @@ const MODULES: &[(&str, &str)] = &[
     ("liquid_bodies", include_str!("simulation/liquid/bodies.wgsl")),
     ("ripple_texel", include_str!("simulation/ripples/texel.wgsl")),
     ("godrays_common", include_str!("passes/godrays/common.wgsl")),
+    ("atmosphere", include_str!("passes/sky/atmosphere.wgsl")),
     ("traced", include_str!("passes/raytrace/traced.wgsl")),
     ("traced_hits", include_str!("passes/raytrace/traced_hits.wgsl")),
     ("water_traced", include_str!("passes/water/traced.wgsl")),

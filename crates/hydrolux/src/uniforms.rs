@@ -359,7 +359,20 @@ macro_rules! core_uniform {
 core_uniform!(
     SkyParams,
     hydrolux_core::sky::SkyParams,
-    [coeff_y, coeff_x, coeff_yy, coeff_e, zenith_over_f, sun_direction, sun_illuminance,]
+    [
+        coeff_y,
+        coeff_x,
+        coeff_yy,
+        coeff_e,
+        zenith_over_f,
+        sun_direction,
+        sun_illuminance,
+        rayleigh,
+        mie,
+        mie_extinction,
+        ozone,
+        model,
+    ]
 );
 core_uniform!(
     SpectrumMode,

@@ -145,6 +145,15 @@ impl Scene {
         crate::sky::sun_direction(self.sun.elevation_deg, self.sun.azimuth_deg)
     }
 
+    /// The sky's parameters for this scene's sun, model and turbidity.
+    pub fn sky_params(&self) -> crate::sky::SkyParams {
+        let (sun, t) = (self.sun_direction(), self.sky.turbidity);
+        match self.sky.model {
+            SkyModel::Physical => crate::sky::SkyParams::physical(sun, t),
+            SkyModel::Preetham => crate::sky::SkyParams::new(sun, t),
+        }
+    }
+
     pub fn sea_state(&self) -> SeaState {
         let o = &self.ocean;
         SeaState {

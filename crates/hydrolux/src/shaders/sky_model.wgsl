@@ -1,4 +1,6 @@
-// Preetham analytic daylight sky. WGSL twin of hydrolux_core::sky::sky_radiance.
+// The sky's parameters (hydrolux_core::sky::SkyParams) and Preetham's
+// analytic daylight sky, the WGSL twin of hydrolux_core::sky::sky_radiance.
+// The physical model's atmosphere is `passes/sky/atmosphere.wgsl`.
 
 struct SkyParams {
     coeff_y: vec4<f32>,
@@ -8,6 +10,16 @@ struct SkyParams {
     zenith_over_f: vec4<f32>,
     sun_direction: vec4<f32>,
     sun_illuminance: vec4<f32>,
+    // Rayleigh scattering (1/km), scale height (km).
+    rayleigh: vec4<f32>,
+    // Mie scattering (1/km), scale height (km).
+    mie: vec4<f32>,
+    // Mie extinction (1/km), the phase function's g.
+    mie_extinction: vec4<f32>,
+    // Ozone's peak absorption (1/km), the ground's albedo.
+    ozone: vec4<f32>,
+    // x: 0 Preetham, 1 physical.
+    model: vec4<u32>,
 }
 
 fn perez(cos_theta: f32, gamma: f32, c: vec4<f32>, e: f32) -> f32 {
@@ -28,7 +40,7 @@ fn xyy_to_linear_srgb(x: f32, y_in: f32, lum: f32) -> vec3<f32> {
     ), vec3<f32>(0.0));
 }
 
-// Sky radiance (kcd/m², linear sRGB) towards `dir`, without the sun disk.
+// Preetham's sky radiance (kcd/m², linear sRGB) towards `dir`, without the sun disk.
 fn sky_radiance(p: SkyParams, dir_in: vec3<f32>) -> vec3<f32> {
     let dir = normalize(dir_in);
     let sun = normalize(vec3<f32>(p.sun_direction.x, max(p.sun_direction.y, 0.02), p.sun_direction.z));

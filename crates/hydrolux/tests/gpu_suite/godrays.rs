@@ -61,7 +61,7 @@ fn god_ray_tubes_and_ribbons_match_the_cpu_twin() {
     let vp_inv = s.camera().view_projection(size.0 as f32 / size.1 as f32).inverse();
     let medium = s.medium();
     let sun_e = {
-        let sky = hydrolux::core::sky::SkyParams::new(sun, s.sky.turbidity);
+        let sky = s.sky_params();
         glam::Vec3::from_slice(&sky.sun_illuminance[..3])
             * hydrolux::core::tonemap::exposure_scale(s.render.exposure)
     };

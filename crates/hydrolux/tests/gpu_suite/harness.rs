@@ -6,7 +6,7 @@
 pub(crate) use crate::BACKENDS;
 pub(crate) use crate::golden;
 pub(crate) use hydrolux::core::scene::Scene;
-pub(crate) use hydrolux::core::sky::{SkyParams, sky_radiance};
+pub(crate) use hydrolux::core::sky::Sky;
 pub(crate) use hydrolux::core::tonemap::{aces_filmic, linear_to_srgb};
 pub(crate) use hydrolux::core::waves::ocean::{OceanFields, OceanSpectrum};
 pub(crate) use hydrolux::core::waves::sines::SineWaves;

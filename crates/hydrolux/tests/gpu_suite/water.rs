@@ -81,13 +81,14 @@ fn flat_water_over_a_white_floor_matches_the_optics() {
         let (w, _, hdr) = r.read_hdr().expect("rendered");
         let got = hdr[16 * w as usize + 16];
 
-        let params = SkyParams::new(s.sun_direction(), s.sky.turbidity);
+        let params = s.sky_params();
+        let sky = Sky::new(params);
         let exposure = exposure_scale(s.render.exposure);
         let sun = glam::Vec3::from_slice(&params.sun_illuminance[..3]) * exposure;
         let light = UnderwaterLight::new(
             s.sun_direction(),
             sun,
-            sky_irradiance_up(&params) * exposure,
+            sky_irradiance_up(&sky) * exposure,
             s.water.ior,
         );
         let m = s.medium();
@@ -99,12 +100,12 @@ fn flat_water_over_a_white_floor_matches_the_optics() {
             floor_depth: Some(depth),
             floor_albedo: glam::Vec3::ONE,
         };
-        let sky_up = sky_radiance(&params, glam::Vec3::Y) * exposure;
+        let sky_up = sky.radiance(glam::Vec3::Y) * exposure;
         let want = if optics == "simple" {
             use hydrolux::core::medium::simple_water_colour;
             use hydrolux::core::optics::fresnel_exact;
             let floor = light.irradiance(&m, depth, glam::Vec3::Y, 1.0) / std::f32::consts::PI;
-            let e_down = sky_irradiance_up(&params) * exposure + sun * s.sun_direction().y;
+            let e_down = sky_irradiance_up(&sky) * exposure + sun * s.sun_direction().y;
             let water = glam::Vec3::from(s.water.body_color) * e_down / std::f32::consts::PI;
             let f = fresnel_exact(1.0, 1.0, s.water.ior);
             f * sky_up

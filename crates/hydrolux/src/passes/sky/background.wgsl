@@ -1,9 +1,12 @@
-// The sky behind everything: the analytic model per pixel (sharper than the
-// cube map) plus the sun's disk with limb darkening. Drawn at the far plane
+// The sky behind everything: the sky-view table per pixel (sharper at the
+// horizon than the cube map) plus the sun's disk with limb darkening. Drawn at the far plane
 // (reversed Z: depth 0) so the water covers it. Pixels that look out from
 // inside the water get `fs_deep` instead: the water's own in-scattered light
 // along an endless path (seed 000 eq. 3.8 with nothing behind).
-#import constants, frame, fullscreen, sky_model, sky_bindings, medium, fog
+#import constants, frame, fullscreen, sky_model, sky_bindings, medium, fog, atmosphere
+
+@group(1) @binding(0) var sky_view: texture_2d<f32>;
+@group(1) @binding(1) var sky_view_sampler: sampler;
 
 
 struct VsOut {
@@ -41,7 +44,7 @@ fn sun_disk(dir: vec3<f32>) -> vec3<f32> {
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let dir = view_ray(in.ndc);
-    var l = sky_radiance(sky, dir) * exposure();
+    var l = sky_from_view_table(sky_view, sky_view_sampler, sky, dir) * exposure();
     if (dir.y > 0.0) {
         l += sun_disk(dir);
     }

@@ -1,7 +1,10 @@
-//! The sky: the Preetham model baked into a mipmapped environment cube map
-//! when the sun or turbidity changes (seed 000 §3.1.2; reflections look it
-//! up), and drawn per pixel behind the scene with the sun's disk.
-//! CPU twin: `hydrolux_core::sky`.
+//! The sky: a physically based atmosphere (Hillaire 2020; the default) or
+//! the Preetham model, written into a sky-view table and baked into a
+//! mipmapped environment cube map when the sun or the air changes (seed 000
+//! §3.1.2; reflections look it up), and drawn per pixel behind the scene
+//! from the sky-view table with the sun's disk. The atmosphere's
+//! transmittance and multiple-scattering tables are built first, on the GPU.
+//! CPU twins: `hydrolux_core::sky::Sky`, `hydrolux_core::atmosphere`.
 
 use crate::gpu_util::*;
 use crate::mips::{Downsampler, FORMAT, MipChain};
@@ -17,6 +20,138 @@ pub fn bake_source() -> String {
     shaders::compose("", include_str!("bake.wgsl"))
 }
 
+pub fn tables_source() -> String {
+    shaders::compose("", include_str!("tables.wgsl"))
+}
+
+/// A table the atmosphere writes in one dispatch and later ones sample.
+fn table(device: &wgpu::Device, label: &str, (w, h): (usize, usize)) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FORMAT,
+            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
+}
+
+/// The tables' pipelines and bind groups: the physical atmosphere's
+/// transmittance and Ψ (each written by one dispatch and read by the next),
+/// then the sky-view table by either model.
+struct Tables {
+    transmittance: (wgpu::ComputePipeline, wgpu::BindGroup),
+    multiscattering: (wgpu::ComputePipeline, wgpu::BindGroup),
+    sky_view_physical: wgpu::ComputePipeline,
+    sky_view_preetham: wgpu::ComputePipeline,
+    sky_view_group: wgpu::BindGroup,
+    /// The sky-view table (kcd/m²) the cube map and the background read.
+    sky_view: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+}
+
+impl Tables {
+    fn new(device: &wgpu::Device, params: &wgpu::Buffer) -> Self {
+        use hydrolux_core::atmosphere::{MULTISCATTERING_SIZE, SKY_VIEW_SIZE, TRANSMITTANCE_SIZE};
+        let transmittance = table(device, "atmosphere transmittance", TRANSMITTANCE_SIZE);
+        let multiscattering = table(device, "atmosphere multiple scattering", MULTISCATTERING_SIZE);
+        let sky_view = table(device, "sky view", SKY_VIEW_SIZE);
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("sky tables"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let d2 = wgpu::TextureViewDimension::D2;
+        let uniform = || uniform_entry(0, compute);
+        let written = |b| storage_texture_entry(b, FORMAT, d2);
+        let read = |b| texture_entry(b, compute, d2, true);
+        let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries,
+            })
+        };
+        let l_transmittance = layout("atmosphere transmittance", &[uniform(), written(1)]);
+        let l_multiscattering = layout(
+            "atmosphere multiple scattering",
+            &[uniform(), read(2), sampler_entry(3, compute), written(4)],
+        );
+        let l_view = layout(
+            "sky view",
+            &[uniform(), read(2), sampler_entry(3, compute), read(5), written(6)],
+        );
+        // The uniform, the sampler where the layout reads a table, the views.
+        let group = |layout: &wgpu::BindGroupLayout, views: &[(u32, &wgpu::TextureView)]| {
+            let reads = views.len() > 1;
+            let mut entries =
+                vec![wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() }];
+            if reads {
+                let resource = wgpu::BindingResource::Sampler(&sampler);
+                entries.push(wgpu::BindGroupEntry { binding: 3, resource });
+            }
+            entries.extend(views.iter().map(|(b, v)| wgpu::BindGroupEntry {
+                binding: *b,
+                resource: wgpu::BindingResource::TextureView(v),
+            }));
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("sky tables"),
+                layout,
+                entries: &entries,
+            })
+        };
+        let module = shader(device, "sky tables", &tables_source());
+        let pipeline = |entry, layout| compute_pipeline(device, entry, &module, entry, &[layout]);
+        Tables {
+            transmittance: (
+                pipeline("transmittance", &l_transmittance),
+                group(&l_transmittance, &[(1, &transmittance)]),
+            ),
+            multiscattering: (
+                pipeline("multiscattering", &l_multiscattering),
+                group(&l_multiscattering, &[(2, &transmittance), (4, &multiscattering)]),
+            ),
+            sky_view_physical: pipeline("sky_view_physical", &l_view),
+            sky_view_preetham: pipeline("sky_view_preetham", &l_view),
+            sky_view_group: group(
+                &l_view,
+                &[(2, &transmittance), (5, &multiscattering), (6, &sky_view)],
+            ),
+            sky_view,
+            sampler,
+        }
+    }
+
+    /// Fill the tables for `params`' model.
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>, params: &SkyParams) {
+        use hydrolux_core::atmosphere::{MULTISCATTERING_SIZE, SKY_VIEW_SIZE, TRANSMITTANCE_SIZE};
+        let groups = |(w, h): (usize, usize)| ((w as u32).div_ceil(8), (h as u32).div_ceil(8));
+        let view = if params.is_physical() {
+            for ((pipeline, group), size) in [
+                (&self.transmittance, TRANSMITTANCE_SIZE),
+                (&self.multiscattering, MULTISCATTERING_SIZE),
+            ] {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[]);
+                let (x, y) = groups(size);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            &self.sky_view_physical
+        } else {
+            &self.sky_view_preetham
+        };
+        pass.set_pipeline(view);
+        pass.set_bind_group(0, &self.sky_view_group, &[]);
+        let (x, y) = groups(SKY_VIEW_SIZE);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
+
 pub fn background_source() -> String {
     shaders::compose("", include_str!("background.wgsl"))
 }
@@ -26,9 +161,12 @@ pub struct SkyPass {
     /// Kept with its views (the cube map the sky bakes into).
     _cube: wgpu::Texture,
     pub cube_view: wgpu::TextureView,
+    tables: Tables,
     bake: wgpu::ComputePipeline,
     bake_group: wgpu::BindGroup,
     mips: MipChain,
+    /// The background's view of the sky-view table (group 1).
+    background_group: wgpu::BindGroup,
     background: wgpu::RenderPipeline,
     deep_water: wgpu::RenderPipeline,
     current: Option<SkyParams>,
@@ -68,8 +206,11 @@ impl SkyPass {
             entries: &[
                 uniform_entry(0, wgpu::ShaderStages::COMPUTE),
                 storage_texture_entry(1, FORMAT, wgpu::TextureViewDimension::D2Array),
+                texture_entry(2, wgpu::ShaderStages::COMPUTE, wgpu::TextureViewDimension::D2, true),
+                sampler_entry(3, wgpu::ShaderStages::COMPUTE),
             ],
         });
+        let tables = Tables::new(device, &params);
         let level0 = cube.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             base_mip_level: 0,
@@ -85,13 +226,43 @@ impl SkyPass {
                     binding: 1,
                     resource: wgpu::BindingResource::TextureView(&level0),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&tables.sky_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&tables.sampler),
+                },
             ],
         });
         let module = shader(device, "sky bake", &bake_source());
         let bake = compute_pipeline(device, "sky bake", &module, "bake", &[&layout]);
         let mips = downsampler.chain(device, &cube);
         let module = shader(device, "sky background", &background_source());
-        let layout = pipeline_layout(device, "sky background", &[globals]);
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sky background view"),
+            entries: &[
+                texture_entry(0, fragment, wgpu::TextureViewDimension::D2, true),
+                sampler_entry(1, fragment),
+            ],
+        });
+        let background_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sky background view"),
+            layout: &view_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&tables.sky_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&tables.sampler),
+                },
+            ],
+        });
+        let layout = pipeline_layout(device, "sky background", &[globals, &view_layout]);
         let pipeline = |fs: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(fs),
@@ -124,9 +295,11 @@ impl SkyPass {
             params,
             _cube: cube,
             cube_view,
+            tables,
             bake,
             bake_group,
             mips,
+            background_group,
             background,
             deep_water,
             current: None,
@@ -158,6 +331,9 @@ impl SkyPass {
             label: Some("sky bake"),
             timestamp_writes: timer.and_then(|t| t.compute_writes("sky bake")),
         });
+        if let Some(params) = &self.current {
+            self.tables.record(&mut pass, params);
+        }
         pass.set_pipeline(&self.bake);
         pass.set_bind_group(0, &self.bake_group, &[]);
         pass.dispatch_workgroups(CUBE_SIZE / 8, CUBE_SIZE / 8, 6);
@@ -169,6 +345,7 @@ impl SkyPass {
     /// air, endless water where it is water (stencil reference).
     pub fn record_background(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup) {
         pass.set_bind_group(0, globals, &[]);
+        pass.set_bind_group(1, &self.background_group, &[]);
         for (pipeline, medium) in [
             (&self.background, crate::targets::STENCIL_AIR),
             (&self.deep_water, crate::targets::STENCIL_WATER),
@@ -185,6 +362,7 @@ pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::Techn
     dumps: &[],
     shaders: || {
         vec![
+            ("sky/tables".to_string(), tables_source()),
             ("sky/bake".to_string(), bake_source()),
             ("sky/background".to_string(), background_source()),
         ]
