@@ -312,6 +312,12 @@ impl FramePlan {
                 g: s.air.fog_g,
                 distance: s.air.fog_distance,
                 sky_fraction: s.air.fog_sky,
+                // Either sky model's air: the atmosphere its turbidity gives.
+                air_extinction: (hydrolux_core::atmosphere::Atmosphere::earth(s.sky.turbidity)
+                    .extinction(0.0)
+                    / 1000.0)
+                    .into(),
+                _pad0: 0.0,
             },
             objects: FrameObjects {
                 light_view_proj: self

@@ -178,6 +178,8 @@ uniform! { FrameFog;
         pub g: f32,
         pub distance: f32,
         pub sky_fraction: f32,
+        pub air_extinction: [f32; 3],
+        pub _pad0: f32,
     }
 }
 

@@ -54,7 +54,7 @@ fn fs_air(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f3
     if (frame.modes.debug_view == VIEW_NORMALS || frame.modes.debug_view >= VIEW_RIPPLES) {
         return c;
     }
-    return vec4<f32>(through_fog(frame.view.position, in.world, c.rgb), 1.0);
+    return vec4<f32>(through_air(frame.view.position, in.world, c.rgb), 1.0);
 }
 
 // The surface's own radiance: material, sun (shadow-mapped), sky, and below

@@ -5,7 +5,7 @@
 // map by the god-ray pass when it runs (frame.volume.fog_marched = 1), so that objects
 // cast shadows into the fog; otherwise it is the unshadowed closed form
 // here. Needs `frame` and `medium` (henyey_greenstein).
-#import constants, frame, medium
+#import constants, frame, medium, sky_bindings
 
 // Radiance the fog settles to deep inside it, from the sky: isotropic
 // scattering of a sky of radiance E/π over the upper half of the sphere and
@@ -29,4 +29,23 @@ fn through_fog(eye: vec3<f32>, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let sun = frame.light.sun_illuminance * henyey_greenstein(dot(frame.light.sun_dir, dir), frame.fog.g);
     let glow = fog_sky_radiance() + select(vec3<f32>(0.0), sun, frame.volume.fog_marched == 0u);
     return l * t + glow * (1.0 - t);
+}
+
+// What the eye sees of radiance `l` leaving a surface at `p` through the air
+// (aerial perspective, issue #32 item 3), then through the fog. The scene
+// stands far below the aerosols' 1.2 km scale height, so the air along the
+// way is as dense as at sea level: the path keeps e^(−σd) of `l` and takes
+// the rest from the light an endless level path scatters towards the eye —
+// the horizon's own radiance that way, read from the sky cube (the sky is
+// that path's in-scattering). Negligible near the eye (1% at 100 m under a
+// clear sky), it lets the far sea melt into the horizon's haze.
+fn through_air(eye: vec3<f32>, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let d = distance(eye, p);
+    let dir = (p - eye) / max(d, 1e-6);
+    let level = vec2<f32>(dir.x, dir.z);
+    let flat = select(vec2<f32>(1.0, 0.0), normalize(level), length(level) > 1e-4);
+    let horizon_dir = normalize(vec3<f32>(flat.x, 0.01, flat.y));
+    let horizon = textureSampleLevel(sky_cube, sky_sampler, horizon_dir, 0.0).rgb * exposure();
+    let t = exp(-frame.fog.air_extinction * d);
+    return through_fog(eye, p, l * t + horizon * (1.0 - t));
 }

@@ -145,6 +145,10 @@ struct FrameFog {
     // How far from the eye it reaches (m), and the fraction of the sky lighting it.
     distance: f32,
     sky_fraction: f32,
+    // The clear air's extinction at sea level (m⁻¹, per channel: Rayleigh,
+    // aerosols and ozone of the sky's atmosphere), for aerial perspective.
+    air_extinction: vec3<f32>,
+    _pad0: f32,
 }
 
 // Refractive objects' light (passes/water_object).

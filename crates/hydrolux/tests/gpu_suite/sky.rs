@@ -99,3 +99,52 @@ fn objects_are_lit_by_the_sky_around_them() {
         }
     }
 }
+
+/// Aerial perspective: the face of a box turned from the sun, 1.8 km away,
+/// is its close-up radiance dimmed by the clear air, e^(−σd), plus the
+/// horizon's radiance that way for the rest (σ the atmosphere's sea-level
+/// extinction for the scene's turbidity, the horizon from the sky cube).
+#[test]
+fn distant_objects_fade_into_the_horizon_by_the_airs_extinction() {
+    use hydrolux::core::atmosphere::Atmosphere;
+    use hydrolux::core::tonemap::exposure_scale;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let face = |z: f32, size: f32| {
+        let sets = [
+            "water.model=none".to_string(),
+            "floor.depth=1".to_string(),
+            "caustics.method=off".to_string(),
+            "godrays.method=off".to_string(),
+            "sun.elevation_deg=35".to_string(),
+            "sun.azimuth_deg=-90".to_string(),
+            "camera.position=[0.0, 1.0, 4.0]".to_string(),
+            "camera.look_at=[0.0, 1.0, 0.0]".to_string(),
+            format!(
+                "objects=[{{primitive=\"box\", position=[0.0, 1.0, {z:?}], scale=[{size:?}, {size:?}, {size:?}], material={{albedo=[0.8, 0.8, 0.8]}}}}]"
+            ),
+        ];
+        let s = Scene::load("ocean", &sets).expect("valid scene");
+        let mut r = renderer(&ctx, &s);
+        let target = HeadlessTarget::new(&ctx.device, (33, 33));
+        target.render(&mut r, s.camera(), 0.0).expect("frame");
+        let (w, _, hdr) = r.read_hdr().expect("rendered");
+        let horizon_dir = glam::Vec3::new(0.0, 0.01, -1.0).normalize();
+        let horizon = glam::Vec3::from(r.probe_sky(&[horizon_dir.into()])[0]);
+        let exposure = exposure_scale(s.render.exposure);
+        (glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]), horizon * exposure, s)
+    };
+    let (near, _, _) = face(0.0, 2.0);
+    let (far, horizon, s) = face(-2000.0, 400.0);
+    let d = 4.0 + 1800.0;
+    let sigma = Atmosphere::earth(s.sky.turbidity).extinction(0.0) / 1000.0;
+    let t = (-sigma * d).exp();
+    let want = near * t + horizon * (glam::Vec3::ONE - t);
+    eprintln!("near {near}, far {far}, horizon {horizon}, kept {t}: want {want}");
+    assert!(t.y < 0.85 && t.y > 0.6, "the test's distance should show the haze: {t}");
+    for c in 0..3 {
+        assert!(
+            (far[c] - want[c]).abs() < 0.02 * want[c] + 2e-3,
+            "channel {c}: far face {far}, want {want} (near {near}, horizon {horizon})"
+        );
+    }
+}

@@ -367,11 +367,8 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
         color = mix(color, foam_color, foam_alpha);
     }
 
-    // Aerial perspective: distant water melts into the horizon haze.
-    let horizon_dir = normalize(vec3<f32>(-v.x, 0.02, -v.z));
-    let horizon = textureSampleLevel(sky_cube, sky_sampler, horizon_dir, 0.0).rgb * exposure();
-    let haze = 1.0 - exp(-dist / 40000.0);
-    color = through_fog(frame.view.position, in.world, mix(color, horizon, haze));
+    // Aerial perspective: distant water melts into the horizon's haze.
+    color = through_air(frame.view.position, in.world, color);
     return vec4<f32>(min(color, vec3<f32>(60000.0)), 1.0);
 }
 

@@ -116,7 +116,7 @@ fn fs_front(in: ShadeOut) -> @location(0) vec4<f32> {
     let depth_inside = select(thickness, through.w, on_scene & (through.z > 0.5));
     let inside = exp(-frame.water.absorption * depth_inside);
     let color = r0 * reflected + (1.0 - r0) * (1.0 - r1) * inside * behind;
-    let shaded = clamp(through_fog(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0));
+    let shaded = clamp(through_air(eye, in.world, color), vec3<f32>(0.0), vec3<f32>(60000.0));
     // The normals debug view as a select, not a branch on the uniform (see
     // `through_fog`).
     let normals_view = frame.modes.debug_view == VIEW_NORMALS;

@@ -112,6 +112,6 @@ fn fs_main(in: VertexOut) -> FragmentOut {
     // Light the water itself scatters towards the eye along the chord.
     let scatter = frame.water.scattering * chord * air_irradiance(n, vec3<f32>(visibility)) / PI;
     let color = reflectance * mirror + (1.0 - reflectance) * (through + scatter);
-    out.color = vec4<f32>(through_fog(eye, hit, color), 1.0);
+    out.color = vec4<f32>(through_air(eye, hit, color), 1.0);
     return out;
 }

@@ -333,7 +333,7 @@ fn fs_shade(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
     // Light the water itself scatters towards the eye over its thickness.
     let scatter = frame.water.scattering * thickness * air_irradiance(n, vec3<f32>(visibility)) / PI;
     let color = reflectance * mirror + (1.0 - reflectance) * (through + scatter);
-    let shaded = clamp(through_fog(eye, world, color), vec3<f32>(0.0), vec3<f32>(60000.0));
+    let shaded = clamp(through_air(eye, world, color), vec3<f32>(0.0), vec3<f32>(60000.0));
     // The normals debug view as a select, not a branch on the uniform (see
     // `through_fog`).
     let normals_view = frame.modes.debug_view == VIEW_NORMALS;

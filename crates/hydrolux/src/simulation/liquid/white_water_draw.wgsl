@@ -101,7 +101,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (in.kind == PARTICLE_BUBBLE) {
         let light = air_irradiance(vec3<f32>(0.0, 1.0, 0.0), sun_at(in.centre)) / PI;
         let look = bubble_look(r2, light * transmittance(under), in.weight * soft);
-        return vec4<f32>(through_fog(eye, in.centre, look.rgb / max(look.a, 1e-4)) * look.a, look.a);
+        return vec4<f32>(through_air(eye, in.centre, look.rgb / max(look.a, 1e-4)) * look.a, look.a);
     }
     if (in.kind == PARTICLE_FOAM) {
         // A fleck of many bubbles scatters light many times: lit as a
@@ -115,10 +115,10 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         let sun = sun_at(in.centre);
         let radiance = params.foam_albedo * air_irradiance(n, sun) / PI * transmittance(under);
         let alpha = 0.95 * exp(-2.0 * r2) * (1.0 - r2) * in.weight * soft;
-        return vec4<f32>(through_fog(eye, in.centre, radiance) * alpha, alpha);
+        return vec4<f32>(through_air(eye, in.centre, radiance) * alpha, alpha);
     }
     // Spray: soft where it meets what is behind it.
     let density = (1.0 - r2) * (1.0 - r2);
     let alpha = 0.4 * density * soft * in.weight * transmittance(under).g;
-    return vec4<f32>(through_fog(eye, in.centre, spray_radiance(view, -log(1.0 - min(alpha, 0.999)))) * alpha, alpha);
+    return vec4<f32>(through_air(eye, in.centre, spray_radiance(view, -log(1.0 - min(alpha, 0.999)))) * alpha, alpha);
 }
