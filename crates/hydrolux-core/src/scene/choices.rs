@@ -57,6 +57,7 @@ choice!(RippleEdges: Walls, Open);
 choice!(Quality: Auto, Low, Medium, High, Ultra);
 choice!(FluidSurface: Points, MarchingCubes, ScreenMesh, ScreenSpace, None);
 choice!(FluidSourceKind: Block, Nozzle, Drain);
+choice!(SkyModel: Physical, Preetham);
 
 /// Each enumerated key (array indices left out: `objects.primitive`) and
 /// its allowed values.
@@ -80,6 +81,7 @@ pub fn enumerated_keys() -> Vec<(&'static str, Vec<String>)> {
         ("ripples.edges", RippleEdges::names()),
         ("render.quality", Quality::names()),
         ("fluid.surface", FluidSurface::names()),
+        ("sky.model", SkyModel::names()),
     ]
 }
 
