@@ -43,7 +43,7 @@ fn through_air(eye: vec3<f32>, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let d = distance(eye, p);
     let dir = (p - eye) / max(d, 1e-6);
     let level = vec2<f32>(dir.x, dir.z);
-    let flat = select(vec2<f32>(1.0, 0.0), normalize(level), length(level) > 1e-4);
+    let flat = select(vec2<f32>(1.0, 0.0), level / max(length(level), 1e-4), length(level) > 1e-4);
     let horizon_dir = normalize(vec3<f32>(flat.x, 0.01, flat.y));
     let horizon = textureSampleLevel(sky_cube, sky_sampler, horizon_dir, 0.0).rgb * exposure();
     let t = exp(-frame.fog.air_extinction * d);

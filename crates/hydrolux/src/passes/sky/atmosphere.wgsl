@@ -88,9 +88,11 @@ fn atm_multiscattering_uv(r: f32, mu_s: f32) -> vec2<f32> {
     );
 }
 
+// The horizontal direction of v ((1, 0) straight up or down). No division
+// by zero even in the branch `select` drops: some drivers blend both.
 fn atm_flat(v: vec3<f32>) -> vec2<f32> {
     let l = length(v.xz);
-    return select(vec2<f32>(1.0, 0.0), v.xz / l, l > 1e-6);
+    return select(vec2<f32>(1.0, 0.0), v.xz / max(l, 1e-6), l > 1e-6);
 }
 
 // The sky-view table's coordinates for a direction (azimuth from the sun

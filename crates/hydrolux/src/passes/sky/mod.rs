@@ -24,21 +24,55 @@ pub fn tables_source() -> String {
     shaders::compose("", include_str!("tables.wgsl"))
 }
 
-/// A table the atmosphere writes in one dispatch and later ones sample.
-fn table(device: &wgpu::Device, label: &str, (w, h): (usize, usize)) -> wgpu::TextureView {
-    device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
-        .create_view(&Default::default())
+/// A table the atmosphere writes in one dispatch and later ones sample (and
+/// `--dump` reads back).
+fn table(
+    device: &wgpu::Device,
+    label: &str,
+    (w, h): (usize, usize),
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: w as u32, height: h as u32, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMAT,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
 }
+
+fn not_physical(scene: &hydrolux_core::scene::Scene) -> Option<&'static str> {
+    (scene.sky.model != hydrolux_core::scene::SkyModel::Physical).then_some(
+        "the sky is Preetham's fit, which has no atmosphere tables (set sky.model to \"physical\")",
+    )
+}
+
+/// `sky_view`: the sky-view table (kcd/m², azimuth from the sun across,
+/// elevation on a square-root scale up; either model); `transmittance` and
+/// `multiscattering`: the atmosphere's tables (hydrolux_core::atmosphere).
+pub(crate) const DUMPS: &[crate::info::DumpKind] = &[
+    crate::info::DumpKind {
+        name: "sky_view",
+        shape: crate::info::DumpShape::Grid,
+        missing: |_| None,
+    },
+    crate::info::DumpKind {
+        name: "transmittance",
+        shape: crate::info::DumpShape::Grid,
+        missing: not_physical,
+    },
+    crate::info::DumpKind {
+        name: "multiscattering",
+        shape: crate::info::DumpShape::Grid,
+        missing: not_physical,
+    },
+];
 
 /// The tables' pipelines and bind groups: the physical atmosphere's
 /// transmittance and Ψ (each written by one dispatch and read by the next),
@@ -52,14 +86,18 @@ struct Tables {
     /// The sky-view table (kcd/m²) the cube map and the background read.
     sky_view: wgpu::TextureView,
     sampler: wgpu::Sampler,
+    /// The tables by their dump names.
+    textures: [(&'static str, wgpu::Texture); 3],
 }
 
 impl Tables {
     fn new(device: &wgpu::Device, params: &wgpu::Buffer) -> Self {
         use hydrolux_core::atmosphere::{MULTISCATTERING_SIZE, SKY_VIEW_SIZE, TRANSMITTANCE_SIZE};
-        let transmittance = table(device, "atmosphere transmittance", TRANSMITTANCE_SIZE);
-        let multiscattering = table(device, "atmosphere multiple scattering", MULTISCATTERING_SIZE);
-        let sky_view = table(device, "sky view", SKY_VIEW_SIZE);
+        let (transmittance_texture, transmittance) =
+            table(device, "atmosphere transmittance", TRANSMITTANCE_SIZE);
+        let (multiscattering_texture, multiscattering) =
+            table(device, "atmosphere multiple scattering", MULTISCATTERING_SIZE);
+        let (sky_view_texture, sky_view) = table(device, "sky view", SKY_VIEW_SIZE);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("sky tables"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -124,6 +162,11 @@ impl Tables {
             ),
             sky_view,
             sampler,
+            textures: [
+                ("sky_view", sky_view_texture),
+                ("transmittance", transmittance_texture),
+                ("multiscattering", multiscattering_texture),
+            ],
         }
     }
 
@@ -263,7 +306,18 @@ impl SkyPass {
             ],
         });
         let layout = pipeline_layout(device, "sky background", &[globals, &view_layout]);
-        let pipeline = |fs: &str| {
+        // The sky where the pixel's medium is anything but water: a count
+        // the medium pass left at neither 0 nor 1 (a far wall of the water
+        // volume edge-on at the horizon, rasterised with the wrong facing
+        // under a 24-bit depth buffer) is air, not a hole in the frame.
+        let pipeline = |fs: &str, stencil: wgpu::CompareFunction| {
+            let mut depth_stencil = crate::targets::main_depth_state(
+                main_depth_format,
+                false,
+                wgpu::CompareFunction::Always,
+            );
+            depth_stencil.stencil.front.compare = stencil;
+            depth_stencil.stencil.back.compare = stencil;
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(fs),
                 layout: Some(&layout),
@@ -274,11 +328,7 @@ impl SkyPass {
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(crate::targets::main_depth_state(
-                    main_depth_format,
-                    false,
-                    wgpu::CompareFunction::Always,
-                )),
+                depth_stencil: Some(depth_stencil),
                 multisample: wgpu::MultisampleState::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
@@ -290,7 +340,10 @@ impl SkyPass {
                 cache: None,
             })
         };
-        let (background, deep_water) = (pipeline("fs_main"), pipeline("fs_deep"));
+        let (background, deep_water) = (
+            pipeline("fs_main", wgpu::CompareFunction::NotEqual),
+            pipeline("fs_deep", wgpu::CompareFunction::Equal),
+        );
         SkyPass {
             params,
             _cube: cube,
@@ -346,10 +399,10 @@ impl SkyPass {
     pub fn record_background(&self, pass: &mut wgpu::RenderPass<'_>, globals: &wgpu::BindGroup) {
         pass.set_bind_group(0, globals, &[]);
         pass.set_bind_group(1, &self.background_group, &[]);
-        for (pipeline, medium) in [
-            (&self.background, crate::targets::STENCIL_AIR),
-            (&self.deep_water, crate::targets::STENCIL_WATER),
-        ] {
+        // Both against the water's value: the sky where it is not, the
+        // endless water where it is.
+        for pipeline in [&self.background, &self.deep_water] {
+            let medium = crate::targets::STENCIL_WATER;
             pass.set_pipeline(pipeline);
             pass.set_stencil_reference(medium);
             pass.draw(0..3, 0..1);
@@ -359,7 +412,7 @@ impl SkyPass {
 
 pub(crate) const INFO: crate::technique::TechniqueInfo = crate::technique::TechniqueInfo {
     name: "sky",
-    dumps: &[],
+    dumps: DUMPS,
     shaders: || {
         vec![
             ("sky/tables".to_string(), tables_source()),
@@ -389,6 +442,22 @@ impl Technique for SkyPass {
         if stage == Stage::Simulate {
             self.record_bake(encoder, &frame.shared.downsampler, timer);
         }
+    }
+
+    fn dump(
+        &self,
+        name: &str,
+        ctx: &crate::technique::DumpContext,
+    ) -> Option<Result<crate::info::DumpData, String>> {
+        let (_, texture) = self.tables.textures.iter().find(|(n, _)| *n == name)?;
+        let px = crate::gpu_util::read_rgba16f(ctx.device, ctx.queue, texture);
+        Some(Ok(crate::info::DumpData::Floats {
+            columns: texture.width() as usize,
+            rows: texture.height() as usize,
+            channels: 3,
+            data: px.iter().flat_map(|p| [p[0], p[1], p[2]]).collect(),
+            note: None,
+        }))
     }
 
     fn draw(&self, stage: Stage, pass: &mut wgpu::RenderPass<'_>, frame: &FrameContext) {

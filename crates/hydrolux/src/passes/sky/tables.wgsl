@@ -48,8 +48,10 @@ fn transmittance(@builtin(global_invocation_id) id: vec3<u32>) {
     let n = f32(ATM_TRANSMITTANCE_STEPS);
     var depth = vec3<f32>(0.0);
     for (var k = 0u; k < ATM_TRANSMITTANCE_STEPS; k++) {
-        let t0 = to_top * pow(f32(k) / n, 2.0);
-        let t1 = to_top * pow((f32(k) + 1.0) / n, 2.0);
+        let a = f32(k) / n;
+        let b = (f32(k) + 1.0) / n;
+        let t0 = to_top * a * a;
+        let t1 = to_top * b * b;
         let t = 0.5 * (t0 + t1);
         depth += atm_extinction(sky, atm_radius_at(r, mu, t) - ATM_BOTTOM_RADIUS) * (t1 - t0);
     }
@@ -138,8 +140,10 @@ fn march(dir: vec3<f32>, sun: vec3<f32>) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     let n = f32(ATM_SKY_VIEW_STEPS);
     for (var k = 0u; k < ATM_SKY_VIEW_STEPS; k++) {
-        let t0 = t_max * pow(f32(k) / n, 2.0);
-        let t1 = t_max * pow((f32(k) + 1.0) / n, 2.0);
+        let a = f32(k) / n;
+        let b = (f32(k) + 1.0) / n;
+        let t0 = t_max * a * a;
+        let t1 = t_max * b * b;
         let p = origin + dir * (0.5 * (t0 + t1));
         let rp = length(p);
         let mu_s = dot(p, sun) / rp;
