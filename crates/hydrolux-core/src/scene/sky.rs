@@ -34,12 +34,27 @@ impl SkyDesc {
     /// The `[sky]` section's rules (one line naming the bad key and what
     /// is allowed); checks that span sections are in `Scene::validate`.
     pub fn validate(&self) -> Result<(), SceneError> {
-        range(
-            "sky.turbidity",
-            self.turbidity,
-            (1.7..=10.0).contains(&self.turbidity),
-            "must be in [1.7, 10]",
-        )?;
+        // Preetham's fit holds from 1.7; the atmosphere's air is clean at 1.
+        let (low, allowed) = match self.model {
+            SkyModel::Physical => (1.0, "must be in [1, 10] (1: air without aerosols)"),
+            SkyModel::Preetham => (1.7, "must be in [1.7, 10] for the Preetham sky"),
+        };
+        range("sky.turbidity", self.turbidity, (low..=10.0).contains(&self.turbidity), allowed)?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turbidity_runs_down_to_clean_air_for_the_atmosphere_only() {
+        let physical = SkyDesc { model: SkyModel::Physical, turbidity: 1.2 };
+        assert!(physical.validate().is_ok());
+        let preetham = SkyDesc { model: SkyModel::Preetham, turbidity: 1.2 };
+        let e = preetham.validate().unwrap_err().to_string();
+        assert!(e.contains("sky.turbidity") && e.contains("1.7"), "{e}");
+        assert!(SkyDesc { turbidity: 0.9, ..physical }.validate().is_err());
     }
 }
