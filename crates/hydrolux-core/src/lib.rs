@@ -19,6 +19,7 @@ pub mod medium;
 pub mod npy;
 pub mod optics;
 pub mod path;
+pub mod pbr;
 pub mod projective;
 pub mod raytrace;
 pub mod rng;

@@ -105,6 +105,8 @@ fn errors_are_one_clear_line() {
         ("ocean", &["camera.position=[1, 2]"], "an array of 3 numbers"),
         ("ocean", &["nonsense"], "expected section.key=value"),
         ("ocean", &["ocean.seed=-1"], "a whole number ≥ 0"),
+        ("pool", &["floor.material.roughness=1.5"], "`floor.material.roughness` = 1.5"),
+        ("pool", &["floor.material.metalness=-1"], "must be in [0, 1]"),
     ];
     for (scene, sets, want) in cases {
         let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();

@@ -29,6 +29,15 @@ pub struct MaterialDesc {
     /// it bends the sunlight into volume caustics and a caustic on what lies
     /// behind it (seed 004). For closed meshes above the water.
     pub ior: f32,
+    /// Perceptual roughness of the specular lobe: 0 a mirror, 1 matte
+    /// (GGX α = roughness²; `hydrolux_core::pbr`).
+    pub roughness: f32,
+    /// 0 a dielectric (diffuse in `albedo`, a grey reflection), 1 a metal
+    /// (no diffuse part; reflects in `albedo`).
+    pub metalness: f32,
+    /// A dielectric's reflectance at normal incidence, F0 = 0.08 × this:
+    /// 0.5 gives 4% (glass, water, paint, stone); 0 a purely Lambertian surface.
+    pub specular: f32,
 }
 
 /// Fraction of a tiled surface that is grout: lines 6% of a tile wide
@@ -36,6 +45,16 @@ pub struct MaterialDesc {
 pub const TILE_GROUT_COVER: f32 = 0.1164;
 
 impl MaterialDesc {
+    /// Its specular parameters, for the base colour `albedo`.
+    pub fn surface(&self) -> crate::pbr::Surface {
+        crate::pbr::Surface {
+            base_color: glam::Vec3::from(self.albedo),
+            roughness: self.roughness,
+            metalness: self.metalness,
+            specular: self.specular,
+        }
+    }
+
     /// Its diffuse reflectance averaged over its pattern (a texture counts
     /// as white), as light bounced off it far away sees it: the mean of the
     /// three channels.
@@ -60,6 +79,9 @@ impl Default for MaterialDesc {
             pattern_color: [0.1, 0.1, 0.1],
             tile_size: 0.25,
             ior: 0.0,
+            roughness: 0.5,
+            metalness: 0.0,
+            specular: 0.5,
         }
     }
 }
@@ -74,6 +96,15 @@ pub(super) fn validate_material(key: &str, m: &MaterialDesc) -> Result<(), Scene
                     allowed: "must be in [0, 1]".into(),
                 });
             }
+        }
+    }
+    for (name, v) in [("roughness", m.roughness), ("metalness", m.metalness), ("specular", m.specular)] {
+        if !(0.0..=1.0).contains(&v) {
+            return Err(SceneError::OutOfRange {
+                key: format!("{key}.{name}"),
+                value: v.to_string(),
+                allowed: "must be in [0, 1]".into(),
+            });
         }
     }
     if !(m.tile_size > 0.0 && m.tile_size.is_finite()) {
