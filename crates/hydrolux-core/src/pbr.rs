@@ -181,11 +181,12 @@ pub fn environment_radiance(s: &Surface, n_v: f32, irradiance: Vec3, prefiltered
 }
 
 /// Mip levels of the sky cube that hold the specular lobes: level k is the
-/// sky filtered for roughness k / (SPECULAR_LEVELS − 1); 128² down to 4²
+/// sky filtered for roughness k / (SPECULAR_LEVELS − 1); 128² down to 8²
 /// (smaller levels would lose the lobe's direction). Levels past them hold
 /// roughness 1 again.
-pub const SPECULAR_LEVELS: u32 = 6;
-/// GGX directions per texel of a filtered level (a Hammersley set).
+pub const SPECULAR_LEVELS: u32 = 5;
+/// GGX directions per texel of the first filtered level (a Hammersley set;
+/// [`prefilter_samples`]).
 pub const PREFILTER_SAMPLES: u32 = 64;
 
 /// The mip level whose filtered radiance stands for the lobe of
@@ -215,17 +216,27 @@ fn ggx_half(n: Vec3, alpha: f32, u: f32, w: f32) -> Vec3 {
     (t * (sin_h * phi.cos()) + b * (sin_h * phi.sin()) + n * cos_h).normalize()
 }
 
-/// The environment `radiance` filtered for the specular lobe of
-/// `roughness` around direction `r` (Karis 2013: the lobe with n = v = r,
-/// weighted by n·l), with the same Hammersley set as the GPU's filter.
-pub fn prefiltered(radiance: impl Fn(Vec3) -> Vec3, r: Vec3, roughness: f32) -> Vec3 {
+/// GGX directions per texel of filtered level `level`: PREFILTER_SAMPLES
+/// at level 1, doubled per level (the smaller levels' wider lobes see more
+/// of the sky; their texels are few), at most 1024.
+pub fn prefilter_samples(level: u32) -> u32 {
+    (PREFILTER_SAMPLES << level.saturating_sub(1).min(4)).min(1024)
+}
+
+/// The environment `radiance` as level `level` of the sky cube holds it:
+/// filtered for the specular lobe of [`level_roughness`] about direction
+/// `r` (Karis 2013: the lobe with n = v = r, weighted by n·l), with the
+/// same Hammersley set as the GPU's filter.
+pub fn prefiltered(radiance: impl Fn(Vec3) -> Vec3, r: Vec3, level: u32) -> Vec3 {
+    let roughness = level_roughness(level);
     if roughness <= 0.0 {
         return radiance(r);
     }
     let alpha = roughness * roughness;
+    let samples = prefilter_samples(level);
     let (mut sum, mut weight) = (Vec3::ZERO, 0.0);
-    for i in 0..PREFILTER_SAMPLES {
-        let (u, w) = hammersley(i, PREFILTER_SAMPLES);
+    for i in 0..samples {
+        let (u, w) = hammersley(i, samples);
         let h = ggx_half(r, alpha, u, w);
         let l = 2.0 * r.dot(h) * h - r;
         let n_l = r.dot(l);
@@ -372,9 +383,9 @@ mod tests {
     fn a_uniform_sky_is_reflected_as_its_closed_form() {
         let sky = Vec3::new(0.3, 0.5, 0.9);
         let r = Vec3::new(0.2, 0.9, -0.1).normalize();
-        for roughness in [0.0f32, 0.3, 1.0] {
-            let p = prefiltered(|_| sky, r, roughness);
-            assert!((p - sky).abs().max_element() < 1e-5, "r {roughness}: {p}");
+        for level in [0, 2, SPECULAR_LEVELS - 1] {
+            let p = prefiltered(|_| sky, r, level);
+            assert!((p - sky).abs().max_element() < 1e-5, "level {level}: {p}");
         }
         let e = PI * sky;
         for n_v in [0.2f32, 0.6, 1.0] {
@@ -417,14 +428,14 @@ mod tests {
         let off = Vec3::new(0.5, 0.85, 0.0).normalize();
         let mut previous = 1.0 + 1e-6;
         for level in 1..SPECULAR_LEVELS {
-            let at_patch = prefiltered(patch, Vec3::Y, level_roughness(level)).x;
+            let at_patch = prefiltered(patch, Vec3::Y, level).x;
             assert!(at_patch < previous, "level {level}: {at_patch} after {previous}");
             previous = at_patch;
         }
-        assert!(prefiltered(patch, off, level_roughness(1)).x < 0.05, "only GGX's tail");
-        let beside = prefiltered(patch, off, 1.0).x;
+        assert!(prefiltered(patch, off, 1).x < 0.05, "only GGX's tail");
+        let beside = prefiltered(patch, off, SPECULAR_LEVELS - 1).x;
         assert!(beside > 0.05, "the roughest lobe reaches 32° off the patch: {beside}");
-        assert_eq!(prefiltered(patch, Vec3::Y, 0.0), Vec3::ONE);
+        assert_eq!(prefiltered(patch, Vec3::Y, 0), Vec3::ONE);
         assert_eq!(cube_level(level_roughness(3)), 3.0);
     }
 }

@@ -171,6 +171,20 @@ impl Renderer {
             self.queue(),
             [&self.bound.globals, &self.bound.surface],
             dirs,
+            0.0,
+        )
+    }
+
+    /// The sky as a surface of perceptual `roughness` (0 to 1) reflects it
+    /// towards each direction: the environment cube's level filtered for
+    /// that GGX lobe (`hydrolux_core::pbr::prefiltered`), in kcd/m².
+    pub fn probe_sky_filtered(&self, dirs: &[[f32; 3]], roughness: f32) -> Vec<[f32; 3]> {
+        self.probe.sky(
+            self.device(),
+            self.queue(),
+            [&self.bound.globals, &self.bound.surface],
+            dirs,
+            hydrolux_core::pbr::cube_level(roughness),
         )
     }
 }

@@ -189,6 +189,10 @@ impl Techniques {
                     binding: 8,
                     resource: tv(&self.water_objects.light.map_view),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 9,
+                    resource: self.sky.environment_brdf.as_entire_binding(),
+                },
             ],
         });
         let shadow_values = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -12,6 +12,7 @@ const MODULES: &[(&str, &str)] = &[
     ("frame", include_str!("shaders/frame.wgsl")),
     ("optics", include_str!("shaders/optics.wgsl")),
     ("lighting", include_str!("shaders/lighting.wgsl")),
+    ("pbr", include_str!("shaders/pbr.wgsl")),
     ("complex", include_str!("shaders/complex.wgsl")),
     ("sky_model", include_str!("shaders/sky_model.wgsl")),
     ("sky_bindings", include_str!("shaders/sky_bindings.wgsl")),
@@ -127,6 +128,25 @@ pub(crate) fn compose(consts: &str, main: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// pbr.wgsl's constants are hydrolux_core::pbr's, and its
+    /// `EnvironmentBrdf` holds the packed table exactly.
+    #[test]
+    fn the_pbr_module_agrees_with_its_twin() {
+        use hydrolux_core::pbr::{ENVIRONMENT_TABLE_SIZE, MIN_ROUGHNESS, SPECULAR_LEVELS};
+        let src = include_str!("shaders/pbr.wgsl");
+        for line in [
+            format!("const ENVIRONMENT_TABLE_SIZE: u32 = {ENVIRONMENT_TABLE_SIZE}u;"),
+            format!("const SPECULAR_LEVELS: u32 = {SPECULAR_LEVELS}u;"),
+            format!("const MIN_ROUGHNESS: f32 = {MIN_ROUGHNESS:?};"),
+            format!(
+                "table: array<vec4<f32>, {}>,",
+                hydrolux_core::pbr::environment_table_packed().len()
+            ),
+        ] {
+            assert!(src.contains(&line), "pbr.wgsl lacks `{line}`");
+        }
+    }
 
     #[test]
     fn imports_resolve_transitively_once_and_dependencies_first() {

@@ -70,16 +70,20 @@ impl ViewSlots {
     pub fn write(&self, queue: &wgpu::Queue, plan: &FramePlan) {
         use hydrolux_core::projective::ClipPlane;
         let m = &plan.matrices;
-        self.main.write(queue, m.view_proj, ClipPlane::none().0);
-        self.reflection.write(queue, m.reflection, ClipPlane::above(0.0).0);
-        self.refraction.write(queue, m.refraction, ClipPlane::below(0.0).0);
-        self.reflection_under.write(queue, m.reflection, ClipPlane::below(0.0).0);
-        self.refraction_over.write(queue, m.refraction, ClipPlane::above(0.0).0);
+        // The reflections' eye is the main one mirrored in the water plane;
+        // the refractions keep the main eye (their bending is approximate).
+        let eye = glam::Vec3::from(plan.frame.view.position);
+        let mirrored = eye * glam::Vec3::new(1.0, -1.0, 1.0);
+        self.main.write(queue, m.view_proj, ClipPlane::none().0, eye);
+        self.reflection.write(queue, m.reflection, ClipPlane::above(0.0).0, mirrored);
+        self.refraction.write(queue, m.refraction, ClipPlane::below(0.0).0, eye);
+        self.reflection_under.write(queue, m.reflection, ClipPlane::below(0.0).0, mirrored);
+        self.refraction_over.write(queue, m.refraction, ClipPlane::above(0.0).0, eye);
         if let Some(shadow) = m.shadow {
-            self.shadow.write(queue, shadow, ClipPlane::none().0);
+            self.shadow.write(queue, shadow, ClipPlane::none().0, eye);
         }
         if let Some(o) = &plan.object_light {
-            self.object_light.write(queue, o.view_proj, ClipPlane::none().0);
+            self.object_light.write(queue, o.view_proj, ClipPlane::none().0, eye);
         }
     }
 }
@@ -117,6 +121,7 @@ impl Layouts {
                 texture_entry(6, all, wgpu::TextureViewDimension::D2Array, true),
                 sampler_entry(7, all),
                 texture_entry(8, all, wgpu::TextureViewDimension::D2, true),
+                uniform_entry(9, all),
             ],
         });
         // The shadow map again, for reading its values (the debug view):

@@ -266,6 +266,10 @@ uniform! { View;
     pub(crate) struct ViewUniforms {
         pub view_proj: Mat4,
         pub clip_plane: [f32; 4],
+        /// Where the view's eye is (m; the reflection's mirrored below the
+        /// water plane), for the view direction of specular light.
+        pub eye: [f32; 3],
+        pub _pad0: f32,
     }
 }
 
@@ -280,8 +284,13 @@ uniform! { Object;
         pub tile_size: f32,
         pub pattern: u32,
         pub ior: f32,
+        /// The specular parameters (`hydrolux_core::pbr::Surface`).
+        pub roughness: f32,
+        pub metalness: f32,
+        pub specular: f32,
         pub _pad0: u32,
         pub _pad1: u32,
+        pub _pad2: u32,
     }
 }
 

@@ -98,7 +98,9 @@ pub(super) fn validate_material(key: &str, m: &MaterialDesc) -> Result<(), Scene
             }
         }
     }
-    for (name, v) in [("roughness", m.roughness), ("metalness", m.metalness), ("specular", m.specular)] {
+    for (name, v) in
+        [("roughness", m.roughness), ("metalness", m.metalness), ("specular", m.specular)]
+    {
         if !(0.0..=1.0).contains(&v) {
             return Err(SceneError::OutOfRange {
                 key: format!("{key}.{name}"),

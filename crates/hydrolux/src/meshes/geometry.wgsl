@@ -1,11 +1,13 @@
-// Opaque scene geometry (objects, terrain, floor): Lambertian materials with
-// an albedo, a texture or a procedural tile/checker pattern, lit by the sun
-// (shadow-mapped) and the sky. Below the mean water level the light is the
-// light field under the surface (seed 000 §3.3): refracted, attenuated by
-// e^(−σk·d) on its way down. Drawn for several views — main, reflection
+// Opaque scene geometry (objects, terrain, floor): physically based
+// materials (shaders/pbr.wgsl) with a base colour, a texture or a
+// procedural tile/checker pattern, lit by the sun (shadow-mapped) and the
+// sky. Below the mean water level the light is the light field under the
+// surface (seed 000 §3.3): refracted, attenuated by e^(−σk·d) on its way
+// down, on a Lambertian surface of the base colour (the specular part there
+// would reflect the water's own radiance field, which is not modelled). Drawn for several views — main, reflection
 // (mirrored, clipped to y ≥ 0), refraction (clipped to y ≤ 0) — and into the
 // sun's shadow map (`vs_shadow`).
-#import constants, frame, lighting, medium, fog, shadow_space, shadow_lookup, caustics_lookup, object_caustics, geometry_common
+#import constants, frame, lighting, pbr, medium, fog, shadow_space, shadow_lookup, caustics_lookup, object_caustics, geometry_common
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -76,12 +78,12 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     var albedo = object.albedo * textureSample(albedo_tex, albedo_sampler, in.uv).rgb;
     albedo = mix(albedo, object.pattern_color, pattern_mix(in.world, n));
     let visibility = sun_visibility(in.world, n);
-    var irradiance: vec3<f32>;
     if (in.world.y < 0.0 && has_water()) {
-        irradiance = underwater_irradiance(-in.world.y, n, visibility * caustic_factor(in.world));
-    } else {
-        // The sun, plus what refractive objects bend onto this point.
-        irradiance = air_irradiance(n, visibility + object_caustic(in.world));
+        let irradiance = underwater_irradiance(-in.world.y, n, visibility * caustic_factor(in.world));
+        return vec4<f32>(albedo / PI * irradiance, 1.0);
     }
-    return vec4<f32>(albedo / PI * irradiance, 1.0);
+    // The sun, plus what refractive objects bend onto this point.
+    let material = Material(albedo, object.roughness, object.metalness, object.specular);
+    let v = normalize(view.eye - in.world);
+    return vec4<f32>(air_surface_radiance(material, n, v, visibility + object_caustic(in.world)), 1.0);
 }

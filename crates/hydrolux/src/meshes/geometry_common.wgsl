@@ -4,6 +4,9 @@ struct View {
     view_proj: mat4x4<f32>,
     // Kept where dot(clip_plane.xyz, world) + clip_plane.w ≥ 0.
     clip_plane: vec4<f32>,
+    // The view's eye (m): the reflection's is mirrored below the water plane.
+    eye: vec3<f32>,
+    _pad0: f32,
 }
 
 struct Object {
@@ -19,8 +22,13 @@ struct Object {
     // Pattern (0 none, 1 tiles, 2 checker); index of refraction (0: opaque).
     pattern: u32,
     ior: f32,
+    // Specular parameters (shaders/pbr.wgsl's Material).
+    roughness: f32,
+    metalness: f32,
+    specular: f32,
     _pad0: u32,
     _pad1: u32,
+    _pad2: u32,
 }
 
 @group(1) @binding(0) var<uniform> view: View;

@@ -40,9 +40,19 @@ pub struct ViewSlot {
 }
 
 impl ViewSlot {
-    pub fn write(&self, queue: &wgpu::Queue, view_proj: glam::Mat4, clip_plane: glam::Vec4) {
-        let u =
-            ViewUniforms { view_proj: view_proj.to_cols_array_2d(), clip_plane: clip_plane.into() };
+    pub fn write(
+        &self,
+        queue: &wgpu::Queue,
+        view_proj: glam::Mat4,
+        clip_plane: glam::Vec4,
+        eye: glam::Vec3,
+    ) {
+        let u = ViewUniforms {
+            view_proj: view_proj.to_cols_array_2d(),
+            clip_plane: clip_plane.into(),
+            eye: eye.into(),
+            _pad0: 0.0,
+        };
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&u));
     }
 }
@@ -341,8 +351,12 @@ impl GeometryPass {
                 tile_size: m.tile_size,
                 pattern: crate::modes::pattern(m.pattern),
                 ior: m.ior,
+                roughness: m.roughness,
+                metalness: m.metalness,
+                specular: m.specular,
                 _pad0: 0,
                 _pad1: 0,
+                _pad2: 0,
             };
             let buffer = uniform_buffer(device, &o.name, &u);
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -479,8 +493,12 @@ impl GeometryPass {
             tile_size: 1.0,
             pattern: 0,
             ior,
+            roughness: 0.5,
+            metalness: 0.0,
+            specular: 0.5,
             _pad0: 0,
             _pad1: 0,
+            _pad2: 0,
         };
         let buffer = uniform_buffer(device, label, &u);
         device.create_bind_group(&wgpu::BindGroupDescriptor {

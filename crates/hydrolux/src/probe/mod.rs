@@ -182,8 +182,9 @@ impl ProbePass {
         queue: &wgpu::Queue,
         groups: [&wgpu::BindGroup; 2],
         dirs: &[[f32; 3]],
+        level: f32,
     ) -> Vec<[f32; 3]> {
-        let pts: Vec<[f32; 4]> = dirs.iter().map(|d| [d[0], d[1], d[2], 0.0]).collect();
+        let pts: Vec<[f32; 4]> = dirs.iter().map(|d| [d[0], d[1], d[2], level]).collect();
         self.run(device, queue, &self.sky, groups, &pts)
             .into_iter()
             .map(|r| [r[0], r[1], r[2]])

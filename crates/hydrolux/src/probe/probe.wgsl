@@ -27,7 +27,8 @@ fn probe_sky(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= arrayLength(&points)) {
         return;
     }
-    let c = textureSampleLevel(sky_cube, sky_sampler, points[id.x].xyz, 0.0);
+    // w: the cube's level (0 the sky itself; above, filtered for roughness).
+    let c = textureSampleLevel(sky_cube, sky_sampler, points[id.x].xyz, points[id.x].w);
     results[id.x] = ProbeOut(c, vec4<f32>(0.0), vec4<f32>(0.0));
 }
 

@@ -45,7 +45,8 @@ uniform! { TracedParams;
         pub has_ground: u32,
         pub reach: f32,
         pub object_count: u32,
-        pub _pad0: u32,
+        /// The ground's specular parameters (`hydrolux_core::pbr::Surface`).
+        pub ground_roughness: f32,
         pub caustic_corner: [f32; 2],
         pub caustic_cell: f32,
         pub caustic_cells: u32,
@@ -53,8 +54,8 @@ uniform! { TracedParams;
         pub emission_spacing: f32,
         pub photon_energy: f32,
         pub emission_count: [u32; 2],
-        pub _pad1: u32,
-        pub _pad2: u32,
+        pub ground_metalness: f32,
+        pub ground_specular: f32,
     }
 }
 
@@ -76,7 +77,12 @@ uniform! { TracedObject;
         /// meshes' buffer (vec4 indices; [`TracedMeshes`]).
         pub mesh_nodes: u32,
         pub mesh_triangles: u32,
+        /// The specular parameters (`hydrolux_core::pbr::Surface`).
+        pub roughness: f32,
+        pub metalness: f32,
+        pub specular: f32,
         pub _pad0: u32,
+        pub _pad1: u32,
     }
 }
 
@@ -159,7 +165,11 @@ fn traceable(scene: &Scene) -> Result<(Vec<(usize, TracedObject)>, TracedMeshes)
             shape,
             mesh_nodes,
             mesh_triangles,
+            roughness: m.roughness,
+            metalness: m.metalness,
+            specular: m.specular,
             _pad0: 0,
+            _pad1: 0,
         };
         out.push((i, object));
     }
@@ -363,6 +373,9 @@ impl Traced {
             has_ground: has_ground as u32,
             reach: TRACE_REACH,
             object_count: objects.len() as u32,
+            ground_roughness: material.roughness,
+            ground_metalness: material.metalness,
+            ground_specular: material.specular,
             ..Default::default()
         };
         let buffer = uniform_buffer(device, "traced", &uniforms);

@@ -16,7 +16,8 @@ struct TracedParams {
     has_ground: u32,
     reach: f32,
     object_count: u32,
-    _pad0: u32,
+    // The ground's specular parameters (shaders/pbr.wgsl's Material).
+    ground_roughness: f32,
     // The traced caustics' window (caustics.wgsl): world (x, z) of its
     // corner, its cell (m), cells per side (0: off).
     caustic_corner: vec2<f32>,
@@ -29,8 +30,8 @@ struct TracedParams {
     photon_energy: f32,
     // Photons per row and column.
     emission_count: vec2<u32>,
-    _pad1: u32,
-    _pad2: u32,
+    ground_metalness: f32,
+    ground_specular: f32,
 }
 
 // An object traced as its unit primitive (box [−½, ½]³, sphere of radius ½,
@@ -51,5 +52,10 @@ struct TracedObject {
     // nodes (two each) and its triangles (three corners each).
     mesh_nodes: u32,
     mesh_triangles: u32,
+    // Its specular parameters (shaders/pbr.wgsl's Material).
+    roughness: f32,
+    metalness: f32,
+    specular: f32,
     _pad0: u32,
+    _pad1: u32,
 }

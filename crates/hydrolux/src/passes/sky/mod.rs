@@ -1,13 +1,14 @@
 //! The sky: a physically based atmosphere (Hillaire 2020; the default) or
 //! the Preetham model, written into a sky-view table and baked into a
 //! mipmapped environment cube map when the sun or the air changes (seed 000
-//! §3.1.2; reflections look it up), and drawn per pixel behind the scene
+//! §3.1.2; reflections look it up; its smaller levels are the sky filtered
+//! for rough surfaces' GGX lobes, `prefilter` in bake.wgsl), and drawn per pixel behind the scene
 //! from the sky-view table with the sun's disk. The atmosphere's
 //! transmittance and multiple-scattering tables are built first, on the GPU.
 //! CPU twins: `hydrolux_core::sky::Sky`, `hydrolux_core::atmosphere`.
 
 use crate::gpu_util::*;
-use crate::mips::{Downsampler, FORMAT, MipChain};
+use crate::mips::FORMAT;
 use crate::shaders;
 use crate::technique::{FrameContext, Stage, Technique};
 use crate::timing::GpuTimer;
@@ -16,8 +17,17 @@ use hydrolux_core::sky::SkyParams;
 /// Edge length of the environment cube map's faces.
 pub const CUBE_SIZE: u32 = 128;
 
+/// vec4s of the split sum's table (two texels each; `EnvironmentBrdf`).
+const ENVIRONMENT_BRDF_ENTRIES: usize =
+    hydrolux_core::pbr::ENVIRONMENT_TABLE_SIZE * hydrolux_core::pbr::ENVIRONMENT_TABLE_SIZE / 2;
+
 pub fn bake_source() -> String {
-    shaders::compose("", include_str!("bake.wgsl"))
+    use hydrolux_core::pbr::{PREFILTER_SAMPLES, SPECULAR_LEVELS};
+    let prelude = format!(
+        "const SKY_CUBE_SIZE: u32 = {CUBE_SIZE}u;\nconst SPECULAR_LEVELS: u32 = {SPECULAR_LEVELS}u;\n\
+         const PREFILTER_SAMPLES: u32 = {PREFILTER_SAMPLES}u;\n"
+    );
+    shaders::compose(&prelude, include_str!("bake.wgsl"))
 }
 
 pub fn tables_source() -> String {
@@ -201,13 +211,18 @@ pub fn background_source() -> String {
 
 pub struct SkyPass {
     pub params: wgpu::Buffer,
+    /// The split sum's table (`hydrolux_core::pbr`), a uniform of group 0
+    /// (`EnvironmentBrdf` in shaders/pbr.wgsl): written once.
+    pub environment_brdf: wgpu::Buffer,
     /// Kept with its views (the cube map the sky bakes into).
     _cube: wgpu::Texture,
     pub cube_view: wgpu::TextureView,
     tables: Tables,
     bake: wgpu::ComputePipeline,
     bake_group: wgpu::BindGroup,
-    mips: MipChain,
+    /// The smaller levels, filtered for rough surfaces' lobes: one group per level.
+    prefilter: wgpu::ComputePipeline,
+    prefilter_levels: Vec<(wgpu::BindGroup, u32)>,
     /// The background's view of the sky-view table (group 1).
     background_group: wgpu::BindGroup,
     background: wgpu::RenderPipeline,
@@ -225,7 +240,6 @@ pub struct SkyPass {
 impl SkyPass {
     pub fn new(
         device: &wgpu::Device,
-        downsampler: &Downsampler,
         globals: &wgpu::BindGroupLayout,
         main_depth_format: wgpu::TextureFormat,
     ) -> Self {
@@ -281,7 +295,37 @@ impl SkyPass {
         });
         let module = shader(device, "sky bake", &bake_source());
         let bake = compute_pipeline(device, "sky bake", &module, "bake", &[&layout]);
-        let mips = downsampler.chain(device, &cube);
+        let prefilter = compute_pipeline(device, "sky prefilter", &module, "prefilter", &[&layout]);
+        let prefilter_levels = (1..cube.mip_level_count())
+            .map(|level| {
+                let view = cube.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    base_mip_level: level,
+                    mip_level_count: Some(1),
+                    ..Default::default()
+                });
+                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("sky prefilter level"),
+                    layout: &layout,
+                    entries: &[
+                        wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::TextureView(&tables.sky_view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: wgpu::BindingResource::Sampler(&tables.sampler),
+                        },
+                    ],
+                });
+                (group, (CUBE_SIZE >> level).max(1))
+            })
+            .collect();
         let module = shader(device, "sky background", &background_source());
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -344,14 +388,19 @@ impl SkyPass {
             pipeline("fs_main", wgpu::CompareFunction::NotEqual),
             pipeline("fs_deep", wgpu::CompareFunction::Equal),
         );
+        let mut table = [[0.0f32; 4]; ENVIRONMENT_BRDF_ENTRIES];
+        table.copy_from_slice(&hydrolux_core::pbr::environment_table_packed());
+        let environment_brdf = uniform_buffer(device, "environment brdf", &table);
         SkyPass {
             params,
+            environment_brdf,
             _cube: cube,
             cube_view,
             tables,
             bake,
             bake_group,
-            mips,
+            prefilter,
+            prefilter_levels,
             background_group,
             background,
             deep_water,
@@ -374,7 +423,6 @@ impl SkyPass {
     pub fn record_bake(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
-        downsampler: &Downsampler,
         timer: Option<&mut GpuTimer>,
     ) {
         if !self.dirty {
@@ -390,7 +438,11 @@ impl SkyPass {
         pass.set_pipeline(&self.bake);
         pass.set_bind_group(0, &self.bake_group, &[]);
         pass.dispatch_workgroups(CUBE_SIZE / 8, CUBE_SIZE / 8, 6);
-        downsampler.record(&mut pass, &self.mips);
+        pass.set_pipeline(&self.prefilter);
+        for (group, size) in &self.prefilter_levels {
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), 6);
+        }
         self.dirty = false;
     }
 
@@ -429,18 +481,18 @@ impl Technique for SkyPass {
         _scene: &hydrolux_core::scene::Scene,
     ) -> Result<Self, crate::error::RenderError> {
         let l = &shared.layouts;
-        Ok(SkyPass::new(&shared.device, &shared.downsampler, &l.globals, shared.depth_format))
+        Ok(SkyPass::new(&shared.device, &l.globals, shared.depth_format))
     }
 
     fn record(
         &mut self,
         stage: Stage,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &FrameContext,
+        _frame: &FrameContext,
         timer: Option<&mut GpuTimer>,
     ) {
         if stage == Stage::Simulate {
-            self.record_bake(encoder, &frame.shared.downsampler, timer);
+            self.record_bake(encoder, timer);
         }
     }
 

@@ -22,8 +22,7 @@ pub const FAR_SCALE: f32 = 50.0;
 pub fn source() -> String {
     let consts = format!(
         "const RING_HALF: f32 = {RING_HALF}.0;\nconst FAR_HALF: f32 = {FAR_HALF}.0;\nconst FAR_SCALE: f32 = {FAR_SCALE:?};\n\
-         const DISPLACED_RINGS: u32 = {DISPLACED_RINGS}u;\nconst SKY_CUBE_SIZE: f32 = {}.0;\nconst VOLUME_DEPTH: f32 = {VOLUME_DEPTH:?};\n",
-        super::sky::CUBE_SIZE
+         const DISPLACED_RINGS: u32 = {DISPLACED_RINGS}u;\nconst VOLUME_DEPTH: f32 = {VOLUME_DEPTH:?};\n"
     );
     shaders::compose(&consts, include_str!("water.wgsl"))
 }

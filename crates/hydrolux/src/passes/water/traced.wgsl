@@ -4,7 +4,7 @@
 // scene (the shared `lighting` module). Part of the water shader (its
 // group 3 bindings are declared there).
 
-#import constants, frame, lighting, medium, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits
+#import constants, frame, lighting, pbr, medium, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits
 
 // How much of the pattern's second colour shows at q (normal n) over a
 // footprint of `footprint` metres: the procedural pattern as the geometry
@@ -52,12 +52,12 @@ fn traced_sun_visibility(q: vec3<f32>, n: vec3<f32>) -> f32 {
     return 1.0;
 }
 
-// What a Lambertian surface of albedo `albedo` at q (normal n) sends back
-// (as the geometry pass shades it): below the mean level the light field
-// under the surface with the caustics and the sun's traced shadow (for the
-// ground, the traced photons'), above it sun and sky.
-fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, ground: bool) -> vec3<f32> {
-    var irradiance: vec3<f32>;
+// What a surface of material `m` at q (normal n) sends back towards v (as
+// the geometry pass shades it): below the mean level, on a Lambertian
+// surface of its base colour, the light field under the surface with the
+// caustics and the sun's traced shadow (for the ground, the traced
+// photons'); above it, sun and sky, diffuse and specular (shaders/pbr.wgsl).
+fn lit_radiance(q: vec3<f32>, n: vec3<f32>, v: vec3<f32>, m: Material, ground: bool) -> vec3<f32> {
     if (q.y < 0.0) {
         var sun_cosine: f32;
         if (ground) {
@@ -65,11 +65,9 @@ fn lit_radiance(q: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, ground: bool) -> 
         } else {
             sun_cosine = max(dot(n, -frame.light.sun_travel), 0.0) * traced_sun_visibility(q, n) * caustic_factor(q);
         }
-        irradiance = underwater_irradiance_sun(-q.y, n, sun_cosine);
-    } else {
-        irradiance = air_irradiance(n, vec3<f32>(traced_sun_visibility(q, n)));
+        return m.base_color / PI * underwater_irradiance_sun(-q.y, n, sun_cosine);
     }
-    return albedo / PI * irradiance;
+    return air_surface_radiance(m, n, v, vec3<f32>(traced_sun_visibility(q, n)));
 }
 
 // A traced object's light at its hit.
@@ -77,14 +75,17 @@ fn object_radiance(o: vec3<f32>, d: vec3<f32>, hit: ObjectHit, footprint: f32) -
     let obj = traced_objects[hit.index];
     let q = o + d * hit.t;
     let w = pattern_at(q, hit.normal, obj.tile_size, obj.pattern, footprint);
-    return lit_radiance(q, hit.normal, mix(obj.albedo, obj.pattern_color, w), false);
+    let m = Material(mix(obj.albedo, obj.pattern_color, w), obj.roughness, obj.metalness, obj.specular);
+    return lit_radiance(q, hit.normal, -d, m, false);
 }
 
-// The light the ground sends back at q, seen over `footprint` metres.
-fn ground_radiance(q: vec3<f32>, footprint: f32) -> vec3<f32> {
+// The light the ground sends back at q towards v, seen over `footprint` metres.
+fn ground_radiance(q: vec3<f32>, v: vec3<f32>, footprint: f32) -> vec3<f32> {
     let n = ground_normal(q.x, q.z);
     let w = pattern_at(q, vec3<f32>(0.0, 1.0, 0.0), traced.ground_tile_size, traced.ground_pattern, footprint);
-    return lit_radiance(q, n, mix(traced.ground_albedo, traced.ground_pattern_color, w), true);
+    let albedo = mix(traced.ground_albedo, traced.ground_pattern_color, w);
+    let m = Material(albedo, traced.ground_roughness, traced.ground_metalness, traced.ground_specular);
+    return lit_radiance(q, n, v, m, true);
 }
 
 // What a traced ray o + t·d meets first, ground (within t_ground) or an
@@ -96,7 +97,7 @@ fn traced_scene(o: vec3<f32>, d: vec3<f32>, t_ground: f32, before: f32, pixel_an
         return vec4<f32>(object_radiance(o, d, obj, pixel_angle * (before + obj.t)), obj.t);
     }
     if (t_ground < NO_ROOT) {
-        return vec4<f32>(ground_radiance(o + d * t_ground, pixel_angle * (before + t_ground)), t_ground);
+        return vec4<f32>(ground_radiance(o + d * t_ground, -d, pixel_angle * (before + t_ground)), t_ground);
     }
     return vec4<f32>(0.0, 0.0, 0.0, NO_ROOT);
 }

@@ -14,9 +14,9 @@
 // distant triangles get (grazing views make them sub-pixel).
 // Displacement fades to zero across the outermost displaced ring, where waves
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
-// RING_HALF (grid cells from the centre to a ring's edge), DISPLACED_RINGS and
-// SKY_CUBE_SIZE are prepended by the pass.
-#import constants, frame, optics, sky_model, sky_bindings, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits, water_traced, water_foam
+// RING_HALF (grid cells from the centre to a ring's edge) and DISPLACED_RINGS
+// are prepended by the pass.
+#import constants, frame, optics, sky_model, sky_bindings, pbr, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits, water_traced, water_foam
 
 // Inputs of the water pass (group 2), rebuilt with the render targets. Seen
 // from the air: the scene above the water mirrored (reflection) and the
@@ -292,10 +292,12 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let variance = s.slope_variance + frame.surface.unresolved_variance;
     let sigma = sqrt(variance.x + variance.y);
 
-    // Sky reflection, blurred by the slope spread (a slope σ spreads reflected rays by ~2σ).
+    // Sky reflection over the pixel's slopes: the sky cube filtered for the
+    // GGX lobe of the same mean square slope (α² = σx² + σy², as for
+    // Beckmann's; perceptual roughness √α), the lobe opaque surfaces use.
     var r = reflect(-v, n);
     r.y = abs(r.y);
-    let lod = clamp(log2(2.0 * sigma * SKY_CUBE_SIZE / (0.5 * PI)), 0.0, 8.0);
+    let lod = specular_cube_lod(sqrt(sigma));
     let sky_reflected = textureSampleLevel(sky_cube, sky_sampler, r, lod).rgb * exposure();
     // Traced water looks nothing up in the reflection texture (a traced
     // frame does not draw it): it traces its reflection below.
