@@ -17,6 +17,7 @@ pub mod godrays;
 pub mod irradiance;
 pub mod medium;
 pub mod npy;
+pub mod occlusion;
 pub mod optics;
 pub mod path;
 pub mod pbr;

@@ -6,8 +6,8 @@
 
 use crate::formats::{REFRACTION_MARGIN, STENCIL_AIR, STENCIL_WATER};
 use crate::uniforms::{
-    FrameCaustics, FrameFog, FrameLight, FrameModes, FrameObjects, FrameProjective, FrameShadow,
-    FrameSurface, FrameUniforms, FrameView, FrameVolume, FrameWater,
+    FrameCaustics, FrameFog, FrameLight, FrameModes, FrameObjects, FrameOcclusion, FrameProjective,
+    FrameShadow, FrameSurface, FrameUniforms, FrameView, FrameVolume, FrameWater,
 };
 use glam::{Mat4, Vec3};
 use hydrolux_core::camera::Camera;
@@ -51,6 +51,8 @@ pub(crate) struct World {
     /// The caustic map, and the objects' light paths, still match the scene.
     pub caustics_current: bool,
     pub object_light_current: bool,
+    /// The ambient occluders where they are now (`hydrolux_core::occlusion`).
+    pub occlusion: FrameOcclusion,
 }
 
 /// Floor caustics this frame.
@@ -319,6 +321,7 @@ impl FramePlan {
                     .into(),
                 _pad0: 0.0,
             },
+            occlusion: world.occlusion,
             objects: FrameObjects {
                 light_view_proj: self
                     .object_light
@@ -467,6 +470,7 @@ mod tests {
             unresolved_variance: [1e-3, 1e-3],
             shadow_resolution: 1024,
             object_light_resolution: 1,
+            occlusion: FrameOcclusion::default(),
             sky,
             sky_irradiance: sky_irradiance_up(&hydrolux_core::sky::Sky::new(sky)),
             sky_light: hydrolux_core::irradiance::sky_light(&hydrolux_core::sky::Sky::new(sky)),

@@ -233,6 +233,7 @@ impl Techniques {
             sky_light: self.sky.light,
             caustics_current: self.caustics.current,
             object_light_current: self.water_objects.current && !shared.geometry.refractive_moved(),
+            occlusion: crate::uniforms::FrameOcclusion::of(&shared.geometry.occluders()),
         }
     }
 

@@ -244,6 +244,42 @@ uniform! { FrameObjects;
     }
 }
 
+uniform! { Occluder;
+    /// One ambient occluder (shaders/frame.wgsl; `hydrolux_core::occlusion::Occluder::packed`).
+    pub(crate) struct Occluder {
+        /// Centre (m), and the shape: 0 a sphere, 1 a box.
+        pub centre: [f32; 4],
+        /// A box's half-axes (m); a sphere's radius in `axis_x.w`.
+        pub axis_x: [f32; 4],
+        pub axis_y: [f32; 4],
+        pub axis_z: [f32; 4],
+    }
+}
+
+uniform! { FrameOcclusion;
+    /// The ambient occluders (shaders/occlusion.wgsl).
+    pub(crate) struct FrameOcclusion {
+        pub count: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+        pub occluders: [Occluder; hydrolux_core::occlusion::MAX_OCCLUDERS],
+    }
+}
+
+impl FrameOcclusion {
+    /// The occluders as the GPU holds them (the first `MAX_OCCLUDERS`).
+    pub fn of(occluders: &[hydrolux_core::occlusion::Occluder]) -> Self {
+        let mut o = FrameOcclusion::default();
+        for (slot, occluder) in o.occluders.iter_mut().zip(occluders) {
+            let [centre, axis_x, axis_y, axis_z] = occluder.packed();
+            *slot = Occluder { centre, axis_x, axis_y, axis_z };
+            o.count += 1;
+        }
+        o
+    }
+}
+
 uniform! { Frame;
     /// WGSL `Frame` (shaders/frame.wgsl): group 0, binding 0 of every render pass.
     pub(crate) struct FrameUniforms {
@@ -257,6 +293,7 @@ uniform! { Frame;
         pub volume: FrameVolume,
         pub fog: FrameFog,
         pub objects: FrameObjects,
+        pub occlusion: FrameOcclusion,
         pub modes: FrameModes,
     }
 }
@@ -288,7 +325,9 @@ uniform! { Object;
         pub roughness: f32,
         pub metalness: f32,
         pub specular: f32,
-        pub _pad0: u32,
+        /// Its place among the frame's ambient occluders (so that it does
+        /// not occlude itself), or `occlusion::NO_OCCLUDER`.
+        pub occluder: u32,
         pub _pad1: u32,
         pub _pad2: u32,
     }

@@ -17,6 +17,10 @@ pub struct SceneObject {
     pub material: MaterialDesc,
     /// World-space box that casts shadows (`None`: casts none, e.g. the flat floor).
     pub shadow_bounds: Option<(Vec3, Vec3)>,
+    /// Its shape as an ambient occluder (`crate::occlusion`): opaque
+    /// spheres, boxes and cylinders; `None` for meshes, planes, the floor,
+    /// clear objects.
+    pub occluder: Option<crate::occlusion::Shape>,
 }
 
 /// Half-side of the flat floor and of the terrain's skirt (m).
@@ -61,6 +65,37 @@ fn flat_floor(depth: f32) -> Mesh {
 }
 
 impl Scene {
+    /// An object's shape as an ambient occluder (`crate::occlusion`):
+    /// opaque spheres, boxes and cylinders; not meshes, planes or clear
+    /// objects.
+    pub fn occluder_shape(o: &super::ObjectDesc) -> Option<crate::occlusion::Shape> {
+        use crate::occlusion::Shape;
+        match o.primitive {
+            _ if !o.mesh.is_empty() || o.material.ior > 0.0 => None,
+            Primitive::Box => Some(Shape::Box),
+            Primitive::Sphere => Some(Shape::Sphere),
+            Primitive::Cylinder => Some(Shape::Cylinder),
+            Primitive::Plane => None,
+        }
+    }
+
+    /// Each object's place among the occluders the GPU holds (the first
+    /// `MAX_OCCLUDERS` occluding objects, in order), so that a surface does
+    /// not occlude itself; `NO_OCCLUDER` for the rest.
+    pub fn occluder_slots(&self) -> Vec<u32> {
+        let mut next = 0u32;
+        self.objects
+            .iter()
+            .map(|o| match Scene::occluder_shape(o) {
+                Some(_) if (next as usize) < crate::occlusion::MAX_OCCLUDERS => {
+                    next += 1;
+                    next - 1
+                }
+                _ => crate::occlusion::NO_OCCLUDER,
+            })
+            .collect()
+    }
+
     /// The terrain floor, if the floor is one (reads a heightmap file).
     pub fn terrain(&self) -> Result<Option<Terrain>, AssetError> {
         let f = &self.floor;
@@ -150,6 +185,7 @@ impl Scene {
                     transform: Mat4::IDENTITY,
                     material: f.material.clone(),
                     shadow_bounds: None,
+                    occluder: None,
                 });
             }
             TerrainKind::None => {}
@@ -167,6 +203,7 @@ impl Scene {
                     transform: Mat4::IDENTITY,
                     material: f.material.clone(),
                     shadow_bounds: Some(bounds),
+                    occluder: None,
                 });
             }
         }
@@ -184,12 +221,14 @@ impl Scene {
             let transform = Scene::object_transform(o);
             let shadow_bounds = mesh.bounds(&transform);
             let name = if o.name.is_empty() { format!("objects[{i}]") } else { o.name.clone() };
+            let occluder = Scene::occluder_shape(o);
             out.push(SceneObject {
                 name,
                 mesh,
                 transform,
                 material: o.material.clone(),
                 shadow_bounds,
+                occluder,
             });
         }
         Ok(out)

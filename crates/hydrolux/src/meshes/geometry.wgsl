@@ -85,5 +85,5 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     // The sun, plus what refractive objects bend onto this point.
     let material = Material(albedo, object.roughness, object.metalness, object.specular);
     let v = normalize(view.eye - in.world);
-    return vec4<f32>(air_surface_radiance(material, n, v, visibility + object_caustic(in.world)), 1.0);
+    return vec4<f32>(air_surface_radiance(material, in.world, n, v, visibility + object_caustic(in.world), object.occluder), 1.0);
 }

@@ -26,7 +26,8 @@ struct Object {
     roughness: f32,
     metalness: f32,
     specular: f32,
-    _pad0: u32,
+    // Its place among frame.occlusion's occluders (none: 0xffffffff).
+    occluder: u32,
     _pad1: u32,
     _pad2: u32,
 }

@@ -70,6 +70,8 @@ struct GpuObject {
     caster: Option<(glam::Vec3, glam::Vec3)>,
     /// A clear refractive object (`material.ior` > 0): drawn by water_object.
     refractive: bool,
+    /// Its shape as an ambient occluder, if it is one.
+    occluder: Option<hydrolux_core::occlusion::Shape>,
 }
 
 /// Which of the scene's objects a draw covers.
@@ -118,6 +120,17 @@ impl SceneGeometry {
 
     /// The union of the clear refractive objects' boxes where they are now
     /// (`None`: there are none): their light view follows them.
+    /// The ambient occluders where they are now (the first
+    /// `MAX_OCCLUDERS`).
+    pub fn occluders(&self) -> Vec<hydrolux_core::occlusion::Occluder> {
+        use hydrolux_core::occlusion::{MAX_OCCLUDERS, Occluder};
+        self.objects
+            .iter()
+            .filter_map(|o| o.occluder.map(|shape| Occluder::placed(shape, &o.model.get())))
+            .take(MAX_OCCLUDERS)
+            .collect()
+    }
+
     pub fn refractive_bounds(&self) -> Option<(glam::Vec3, glam::Vec3)> {
         self.bounds_where(|o| o.refractive)
     }
@@ -319,7 +332,11 @@ impl GeometryPass {
     ) -> Result<SceneGeometry, AssetError> {
         let built = scene.build_geometry()?;
         let (mut vertices, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
-        for o in &built {
+        // The floor or terrain comes first, then the scene's objects in order.
+        use hydrolux_core::occlusion::NO_OCCLUDER;
+        let slots = scene.occluder_slots();
+        let first_scene_object = built.len() - scene.objects.len();
+        for (built_index, o) in built.iter().enumerate() {
             let base_vertex = vertices.len() as i32;
             let first = indices.len() as u32;
             vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).zip(&o.mesh.uvs).map(
@@ -354,7 +371,9 @@ impl GeometryPass {
                 roughness: m.roughness,
                 metalness: m.metalness,
                 specular: m.specular,
-                _pad0: 0,
+                occluder: built_index
+                    .checked_sub(first_scene_object)
+                    .map_or(NO_OCCLUDER, |i| slots[i]),
                 _pad1: 0,
                 _pad2: 0,
             };
@@ -385,6 +404,7 @@ impl GeometryPass {
                 model: std::cell::Cell::new(o.transform),
                 caster: o.shadow_bounds.and(o.mesh.bounds(&glam::Mat4::IDENTITY)),
                 refractive: m.ior > 0.0,
+                occluder: o.occluder,
             });
         }
         // wgpu wants non-empty buffers.
@@ -496,7 +516,7 @@ impl GeometryPass {
             roughness: 0.5,
             metalness: 0.0,
             specular: 0.5,
-            _pad0: 0,
+            occluder: hydrolux_core::occlusion::NO_OCCLUDER,
             _pad1: 0,
             _pad2: 0,
         };

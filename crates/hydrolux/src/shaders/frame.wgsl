@@ -163,6 +163,25 @@ struct FrameObjects {
     _pad1: f32,
 }
 
+// An ambient occluder (hydrolux_core::occlusion::Occluder::packed).
+struct Occluder {
+    // Centre (m); w the shape: 0 a sphere, 1 a box.
+    centre: vec4<f32>,
+    // A box's half-axes (m); a sphere's radius in axis_x.w.
+    axis_x: vec4<f32>,
+    axis_y: vec4<f32>,
+    axis_z: vec4<f32>,
+}
+
+// The scene's ambient occluders where they are now (shaders/occlusion.wgsl).
+struct FrameOcclusion {
+    count: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    occluders: array<Occluder, 32>,
+}
+
 // Choices made by the scene.
 struct FrameModes {
     // 0 exact, 1 Schlick, 2 Jensen–Goliáš, 3 power.
@@ -193,6 +212,7 @@ struct Frame {
     volume: FrameVolume,
     fog: FrameFog,
     objects: FrameObjects,
+    occlusion: FrameOcclusion,
     modes: FrameModes,
 }
 

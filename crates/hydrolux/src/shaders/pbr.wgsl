@@ -7,7 +7,7 @@
 // split sum's directional albedo for the specular part (Karis 2013). The
 // diffuse part keeps what the specular part does not take; metals have none.
 // Twin: hydrolux-core pbr (environment_radiance, specular_brdf).
-#import constants, frame, lighting, sky_bindings
+#import constants, frame, lighting, sky_bindings, occlusion
 
 // hydrolux_core::pbr::{ENVIRONMENT_TABLE_SIZE, SPECULAR_LEVELS, MIN_ROUGHNESS}
 // (a test keeps them equal).
@@ -87,23 +87,26 @@ fn environment_specular(r: vec3<f32>, roughness: f32) -> vec3<f32> {
     return mix(sky_part, below_horizon_radiance(), below);
 }
 
-// What an opaque surface in the air sends towards v (unit, from the surface
-// to the eye) with normal n: the sun (times `sun_factor`, its visibility
-// and what else bends light onto the point) and the sky, each diffuse and
-// specular.
-fn air_surface_radiance(m: Material, n: vec3<f32>, v: vec3<f32>, sun_factor: vec3<f32>) -> vec3<f32> {
+// What an opaque surface in the air at p sends towards v (unit, from the
+// surface to the eye) with normal n: the sun (times `sun_factor`, its
+// visibility and what else bends light onto the point) and the sky — less
+// what the scene's primitives but its own (`own_occluder`) hide of it
+// (shaders/occlusion.wgsl) — each diffuse and specular.
+fn air_surface_radiance(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, sun_factor: vec3<f32>, own_occluder: u32) -> vec3<f32> {
     let n_v = clamp(dot(n, v), 1e-4, 1.0);
     let roughness = max(m.roughness, MIN_ROUGHNESS);
     let f0 = material_f0(m);
     let f90 = material_f90(f0);
     let split = environment_lookup(n_v, roughness);
     let specular_albedo = f0 * split.x + f90 * split.y;
-    let diffuse = m.base_color * (1.0 - specular_albedo) * (1.0 - m.metalness) / PI * air_irradiance(n, sun_factor);
-    // The cube at the surface's own roughness: a mirror reads the sky itself.
-    let sky_specular = environment_specular(reflect(-v, n), m.roughness) * specular_albedo;
-    // The sun's specular: GGX widened to at least the sun disc's radius.
     let l = frame.light.sun_dir;
     let n_l = max(dot(n, l), 0.0);
+    let sky_seen = sky_visibility(p, n, own_occluder);
+    let irradiance = frame.light.sun_illuminance * n_l * sun_factor + sky_irradiance(n) * sky_seen;
+    let diffuse = m.base_color * (1.0 - specular_albedo) * (1.0 - m.metalness) / PI * irradiance;
+    // The cube at the surface's own roughness: a mirror reads the sky itself.
+    let sky_specular = environment_specular(reflect(-v, n), m.roughness) * specular_albedo * sky_seen;
+    // The sun's specular: GGX widened to at least the sun disc's radius.
     let h = normalize(l + v);
     let sun_radius = sqrt(max(2.0 * (1.0 - frame.light.cos_sun_radius), 0.0));
     let alpha = max(roughness * roughness, sun_radius);

@@ -274,3 +274,71 @@ fn surfaces_reflect_the_sky_and_the_sun_as_the_twin_says() {
         }
     }
 }
+
+/// Ambient occlusion where objects meet the ground: a grey Lambertian
+/// floor seen from straight above, 0.3 m from a 2 m box and from a 1 m
+/// ball resting on it, in sunlight the object does not block, is lit by
+/// the sun and by the sky's light less the object's form factor — what the
+/// CPU twin (`hydrolux_core::occlusion`, itself checked against ray
+/// casting) leaves of it.
+#[test]
+fn the_ground_beside_an_object_loses_the_sky_it_hides() {
+    use hydrolux::core::irradiance::sky_light;
+    use hydrolux::core::occlusion::{NO_OCCLUDER, Occluder, Shape, sky_visibility};
+    use hydrolux::core::tonemap::exposure_scale;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    // The sun on the far side of the point from the object (−x).
+    let azimuth = [0.0f32, 90.0, 180.0, 270.0]
+        .into_iter()
+        .find(|a| {
+            let s = scene(&["sun.elevation_deg=35", &format!("sun.azimuth_deg={a}")]);
+            s.sun_direction().x < -0.5
+        })
+        .expect("an azimuth puts the sun towards −x");
+    let cases = [
+        ("box", glam::Vec3::new(1.3, 0.0, 0.0), glam::Vec3::splat(2.0), Shape::Box),
+        ("sphere", glam::Vec3::new(0.8, -0.5, 0.0), glam::Vec3::splat(1.0), Shape::Sphere),
+    ];
+    for (primitive, position, scale, shape) in cases {
+        let sets = [
+            "water.model=none".to_string(),
+            "floor.depth=1".to_string(),
+            "floor.material={albedo=[0.5, 0.5, 0.5], pattern=\"none\", specular=0.0}".to_string(),
+            "caustics.method=off".to_string(),
+            "godrays.method=off".to_string(),
+            "sun.elevation_deg=35".to_string(),
+            format!("sun.azimuth_deg={azimuth}"),
+            "camera.position=[0.0, 0.0, 0.001]".to_string(),
+            "camera.look_at=[0.0, -1.0, 0.0]".to_string(),
+            format!(
+                "objects=[{{primitive={primitive:?}, position={:?}, scale={:?}}}]",
+                position.to_array(),
+                scale.to_array()
+            ),
+        ];
+        let s = Scene::load("ocean", &sets).expect("valid scene");
+        let mut r = renderer(&ctx, &s);
+        let target = HeadlessTarget::new(&ctx.device, (33, 33));
+        target.render(&mut r, s.camera(), 0.0).expect("frame");
+        let (w, _, hdr) = r.read_hdr().expect("rendered");
+        let got = glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]);
+        let transform = Scene::object_transform(&s.objects[0]);
+        let p = glam::Vec3::new(0.0, -1.0, 0.0);
+        let seen =
+            sky_visibility(&[Occluder::placed(shape, &transform)], p, glam::Vec3::Y, NO_OCCLUDER);
+        let params = s.sky_params();
+        let exposure = exposure_scale(s.render.exposure);
+        let sun = glam::Vec3::from_slice(&params.sun_illuminance[..3]) * exposure;
+        let sky = sky_light(&Sky::new(params)).irradiance(glam::Vec3::Y) * exposure;
+        let want = 0.5 / std::f32::consts::PI * (sky * seen + sun * s.sun_direction().y);
+        let open = 0.5 / std::f32::consts::PI * (sky + sun * s.sun_direction().y);
+        eprintln!("{primitive}: sky seen {seen}, GPU {got}, twin {want}, without occlusion {open}");
+        assert!(seen < 0.9, "the test should show occlusion: {seen}");
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.01 * want[c] + 1e-3,
+                "{primitive}, channel {c}: GPU {got}, twin {want} (unoccluded {open})"
+            );
+        }
+    }
+}

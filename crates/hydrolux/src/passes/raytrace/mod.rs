@@ -81,7 +81,8 @@ uniform! { TracedObject;
         pub roughness: f32,
         pub metalness: f32,
         pub specular: f32,
-        pub _pad0: u32,
+        /// Its place among the frame's ambient occluders, or `NO_OCCLUDER`.
+        pub occluder: u32,
         pub _pad1: u32,
     }
 }
@@ -141,6 +142,7 @@ fn traceable(scene: &Scene) -> Result<(Vec<(usize, TracedObject)>, TracedMeshes)
     use hydrolux_core::scene::Primitive;
     let mut meshes = TracedMeshes::default();
     let mut out = Vec::new();
+    let slots = scene.occluder_slots();
     for (i, o) in scene.objects.iter().enumerate().filter(|(_, o)| o.material.ior <= 0.0) {
         let (mut mesh_nodes, mut mesh_triangles) = (0, 0);
         let shape = if o.mesh.is_empty() {
@@ -168,7 +170,7 @@ fn traceable(scene: &Scene) -> Result<(Vec<(usize, TracedObject)>, TracedMeshes)
             roughness: m.roughness,
             metalness: m.metalness,
             specular: m.specular,
-            _pad0: 0,
+            occluder: slots[i],
             _pad1: 0,
         };
         out.push((i, object));

@@ -57,7 +57,7 @@ fn traced_sun_visibility(q: vec3<f32>, n: vec3<f32>) -> f32 {
 // surface of its base colour, the light field under the surface with the
 // caustics and the sun's traced shadow (for the ground, the traced
 // photons'); above it, sun and sky, diffuse and specular (shaders/pbr.wgsl).
-fn lit_radiance(q: vec3<f32>, n: vec3<f32>, v: vec3<f32>, m: Material, ground: bool) -> vec3<f32> {
+fn lit_radiance(q: vec3<f32>, n: vec3<f32>, v: vec3<f32>, m: Material, ground: bool, own_occluder: u32) -> vec3<f32> {
     if (q.y < 0.0) {
         var sun_cosine: f32;
         if (ground) {
@@ -67,7 +67,7 @@ fn lit_radiance(q: vec3<f32>, n: vec3<f32>, v: vec3<f32>, m: Material, ground: b
         }
         return m.base_color / PI * underwater_irradiance_sun(-q.y, n, sun_cosine);
     }
-    return air_surface_radiance(m, n, v, vec3<f32>(traced_sun_visibility(q, n)));
+    return air_surface_radiance(m, q, n, v, vec3<f32>(traced_sun_visibility(q, n)), own_occluder);
 }
 
 // A traced object's light at its hit.
@@ -76,7 +76,7 @@ fn object_radiance(o: vec3<f32>, d: vec3<f32>, hit: ObjectHit, footprint: f32) -
     let q = o + d * hit.t;
     let w = pattern_at(q, hit.normal, obj.tile_size, obj.pattern, footprint);
     let m = Material(mix(obj.albedo, obj.pattern_color, w), obj.roughness, obj.metalness, obj.specular);
-    return lit_radiance(q, hit.normal, -d, m, false);
+    return lit_radiance(q, hit.normal, -d, m, false, obj.occluder);
 }
 
 // The light the ground sends back at q towards v, seen over `footprint` metres.
@@ -85,7 +85,7 @@ fn ground_radiance(q: vec3<f32>, v: vec3<f32>, footprint: f32) -> vec3<f32> {
     let w = pattern_at(q, vec3<f32>(0.0, 1.0, 0.0), traced.ground_tile_size, traced.ground_pattern, footprint);
     let albedo = mix(traced.ground_albedo, traced.ground_pattern_color, w);
     let m = Material(albedo, traced.ground_roughness, traced.ground_metalness, traced.ground_specular);
-    return lit_radiance(q, n, v, m, true);
+    return lit_radiance(q, n, v, m, true, 0xffffffffu);
 }
 
 // What a traced ray o + t·d meets first, ground (within t_ground) or an
