@@ -24,6 +24,9 @@ use std::f32::consts::PI;
 
 /// At most this many occluders reach the GPU (the frame's uniform).
 pub const MAX_OCCLUDERS: usize = 32;
+/// The form factor an occluder is skipped below (its enclosing sphere's
+/// bound, (R/d)²).
+pub const NEGLIGIBLE: f32 = 0.002;
 /// The occluder index of a surface that is none of them.
 pub const NO_OCCLUDER: u32 = u32::MAX;
 
@@ -79,6 +82,18 @@ impl Occluder {
             Occluder::Sphere { centre, radius } => sphere_form_factor(centre - p, radius, n),
             Occluder::Box { centre, half_axes } => box_form_factor(centre, half_axes, p, n),
         }
+    }
+
+    /// Whether it can hide as much as [`NEGLIGIBLE`] of the sky above n
+    /// at p, by its enclosing sphere: not when that is too small or far, or
+    /// wholly below the horizon (the GPU skips it then too).
+    pub fn may_occlude(&self, p: Vec3, n: Vec3) -> bool {
+        let (centre, reach) = match *self {
+            Occluder::Sphere { centre, radius } => (centre, radius),
+            Occluder::Box { centre, half_axes: [x, y, z] } => (centre, (x + y + z).length()),
+        };
+        let to_centre = centre - p;
+        reach * reach >= NEGLIGIBLE * to_centre.length_squared() && n.dot(to_centre) >= -reach
     }
 
     /// As the GPU holds it (`Occluder` in shaders/frame.wgsl): the centre
@@ -177,7 +192,7 @@ pub fn sky_visibility(occluders: &[Occluder], p: Vec3, n: Vec3, own: u32) -> f32
     occluders
         .iter()
         .enumerate()
-        .filter(|(i, _)| *i as u32 != own)
+        .filter(|(i, o)| *i as u32 != own && o.may_occlude(p, n))
         .map(|(_, o)| 1.0 - o.form_factor(p, n))
         .product()
 }

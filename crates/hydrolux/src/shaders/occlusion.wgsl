@@ -33,55 +33,72 @@ fn lambert_edge(a: vec3<f32>, b: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
     return select(0.0, acos(clamp(dot(u, v), -1.0, 1.0)) * dot(n, c / max(len, 1e-12)), len > 1e-9);
 }
 
-// A quad's form factor, clipped to the hemisphere above n at p
-// (Sutherland–Hodgman: at most five corners; twin:
-// occlusion::polygon_form_factor).
-fn quad_form_factor(q: array<vec3<f32>, 4>, p: vec3<f32>, n: vec3<f32>) -> f32 {
-    var clipped: array<vec3<f32>, 5>;
-    var count = 0u;
-    for (var i = 0u; i < 4u; i++) {
-        let a = q[i];
-        let b = q[(i + 1u) % 4u];
-        let da = dot(n, a - p);
-        let db = dot(n, b - p);
-        if (da >= 0.0) {
-            clipped[count] = a;
-            count++;
-        }
-        if ((da >= 0.0) != (db >= 0.0) && count < 5u) {
-            clipped[count] = a + (b - a) * (da / (da - db));
-            count++;
-        }
-    }
-    if (count < 3u) {
-        return 0.0;
-    }
-    var sum = 0.0;
-    for (var i = 0u; i < count; i++) {
-        sum += lambert_edge(clipped[i], clipped[(i + 1u) % count], p, n);
-    }
-    return abs(sum) / (2.0 * PI);
+// Lambert's sum over a clipped polygon's edges as its corners come (no
+// array of corners: lavapipe spills dynamically indexed locals to memory).
+struct LambertSum {
+    sum: f32,
+    count: u32,
+    first: vec3<f32>,
+    last: vec3<f32>,
 }
 
-// A box's form factor: its faces turned towards p (twin:
-// occlusion::box_form_factor).
-fn box_form_factor(o: Occluder, p: vec3<f32>, n: vec3<f32>) -> f32 {
-    let axes = array<vec3<f32>, 3>(o.axis_x.xyz, o.axis_y.xyz, o.axis_z.xyz);
-    var total = 0.0;
-    for (var k = 0u; k < 3u; k++) {
-        let a = axes[k];
-        let b = axes[(k + 1u) % 3u];
-        let c = axes[(k + 2u) % 3u];
-        for (var s = 0u; s < 2u; s++) {
-            let side = select(-1.0, 1.0, s == 1u);
-            let face = o.centre.xyz + a * side;
-            // Turned towards p, which is not on its plane (a point on a
-            // face would see that face as its whole sky).
-            if (dot(normalize(a), p - face) * side > 1e-3) {
-                total += quad_form_factor(array<vec3<f32>, 4>(face - b - c, face + b - c, face + b + c, face - b + c), p, n);
-            }
-        }
+fn lambert_add(acc: ptr<function, LambertSum>, x: vec3<f32>, p: vec3<f32>, n: vec3<f32>) {
+    if ((*acc).count == 0u) {
+        (*acc).first = x;
+    } else {
+        (*acc).sum += lambert_edge((*acc).last, x, p, n);
     }
+    (*acc).last = x;
+    (*acc).count += 1u;
+}
+
+// One edge a → b of Sutherland–Hodgman against the plane n·(x − p) = 0:
+// a if it is above, and where the edge crosses.
+fn clip_edge(acc: ptr<function, LambertSum>, a: vec3<f32>, b: vec3<f32>, p: vec3<f32>, n: vec3<f32>) {
+    let da = dot(n, a - p);
+    let db = dot(n, b - p);
+    if (da >= 0.0) {
+        lambert_add(acc, a, p, n);
+    }
+    if ((da >= 0.0) != (db >= 0.0)) {
+        lambert_add(acc, a + (b - a) * (da / (da - db)), p, n);
+    }
+}
+
+// A quad's form factor, clipped to the hemisphere above n at p (twin:
+// occlusion::polygon_form_factor).
+fn quad_form_factor(q0: vec3<f32>, q1: vec3<f32>, q2: vec3<f32>, q3: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    var acc = LambertSum(0.0, 0u, vec3<f32>(0.0), vec3<f32>(0.0));
+    clip_edge(&acc, q0, q1, p, n);
+    clip_edge(&acc, q1, q2, p, n);
+    clip_edge(&acc, q2, q3, p, n);
+    clip_edge(&acc, q3, q0, p, n);
+    if (acc.count < 3u) {
+        return 0.0;
+    }
+    return abs(acc.sum + lambert_edge(acc.last, acc.first, p, n)) / (2.0 * PI);
+}
+
+// The face of ±a of a box (half-axes a, b, c) turned towards p, if p is
+// not on its plane (a point on a face would see that face as its whole
+// sky).
+fn box_faces(centre: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let side = select(-1.0, 1.0, dot(a, p - centre) > 0.0);
+    let face = centre + a * side;
+    if (dot(normalize(a), p - face) * side <= 1e-3) {
+        return 0.0;
+    }
+    return quad_form_factor(face - b - c, face + b - c, face + b + c, face - b + c, p, n);
+}
+
+// A box's form factor: its faces turned towards p — at most one of each
+// opposite pair (twin: occlusion::box_form_factor).
+fn box_form_factor(o: Occluder, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let x = o.axis_x.xyz;
+    let y = o.axis_y.xyz;
+    let z = o.axis_z.xyz;
+    let total = box_faces(o.centre.xyz, x, y, z, p, n) + box_faces(o.centre.xyz, y, z, x, p, n)
+        + box_faces(o.centre.xyz, z, x, y, p, n);
     return min(total, 1.0);
 }
 
@@ -95,6 +112,14 @@ fn sky_visibility(p: vec3<f32>, n: vec3<f32>, own: u32) -> f32 {
             continue;
         }
         let o = frame.occlusion.occluders[i];
+        // Bounded by its enclosing sphere's: skip what cannot hide 0.2% of
+        // the sky, or lies wholly below the horizon.
+        let to_centre = o.centre.xyz - p;
+        let reach = select(o.axis_x.w, length(o.axis_x.xyz + o.axis_y.xyz + o.axis_z.xyz), o.centre.w > 0.5);
+        let d2 = dot(to_centre, to_centre);
+        if (reach * reach < 0.002 * d2 || dot(n, to_centre) < -reach) {
+            continue;
+        }
         var f: f32;
         if (o.centre.w < 0.5) {
             f = sphere_form_factor(o.centre.xyz - p, o.axis_x.w, n);
