@@ -206,7 +206,7 @@ impl Shared {
         let views = ViewSlots {
             main: slot("main view", Winding::Normal),
             reflection: slot("reflection view", Winding::Mirrored),
-            refraction: slot("refraction view", Winding::Normal),
+            refraction: slot("refraction view", Winding::Normal).seeing_below_water(),
             reflection_under: slot("reflection under view", Winding::Mirrored),
             refraction_over: slot("refraction over view", Winding::Normal),
             shadow: slot("shadow view", Winding::Normal),

@@ -49,6 +49,14 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     return shade(in, front);
 }
 
+// The refraction view (clipped to y ≤ 0, drawn only with water): the light
+// field under the surface alone. A software rasteriser runs both sides of a
+// branch, so the air's shading is left out of this entry point entirely.
+@fragment
+fn fs_below(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    return shade_surface(in, front, false);
+}
+
 // The main view through air: through the fog, if any.
 @fragment
 fn fs_air(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
@@ -62,6 +70,12 @@ fn fs_air(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f3
 // The surface's own radiance: material, sun (shadow-mapped), sky, and below
 // the mean water level the light field under the surface.
 fn shade(in: VsOut, front: bool) -> vec4<f32> {
+    return shade_surface(in, front, true);
+}
+
+// As `shade`; without `in_air` (a constant at each call) only the light
+// under the surface.
+fn shade_surface(in: VsOut, front: bool, in_air: bool) -> vec4<f32> {
     if (dot(view.clip_plane.xyz, in.world) + view.clip_plane.w < 0.0) {
         discard;
     }
@@ -78,7 +92,7 @@ fn shade(in: VsOut, front: bool) -> vec4<f32> {
     var albedo = object.albedo * textureSample(albedo_tex, albedo_sampler, in.uv).rgb;
     albedo = mix(albedo, object.pattern_color, pattern_mix(in.world, n));
     let visibility = sun_visibility(in.world, n);
-    if (in.world.y < 0.0 && has_water()) {
+    if (!in_air || (in.world.y < 0.0 && has_water())) {
         let irradiance = underwater_irradiance(-in.world.y, n, visibility * caustic_factor(in.world));
         return vec4<f32>(albedo / PI * irradiance, 1.0);
     }

@@ -37,9 +37,16 @@ pub struct ViewSlot {
     buffer: wgpu::Buffer,
     group: wgpu::BindGroup,
     pub winding: Winding,
+    /// It sees only what lies under the water (the refraction view).
+    pub below_water: bool,
 }
 
 impl ViewSlot {
+    /// This view sees only what lies under the water.
+    pub fn seeing_below_water(self) -> Self {
+        ViewSlot { below_water: true, ..self }
+    }
+
     pub fn write(
         &self,
         queue: &wgpu::Queue,
@@ -182,6 +189,8 @@ pub struct GeometryPass {
     object_layout: wgpu::BindGroupLayout,
     /// Offscreen views (reflection, refraction): plain depth.
     offscreen: wgpu::RenderPipeline,
+    /// The refraction view: the light under the surface alone (`fs_below`).
+    offscreen_below: wgpu::RenderPipeline,
     offscreen_mirrored: wgpu::RenderPipeline,
     /// The main view, per medium (stencil reference): seen through air, or
     /// from inside the water (attenuated and in-scattered on the way).
@@ -304,6 +313,7 @@ impl GeometryPass {
             view_layout,
             object_layout,
             offscreen: colour(wgpu::FrontFace::Ccw, &offscreen_depth, "fs_main"),
+            offscreen_below: colour(wgpu::FrontFace::Ccw, &offscreen_depth, "fs_below"),
             offscreen_mirrored: colour(wgpu::FrontFace::Cw, &offscreen_depth, "fs_main"),
             main_air: colour(wgpu::FrontFace::Ccw, &main_depth, "fs_air"),
             main_water: colour(wgpu::FrontFace::Ccw, &main_depth, "fs_underwater"),
@@ -320,7 +330,7 @@ impl GeometryPass {
             layout: &self.view_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
         });
-        ViewSlot { buffer, group, winding }
+        ViewSlot { buffer, group, winding, below_water: false }
     }
 
     /// Build every mesh, texture and per-object uniform of `scene`.
@@ -445,6 +455,8 @@ impl GeometryPass {
     ) {
         pass.set_pipeline(if view.winding == Winding::Mirrored {
             &self.offscreen_mirrored
+        } else if view.below_water {
+            &self.offscreen_below
         } else {
             &self.offscreen
         });
