@@ -2,6 +2,31 @@
 
 use super::harness::*;
 
+/// A dry scene for a test's own settings `extra`: no water, caustics or god
+/// rays, the floor 1 m down, the sun 35° high.
+fn dry_scene(extra: &[String]) -> Scene {
+    let mut sets: Vec<String> = [
+        "water.model=none",
+        "floor.depth=1",
+        "caustics.method=off",
+        "godrays.method=off",
+        "sun.elevation_deg=35",
+    ]
+    .map(String::from)
+    .to_vec();
+    sets.extend_from_slice(extra);
+    Scene::load("ocean", &sets).expect("valid scene")
+}
+
+/// The HDR radiance at the centre of a 33×33 frame of `s`, and its renderer.
+fn centre_radiance(ctx: &GpuContext, s: &Scene) -> (glam::Vec3, Renderer) {
+    let mut r = renderer(ctx, s);
+    let target = HeadlessTarget::new(&ctx.device, (33, 33));
+    target.render(&mut r, s.camera(), 0.0).expect("frame");
+    let (w, _, hdr) = r.read_hdr().expect("rendered");
+    (glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]), r)
+}
+
 /// The whole chain on the GPU (the atmosphere's transmittance and
 /// multiple-scattering tables and the sky-view table, each texel within 1%,
 /// then the cube map) against the same chain on the CPU
@@ -90,22 +115,13 @@ fn objects_are_lit_by_the_sky_around_them() {
     ];
     for (azimuth, eye, at, normal) in cases {
         let sets = [
-            "water.model=none".to_string(),
-            "floor.depth=1".to_string(),
-            "caustics.method=off".to_string(),
-            "godrays.method=off".to_string(),
-            "sun.elevation_deg=35".to_string(),
             format!("sun.azimuth_deg={azimuth}"),
             format!("camera.position={eye:?}"),
             format!("camera.look_at={at:?}"),
             "objects=[{primitive=\"box\", position=[0.0, 1.0, 0.0], scale=[2.0, 2.0, 2.0], material={albedo=[0.8, 0.8, 0.8], specular=0.0}}]".to_string(),
         ];
-        let s = Scene::load("ocean", &sets).expect("valid scene");
-        let mut r = renderer(&ctx, &s);
-        let target = HeadlessTarget::new(&ctx.device, (33, 33));
-        target.render(&mut r, s.camera(), 0.0).expect("frame");
-        let (w, _, hdr) = r.read_hdr().expect("rendered");
-        let got = glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]);
+        let s = dry_scene(&sets);
+        let (got, _) = centre_radiance(&ctx, &s);
         let params = s.sky_params();
         let sky = Sky::new(params);
         let exposure = exposure_scale(s.render.exposure);
@@ -140,11 +156,6 @@ fn distant_objects_fade_into_the_horizon_by_the_airs_extinction() {
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
     let face = |z: f32, size: f32| {
         let sets = [
-            "water.model=none".to_string(),
-            "floor.depth=1".to_string(),
-            "caustics.method=off".to_string(),
-            "godrays.method=off".to_string(),
-            "sun.elevation_deg=35".to_string(),
             "sun.azimuth_deg=-90".to_string(),
             "camera.position=[0.0, 1.0, 4.0]".to_string(),
             "camera.look_at=[0.0, 1.0, 0.0]".to_string(),
@@ -152,15 +163,12 @@ fn distant_objects_fade_into_the_horizon_by_the_airs_extinction() {
                 "objects=[{{primitive=\"box\", position=[0.0, 1.0, {z:?}], scale=[{size:?}, {size:?}, {size:?}], material={{albedo=[0.8, 0.8, 0.8]}}}}]"
             ),
         ];
-        let s = Scene::load("ocean", &sets).expect("valid scene");
-        let mut r = renderer(&ctx, &s);
-        let target = HeadlessTarget::new(&ctx.device, (33, 33));
-        target.render(&mut r, s.camera(), 0.0).expect("frame");
-        let (w, _, hdr) = r.read_hdr().expect("rendered");
+        let s = dry_scene(&sets);
+        let (centre, r) = centre_radiance(&ctx, &s);
         let horizon_dir = glam::Vec3::new(0.0, 0.01, -1.0).normalize();
         let horizon = glam::Vec3::from(r.probe_sky(&[horizon_dir.into()])[0]);
         let exposure = exposure_scale(s.render.exposure);
-        (glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]), horizon * exposure, s)
+        (centre, horizon * exposure, s)
     };
     let (near, _, _) = face(0.0, 2.0);
     let (far, horizon, s) = face(-2000.0, 400.0);
@@ -230,11 +238,6 @@ fn surfaces_reflect_the_sky_and_the_sun_as_the_twin_says() {
         [(1.0f32, 0.0f32, 1.0f32), (0.9, 0.4, 1.0), (0.5, 0.4, 0.0)]
     {
         let sets = [
-            "water.model=none".to_string(),
-            "floor.depth=1".to_string(),
-            "caustics.method=off".to_string(),
-            "godrays.method=off".to_string(),
-            "sun.elevation_deg=35".to_string(),
             "sun.azimuth_deg=60".to_string(),
             "camera.position=[0.0, 1.0, 2.0]".to_string(),
             "camera.look_at=[0.0, -1.0, 0.0]".to_string(),
@@ -242,12 +245,8 @@ fn surfaces_reflect_the_sky_and_the_sun_as_the_twin_says() {
                 "floor.material={{albedo=[{albedo:?}, {albedo:?}, {albedo:?}], pattern=\"none\", roughness={roughness:?}, metalness={metalness:?}}}"
             ),
         ];
-        let s = Scene::load("ocean", &sets).expect("valid scene");
-        let mut r = renderer(&ctx, &s);
-        let target = HeadlessTarget::new(&ctx.device, (33, 33));
-        target.render(&mut r, s.camera(), 0.0).expect("frame");
-        let (w, _, hdr) = r.read_hdr().expect("rendered");
-        let got = glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]);
+        let s = dry_scene(&sets);
+        let (got, r) = centre_radiance(&ctx, &s);
         let exposure = exposure_scale(s.render.exposure);
         let (n, v) = (glam::Vec3::Y, glam::Vec3::new(0.0, 1.0, 1.0).normalize());
         let mirror = 2.0 * n.dot(v) * n - v;
@@ -301,12 +300,7 @@ fn the_ground_beside_an_object_loses_the_sky_it_hides() {
     ];
     for (primitive, position, scale, shape) in cases {
         let sets = [
-            "water.model=none".to_string(),
-            "floor.depth=1".to_string(),
             "floor.material={albedo=[0.5, 0.5, 0.5], pattern=\"none\", specular=0.0}".to_string(),
-            "caustics.method=off".to_string(),
-            "godrays.method=off".to_string(),
-            "sun.elevation_deg=35".to_string(),
             format!("sun.azimuth_deg={azimuth}"),
             "camera.position=[0.0, 0.0, 0.001]".to_string(),
             "camera.look_at=[0.0, -1.0, 0.0]".to_string(),
@@ -316,12 +310,8 @@ fn the_ground_beside_an_object_loses_the_sky_it_hides() {
                 scale.to_array()
             ),
         ];
-        let s = Scene::load("ocean", &sets).expect("valid scene");
-        let mut r = renderer(&ctx, &s);
-        let target = HeadlessTarget::new(&ctx.device, (33, 33));
-        target.render(&mut r, s.camera(), 0.0).expect("frame");
-        let (w, _, hdr) = r.read_hdr().expect("rendered");
-        let got = glam::Vec3::from_slice(&hdr[16 * w as usize + 16][..3]);
+        let s = dry_scene(&sets);
+        let (got, _) = centre_radiance(&ctx, &s);
         let transform = Scene::object_transform(&s.objects[0]);
         let p = glam::Vec3::new(0.0, -1.0, 0.0);
         let seen =

@@ -268,61 +268,43 @@ impl SkyPass {
             ],
         });
         let tables = Tables::new(device, &params);
-        let level0 = cube.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            base_mip_level: 0,
-            mip_level_count: Some(1),
-            ..Default::default()
-        });
-        let bake_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sky bake"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&level0),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&tables.sky_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&tables.sampler),
-                },
-            ],
-        });
+        // One level of the cube as a storage array, and the group that
+        // writes it from the sky-view table (the bake's level 0, the
+        // prefilter's others).
+        let level_group = |level: u32, label: &str| {
+            let view = cube.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                base_mip_level: level,
+                mip_level_count: Some(1),
+                ..Default::default()
+            });
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(&view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&tables.sky_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::Sampler(&tables.sampler),
+                    },
+                ],
+            })
+        };
+        let bake_group = level_group(0, "sky bake");
         let module = shader(device, "sky bake", &bake_source());
         let bake = compute_pipeline(device, "sky bake", &module, "bake", &[&layout]);
         let prefilter = compute_pipeline(device, "sky prefilter", &module, "prefilter", &[&layout]);
         let prefilter_levels = (1..cube.mip_level_count())
             .map(|level| {
-                let view = cube.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2Array),
-                    base_mip_level: level,
-                    mip_level_count: Some(1),
-                    ..Default::default()
-                });
-                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("sky prefilter level"),
-                    layout: &layout,
-                    entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(&view),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: wgpu::BindingResource::TextureView(&tables.sky_view),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: wgpu::BindingResource::Sampler(&tables.sampler),
-                        },
-                    ],
-                });
+                let group = level_group(level, "sky prefilter level");
                 (group, (CUBE_SIZE >> level).max(1))
             })
             .collect();
