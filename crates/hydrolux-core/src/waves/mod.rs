@@ -5,6 +5,7 @@ pub mod dispersion;
 pub mod heightfield;
 pub mod ocean;
 pub mod ripples;
+pub mod sea_brdf;
 pub mod sines;
 pub mod spectrum;
 
