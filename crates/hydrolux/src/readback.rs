@@ -136,6 +136,19 @@ impl Renderer {
         self.probe_surface(&[p])[0].displacement[1]
     }
 
+    /// The far sea's BRDF as the water pass evaluates it, per query: [mean
+    /// Fresnel over the visible facets, the direction the sky is looked up
+    /// about (xyz), the sun's glitter per unit irradiance]. Needs a frame's
+    /// uniforms ([`Renderer::simulate`]) for the power mode's exponent.
+    pub fn probe_sea_brdf(&self, queries: &[crate::probe::SeaBrdfQuery]) -> Vec<[f32; 5]> {
+        self.probe.sea_brdf(
+            self.device(),
+            self.queue(),
+            [&self.bound.globals, &self.bound.surface],
+            queries,
+        )
+    }
+
     /// Fresnel reflectance as the shaders compute it for (cos θi, n1, n2), in
     /// every mode: [exact, Schlick, Jensen–Goliáš, power (`water.fresnel_power`)].
     /// Needs a frame's uniforms ([`Renderer::simulate`]) for the exponent.

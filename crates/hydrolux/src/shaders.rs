@@ -13,6 +13,7 @@ const MODULES: &[(&str, &str)] = &[
     ("optics", include_str!("shaders/optics.wgsl")),
     ("lighting", include_str!("shaders/lighting.wgsl")),
     ("pbr", include_str!("shaders/pbr.wgsl")),
+    ("sea_brdf", include_str!("shaders/sea_brdf.wgsl")),
     ("occlusion", include_str!("shaders/occlusion.wgsl")),
     ("complex", include_str!("shaders/complex.wgsl")),
     ("sky_model", include_str!("shaders/sky_model.wgsl")),

@@ -18,6 +18,7 @@ pub struct ProbePass {
     surface: wgpu::ComputePipeline,
     sky: wgpu::ComputePipeline,
     fresnel: wgpu::ComputePipeline,
+    sea_brdf: wgpu::ComputePipeline,
     spray: wgpu::ComputePipeline,
 }
 
@@ -52,6 +53,7 @@ impl ProbePass {
             surface: p("probe_surface"),
             sky: p("probe_sky"),
             fresnel: p("probe_fresnel"),
+            sea_brdf: p("probe_sea_brdf"),
             spray: p("probe_spray"),
             model,
             layout,
@@ -151,6 +153,34 @@ impl ProbePass {
             .collect()
     }
 
+    /// The far sea's BRDF as the water shades it (`shaders/sea_brdf.wgsl`)
+    /// for each (v, l, mean slope, slope variance) with the Fresnel `mode`
+    /// (0 exact, 1 Schlick, 2 Jensen–Goliáš, 3 power) and index `ior`:
+    /// [mean Fresnel, mirrored direction (xyz), glitter per unit irradiance].
+    pub fn sea_brdf(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        groups: [&wgpu::BindGroup; 2],
+        queries: &[SeaBrdfQuery],
+    ) -> Vec<[f32; 5]> {
+        let pts: Vec<[f32; 4]> = queries
+            .iter()
+            .flat_map(|q| {
+                [
+                    [q.view[0], q.view[1], q.view[2], q.mode as f32],
+                    [q.sun[0], q.sun[1], q.sun[2], q.ior],
+                    [q.mean_slope[0], q.mean_slope[1], q.variance[0], q.variance[1]],
+                ]
+            })
+            .collect();
+        self.run(device, queue, &self.sea_brdf, groups, &pts)
+            .into_iter()
+            .step_by(3)
+            .map(|r| [r[0], r[1], r[2], r[3], r[4]])
+            .collect()
+    }
+
     /// A spray parcel's look at quad point `at` (and a view whose vertical
     /// is `at[1]`): [opacity, optical depth, asymmetry, sky share].
     pub fn spray(
@@ -190,6 +220,18 @@ impl ProbePass {
             .map(|r| [r[0], r[1], r[2]])
             .collect()
     }
+}
+
+/// One evaluation of the far sea's BRDF: towards the eye, towards the sun,
+/// the pixel's slope statistics, the Fresnel formula and the water's index.
+#[derive(Clone, Copy, Debug)]
+pub struct SeaBrdfQuery {
+    pub view: [f32; 3],
+    pub sun: [f32; 3],
+    pub mean_slope: [f32; 2],
+    pub variance: [f32; 2],
+    pub mode: u32,
+    pub ior: f32,
 }
 
 fn no_surface(scene: &hydrolux_core::scene::Scene) -> Option<&'static str> {

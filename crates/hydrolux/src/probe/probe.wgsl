@@ -2,7 +2,7 @@
 // arbitrary points: GPU height queries for users (buoyancy) and the hook the
 // GPU-versus-CPU tests use; the shaders' Fresnel formulas; how a parcel of
 // spray is drawn and lit.
-#import constants, frame, optics, sky_model, sky_bindings, surface, white_water_light
+#import constants, frame, optics, sea_brdf, sky_model, sky_bindings, surface, white_water_light
 
 struct ProbeOut {
     disp: vec4<f32>,
@@ -45,6 +45,24 @@ fn probe_fresnel(@builtin(global_invocation_id) id: vec3<u32>) {
         r[m] = fresnel(m, frame.water.fresnel_power, q.x, q.y, q.z);
     }
     results[id.x] = ProbeOut(r, vec4<f32>(0.0), vec4<f32>(0.0));
+}
+
+// The far sea's BRDF (sea_brdf): points 3i, 3i + 1, 3i + 2 hold (v, mode),
+// (l, ior) and (mean slope, variance); result 3i is (mean Fresnel, the
+// mirrored direction) and (glitter per unit irradiance, 0, 0, 0).
+@compute @workgroup_size(64, 1, 1)
+fn probe_sea_brdf(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (3u * id.x + 2u >= arrayLength(&points)) {
+        return;
+    }
+    let a = points[3u * id.x];
+    let b = points[3u * id.x + 1u];
+    let c = points[3u * id.x + 2u];
+    let mode = u32(a.w);
+    let q = frame.water.fresnel_power;
+    let r = sea_reflection(a.xyz, c.xy, c.zw, mode, q, b.w);
+    let glitter = sea_glitter(a.xyz, b.xyz, c.xy, c.zw, mode, q, b.w);
+    results[3u * id.x] = ProbeOut(vec4<f32>(r.fresnel, r.direction), vec4<f32>(glitter, 0.0, 0.0, 0.0), vec4<f32>(0.0));
 }
 
 // A spray parcel as drawn (white_water_light): points 2i and 2i + 1 hold

@@ -16,7 +16,7 @@
 // are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge) and DISPLACED_RINGS
 // are prepended by the pass.
-#import constants, frame, optics, sky_model, sky_bindings, pbr, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits, water_traced, water_foam
+#import constants, frame, optics, sea_brdf, sky_model, sky_bindings, pbr, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits, water_traced, water_foam
 
 // Inputs of the water pass (group 2), rebuilt with the render targets. Seen
 // from the air: the scene above the water mirrored (reflection) and the
@@ -131,12 +131,6 @@ fn vs_box(@builtin(vertex_index) i: u32) -> VsOut {
 @fragment
 fn fs_depth(in: VsOut) {
     _ = in.world;
-}
-
-// Probability density of facet slopes ζ (Gaussian, per-axis variance σ²).
-fn slope_pdf(zeta: vec2<f32>, variance: vec2<f32>) -> f32 {
-    let v = max(variance, vec2<f32>(1e-5));
-    return exp(-0.5 * (zeta.x * zeta.x / v.x + zeta.y * zeta.y / v.y)) / (TAU * sqrt(v.x * v.y));
 }
 
 // What a refraction texture shows at `uv`: its world position (w = 1), or
@@ -280,22 +274,26 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     if (frame.modes.debug_view == VIEW_FOAM) {
         return foam_view(foam_opacity(foam), n);
     }
-    let cos_v = max(dot(n, v), 1e-3);
     let ior = frame.water.ior;
     let q = frame.water.fresnel_power;
-    let f = fresnel(frame.modes.fresnel, q, cos_v, 1.0, ior);
+    // The pixel's facets (sea_brdf): slopes about the mean normal's, with the
+    // variance resolved by the filtered moments plus the unresolved rest.
+    // Where they are far below a pixel this is the far sea's BRDF; close up
+    // the variance vanishes and it is the mirror of the normal.
+    let mean_slope = -n.xz / n.y;
+    let variance = s.slope_variance + frame.surface.unresolved_variance;
+    let sigma = sqrt(variance.x + variance.y);
+    // Fresnel over the visible facets, and the mean direction they mirror.
+    let sea = sea_reflection(v, mean_slope, variance, frame.modes.fresnel, q, ior);
+    let f = sea.fresnel;
     if (frame.modes.debug_view == VIEW_FRESNEL) {
         return vec4<f32>(f, 1.0, 0.0, 1.0);
     }
 
-    // Slope variance inside the pixel: resolved (moments) + unresolved (sub-grid).
-    let variance = s.slope_variance + frame.surface.unresolved_variance;
-    let sigma = sqrt(variance.x + variance.y);
-
     // Sky reflection over the pixel's slopes: the sky cube filtered for the
     // GGX lobe of the same mean square slope (α² = σx² + σy², as for
     // Beckmann's; perceptual roughness √α), the lobe opaque surfaces use.
-    var r = reflect(-v, n);
+    var r = sea.direction;
     r.y = abs(r.y);
     let lod = specular_cube_lod(sqrt(sigma));
     let sky_reflected = textureSampleLevel(sky_cube, sky_sampler, r, lod).rgb * exposure();
@@ -322,12 +320,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     let l = frame.light.sun_dir;
     var glint = vec3<f32>(0.0);
     if (l.y > 0.0) {
-        let h = normalize(l + v);
-        let zeta = -h.xz / h.y + n.xz / n.y;
-        let cos_h = h.y;
-        let fh = fresnel(frame.modes.fresnel, q, dot(v, h), 1.0, ior);
-        let brdf = fh * slope_pdf(zeta, variance) / (4.0 * cos_v * pow(cos_h, 4.0));
-        glint = frame.light.sun_illuminance * brdf * max(dot(n, l), 0.0) / max(l.y, 1e-3) * l.y;
+        glint = frame.light.sun_illuminance * sea_glitter(v, l, mean_slope, variance, frame.modes.fresnel, q, ior);
         glint *= sun_visibility(in.world, vec3<f32>(0.0, 1.0, 0.0));
     }
 
