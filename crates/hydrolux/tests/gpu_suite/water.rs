@@ -1,16 +1,29 @@
 // GPU tests: Shading the water: Fresnel, the flat-water optics, local reflections and refractions, shadows through the surface, the per-pixel medium, Snell's window.
 
 use super::harness::*;
+use hydrolux::core::optics::FresnelMode;
 
-#[test]
-fn shader_fresnel_matches_cpu_optics_in_every_mode() {
-    use hydrolux::core::optics::{FresnelMode, fresnel};
-    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+/// The shaders' Fresnel modes in their WGSL order, the power mode with the
+/// exponent [`probing_renderer`] sets.
+const FRESNEL_MODES: [FresnelMode; 4] =
+    [FresnelMode::Exact, FresnelMode::Schlick, FresnelMode::JensenGolias, FresnelMode::Power(3.5)];
+
+/// A renderer whose frame uniforms are set (`water.fresnel_power` = 3.5),
+/// for the probes that evaluate the shaders' optics.
+fn probing_renderer(ctx: &GpuContext) -> (Scene, Renderer) {
     let mut sets = SMALL_OCEAN.to_vec();
     sets.push("water.fresnel_power=3.5");
     let s = scene(&sets);
-    let mut r = renderer(&ctx, &s);
+    let mut r = renderer(ctx, &s);
     r.simulate(&s.camera(), (16, 16), 0.0);
+    (s, r)
+}
+
+#[test]
+fn shader_fresnel_matches_cpu_optics_in_every_mode() {
+    use hydrolux::core::optics::fresnel;
+    let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
+    let (_, r) = probing_renderer(&ctx);
     let mut queries = Vec::new();
     for i in 0..=90 {
         let c = (i as f32).to_radians().cos();
@@ -18,12 +31,7 @@ fn shader_fresnel_matches_cpu_optics_in_every_mode() {
             queries.push((c, n1, n2));
         }
     }
-    let modes = [
-        FresnelMode::Exact,
-        FresnelMode::Schlick,
-        FresnelMode::JensenGolias,
-        FresnelMode::Power(3.5),
-    ];
+    let modes = FRESNEL_MODES;
     for (q, g) in queries.iter().zip(r.probe_fresnel(&queries)) {
         for (m, got) in modes.iter().zip(g) {
             let want = fresnel(*m, q.0, q.1, q.2);
@@ -352,24 +360,15 @@ fn snells_window_has_the_critical_angle_and_total_reflection_outside() {
 fn the_far_seas_brdf_matches_the_cpu_twin() {
     use glam::DVec3;
     use hydrolux::SeaBrdfQuery;
-    use hydrolux::core::optics::{FresnelMode, fresnel};
+    use hydrolux::core::optics::fresnel;
     use hydrolux::core::waves::sea_brdf::{SlopeStatistics, filtered_reflection, sun_glitter};
     let ctx = gpu().lock().unwrap_or_else(|e| e.into_inner());
-    let mut sets = SMALL_OCEAN.to_vec();
-    sets.push("water.fresnel_power=3.5");
-    let s = scene(&sets);
-    let mut r = renderer(&ctx, &s);
-    r.simulate(&s.camera(), (16, 16), 0.0);
+    let (s, r) = probing_renderer(&ctx);
     let dir = |elevation: f64, azimuth: f64| {
         let e = elevation.to_radians();
         DVec3::new(e.cos() * azimuth.cos(), e.sin(), e.cos() * azimuth.sin())
     };
-    let modes = [
-        FresnelMode::Exact,
-        FresnelMode::Schlick,
-        FresnelMode::JensenGolias,
-        FresnelMode::Power(3.5),
-    ];
+    let modes = FRESNEL_MODES;
     let mut queries = Vec::new();
     let mut cases = Vec::new();
     for (i, elevation) in [1.0, 3.0, 8.0, 20.0, 50.0, 85.0].into_iter().enumerate() {
