@@ -167,7 +167,7 @@ pub fn filtered_reflection(
         // Every facet faces away (the eye below the mean surface's horizon):
         // the mean normal's answer.
         let c = mean_normal.dot(v).max(0.0);
-        return FilteredReflection { fresnel: fresnel(c), direction: reflect(-v, mean_normal) };
+        return FilteredReflection { fresnel: fresnel(c), direction: (-v).reflect(mean_normal) };
     }
     let step = (hi - lo) / REFLECTION_NODES as f64;
     let (mut weight_sum, mut fresnel_sum, mut direction) = (0.0, 0.0, DVec3::ZERO);
@@ -186,11 +186,11 @@ pub fn filtered_reflection(
         let f = fresnel((tilted.dot(v) / (tilted.length_squared() + across).sqrt()).max(0.0));
         weight_sum += weight;
         fresnel_sum += weight * f;
-        direction += weight * f * reflect(-v, n);
+        direction += weight * f * (-v).reflect(n);
     }
     FilteredReflection {
         fresnel: fresnel_sum / weight_sum.max(1e-30),
-        direction: direction.try_normalize().unwrap_or_else(|| reflect(-v, mean_normal)),
+        direction: direction.try_normalize().unwrap_or_else(|| (-v).reflect(mean_normal)),
     }
 }
 
@@ -219,11 +219,6 @@ pub fn visible_mean_fresnel(
         }
     }
     fresnel_sum / weight_sum.max(1e-30)
-}
-
-/// Mirror `incident` about `n` (WGSL's `reflect`).
-fn reflect(incident: DVec3, n: DVec3) -> DVec3 {
-    incident - 2.0 * incident.dot(n) * n
 }
 
 #[cfg(test)]

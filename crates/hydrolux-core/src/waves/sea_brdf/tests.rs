@@ -192,7 +192,7 @@ fn a_distant_patch_averages_to_its_brdf() {
                     SlopeStatistics { mean: [g[0] as f64, g[1] as f64], variance: unresolved };
                 let n = facet.mean_normal();
                 let f = water_fresnel(n.dot(v).max(0.0));
-                reflected += f * sky(reflect(-v, n)) + (1.0 - f) * water;
+                reflected += f * sky((-v).reflect(n)) + (1.0 - f) * water;
                 let lit = hits_surface(hit + n * 1e-3 + l * 1e-3, l, 30.0).is_none();
                 if lit {
                     glitter += sun_glitter(v, l, &facet, water_fresnel);
@@ -208,7 +208,7 @@ fn a_distant_patch_averages_to_its_brdf() {
         let brdf_glitter = sun_glitter(v, l, &patch, water_fresnel);
         let f_mean_normal = water_fresnel(patch.mean_normal().dot(v));
         let mirror =
-            f_mean_normal * sky(reflect(-v, patch.mean_normal())) + (1.0 - f_mean_normal) * water;
+            f_mean_normal * sky((-v).reflect(patch.mean_normal())) + (1.0 - f_mean_normal) * water;
         eprintln!(
             "view at {view_elevation}°: sky and water {reflected:.4} full resolution, {brdf_reflected:.4} BRDF, {mirror:.4} mean normal; glitter {glitter:.4} against {brdf_glitter:.4}"
         );

@@ -280,7 +280,7 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // variance resolved by the filtered moments plus the unresolved rest.
     // Where they are far below a pixel this is the far sea's BRDF; close up
     // the variance vanishes and it is the mirror of the normal.
-    let mean_slope = -n.xz / n.y;
+    let mean_slope = -n.xz / max(n.y, 1e-3);
     let variance = s.slope_variance + frame.surface.unresolved_variance;
     let sigma = sqrt(variance.x + variance.y);
     // Fresnel over the visible facets, and the mean direction they mirror.
