@@ -307,6 +307,39 @@ pub fn pulled_pipeline(
     })
 }
 
+/// Creates `a` on this thread and `b` on a second one, for GPU objects whose
+/// creation is slow on the CPU: a driver compiles a pipeline's shaders when
+/// it is created (lavapipe takes ~0.5 s for the water's fragment shader), and
+/// Vulkan, Metal and D3D12 allow it from several threads. `b`'s wgpu errors
+/// are caught on its own thread (error scopes are per thread) and returned;
+/// `a`'s reach the caller's scope. On wasm32, one after the other.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn create_in_parallel<A, B: Send>(
+    device: &wgpu::Device,
+    during: &str,
+    a: impl FnOnce() -> A,
+    b: impl FnOnce() -> B + Send,
+) -> Result<(A, B), crate::error::RenderError> {
+    std::thread::scope(|scope| {
+        let second = scope
+            .spawn(|| crate::error::catch_gpu_errors(device, || during.to_string(), || Ok(b())));
+        let a = a();
+        let b = second.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))?;
+        Ok((a, b))
+    })
+}
+
+/// [`create_in_parallel`] where there are no threads: one after the other.
+#[cfg(target_arch = "wasm32")]
+pub fn create_in_parallel<A, B>(
+    _device: &wgpu::Device,
+    _during: &str,
+    a: impl FnOnce() -> A,
+    b: impl FnOnce() -> B,
+) -> Result<(A, B), crate::error::RenderError> {
+    Ok((a(), b()))
+}
+
 /// Premultiplied "over" blending into the HDR image (particles, sprites).
 pub fn over_hdr() -> wgpu::ColorTargetState {
     wgpu::ColorTargetState {

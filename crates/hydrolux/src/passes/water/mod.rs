@@ -18,11 +18,15 @@ pub use crate::surface_kind::{BASE_SPACING, DISPLACED_RINGS};
 pub const FAR_HALF: i32 = 4;
 /// The far field's outer edge is this many times the last ring's (≈100 km).
 pub const FAR_SCALE: f32 = 50.0;
+/// The instance index that draws the far field with the rings' pipelines
+/// (`vs_main`); ring levels are below it.
+pub const FAR_LEVEL: u32 = 255;
+const _: () = assert!(DISPLACED_RINGS < FAR_LEVEL);
 
 pub fn source() -> String {
     let consts = format!(
         "const RING_HALF: f32 = {RING_HALF}.0;\nconst FAR_HALF: f32 = {FAR_HALF}.0;\nconst FAR_SCALE: f32 = {FAR_SCALE:?};\n\
-         const DISPLACED_RINGS: u32 = {DISPLACED_RINGS}u;\nconst VOLUME_DEPTH: f32 = {VOLUME_DEPTH:?};\n"
+         const DISPLACED_RINGS: u32 = {DISPLACED_RINGS}u;\nconst FAR_LEVEL: u32 = {FAR_LEVEL}u;\nconst VOLUME_DEPTH: f32 = {VOLUME_DEPTH:?};\n"
     );
     shaders::compose(&consts, include_str!("water.wgsl"))
 }
@@ -141,15 +145,13 @@ pub struct WaterPass {
     full: GridMesh,
     ring: GridMesh,
     far: GridMesh,
-    depth_rings: wgpu::RenderPipeline,
-    depth_far: wgpu::RenderPipeline,
+    /// Each pipeline draws the rings and the far field (`FAR_LEVEL`).
+    depth: wgpu::RenderPipeline,
     /// Shading per medium of the pixel (stencil reference): from the air
     /// (`fs_main`) and from inside the water (`fs_below`).
-    shade_rings: [wgpu::RenderPipeline; 2],
-    shade_far: [wgpu::RenderPipeline; 2],
+    shade: [wgpu::RenderPipeline; 2],
     /// The closed water volume into the stencil (seed 000 §4.2).
-    volume_rings: wgpu::RenderPipeline,
-    volume_far: wgpu::RenderPipeline,
+    volume: wgpu::RenderPipeline,
     volume_box: wgpu::RenderPipeline,
     /// Layout of its inputs (the reflection and refraction textures), which
     /// the screen targets bind.
@@ -225,7 +227,7 @@ impl WaterPass {
         model: crate::surface_kind::SurfaceKind,
         traced: crate::passes::raytrace::Traced,
         traced_layout: wgpu::BindGroupLayout,
-    ) -> Self {
+    ) -> Result<Self, crate::error::RenderError> {
         let module = shader(device, "water", &source());
         let mut constants = crate::surface_kind::specialised_to(model).to_vec();
         let tracing = traced.method == hydrolux_core::scene::WaterMethod::Raytrace;
@@ -306,7 +308,23 @@ impl WaterPass {
             },
             bias: Default::default(),
         };
-        WaterPass {
+        // The two shading pipelines hold the largest shader by far: compile
+        // them side by side.
+        let (shade_above, shade_below) = crate::gpu_util::create_in_parallel(
+            device,
+            "creating the water's shading pipelines",
+            || pipeline("water shade", "vs_main", Some("fs_main"), shade.clone(), &grid_buffers),
+            || {
+                pipeline(
+                    "water shade below",
+                    "vs_main",
+                    Some("fs_below"),
+                    shade.clone(),
+                    &grid_buffers,
+                )
+            },
+        )?;
+        Ok(WaterPass {
             inputs_layout: inputs.clone(),
             inputs: None,
             model,
@@ -316,56 +334,17 @@ impl WaterPass {
             full: GridMesh::new(device, "water full grid", RING_HALF, &[None]),
             ring: GridMesh::new(device, "water ring", RING_HALF, &hole_offsets()),
             far: GridMesh::new(device, "water far field", FAR_HALF, &[Some((0, 0))]),
-            depth_rings: pipeline(
-                "water depth",
-                "vs_main",
-                Some("fs_depth"),
-                depth_only.clone(),
-                &grid_buffers,
-            ),
-            depth_far: pipeline(
-                "water far depth",
-                "vs_far",
-                Some("fs_depth"),
-                depth_only,
-                &grid_buffers,
-            ),
-            shade_rings: [
-                pipeline("water shade", "vs_main", Some("fs_main"), shade.clone(), &grid_buffers),
-                pipeline(
-                    "water shade below",
-                    "vs_main",
-                    Some("fs_below"),
-                    shade.clone(),
-                    &grid_buffers,
-                ),
-            ],
-            shade_far: [
-                pipeline(
-                    "water far shade",
-                    "vs_far",
-                    Some("fs_main"),
-                    shade.clone(),
-                    &grid_buffers,
-                ),
-                pipeline("water far shade below", "vs_far", Some("fs_below"), shade, &grid_buffers),
-            ],
-            volume_rings: pipeline(
+            depth: pipeline("water depth", "vs_main", Some("fs_depth"), depth_only, &grid_buffers),
+            shade: [shade_above, shade_below],
+            volume: pipeline(
                 "water volume",
                 "vs_main",
                 Some("fs_depth"),
                 volume.clone(),
                 &grid_buffers,
             ),
-            volume_far: pipeline(
-                "water volume far",
-                "vs_far",
-                Some("fs_depth"),
-                volume.clone(),
-                &grid_buffers,
-            ),
             volume_box: pipeline("water volume box", "vs_box", Some("fs_depth"), volume, &[]),
-        }
+        })
     }
 
     /// Classify every pixel of the main view by the medium its near-plane
@@ -386,13 +365,12 @@ impl WaterPass {
         pass.set_bind_group(3, &self.traced.group, &[]);
         // All tiles: off-screen ones make no fragments anyway, so culling
         // would only save vertex work.
-        pass.set_pipeline(&self.volume_rings);
+        pass.set_pipeline(&self.volume);
         self.full.draw(pass, 0, 0, |_| true);
         for level in 1..DISPLACED_RINGS {
             self.ring.draw(pass, hole_variant(xz, level), level, |_| true);
         }
-        pass.set_pipeline(&self.volume_far);
-        self.far.draw(pass, 0, 0, |_| true);
+        self.far.draw(pass, 0, FAR_LEVEL, |_| true);
         pass.set_pipeline(&self.volume_box);
         pass.draw(0..30, 0..1);
     }
@@ -438,23 +416,20 @@ impl WaterPass {
         pass.set_bind_group(1, surface, &[]);
         pass.set_bind_group(2, inputs, &[]);
         pass.set_bind_group(3, &self.traced.group, &[]);
-        let draw_surface = |pass: &mut wgpu::RenderPass<'_>,
-                            rings: &wgpu::RenderPipeline,
-                            far: &wgpu::RenderPipeline| {
-            pass.set_pipeline(rings);
+        let draw_surface = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline| {
+            pass.set_pipeline(pipeline);
             self.full.draw(pass, 0, 0, visible(0));
             for level in 1..DISPLACED_RINGS {
                 self.ring.draw(pass, hole_variant(xz, level), level, visible(level));
             }
-            pass.set_pipeline(far);
-            self.far.draw(pass, 0, 0, |_| true);
+            self.far.draw(pass, 0, FAR_LEVEL, |_| true);
         };
-        draw_surface(pass, &self.depth_rings, &self.depth_far);
+        draw_surface(pass, &self.depth);
         for (i, medium) in
             [crate::targets::STENCIL_AIR, crate::targets::STENCIL_WATER].into_iter().enumerate()
         {
             pass.set_stencil_reference(medium);
-            draw_surface(pass, &self.shade_rings[i], &self.shade_far[i]);
+            draw_surface(pass, &self.shade[i]);
         }
     }
 }
@@ -486,7 +461,7 @@ impl WaterPass {
         let l = &shared.layouts;
         let model = crate::surface_kind::SurfaceKind::of(scene);
         let traced = crate::passes::raytrace::Traced::new(shared, scene, &traced_layout)?;
-        Ok(WaterPass::new(
+        WaterPass::new(
             &shared.device,
             &l.globals,
             &l.surface,
@@ -495,7 +470,7 @@ impl WaterPass {
             model,
             traced,
             traced_layout,
-        ))
+        )
     }
 
     /// The traced twin exists exactly while `new` asks for the error view,

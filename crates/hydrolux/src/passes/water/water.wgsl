@@ -13,7 +13,7 @@
 // test Equal, so each pixel runs the expensive shading once however thin the
 // distant triangles get (grazing views make them sub-pixel).
 // Displacement fades to zero across the outermost displaced ring, where waves
-// are below a pixel; beyond it a flat far field (`vs_far`) reaches the horizon.
+// are below a pixel; beyond it a flat far field (`far_vertex`) reaches the horizon.
 // RING_HALF (grid cells from the centre to a ring's edge) and DISPLACED_RINGS
 // are prepended by the pass.
 #import constants, frame, optics, sea_brdf, sky_model, sky_bindings, pbr, surface, medium, fog, projective, shadow_space, shadow_lookup, caustics_lookup, heightfield_trace, traced, traced_hits, water_traced, water_foam
@@ -51,6 +51,12 @@ struct VsOut {
 
 @vertex
 fn vs_main(@location(0) cell: vec2<i32>, @builtin(instance_index) level: u32) -> VsOut {
+    // The far field is this entry point's instance FAR_LEVEL rather than its
+    // own: one pipeline per medium shades rings and far field alike, and the
+    // water's fragment shader, by far the largest, is compiled half as often.
+    if (level == FAR_LEVEL) {
+        return far_vertex(cell);
+    }
     let spacing = frame.surface.base_spacing * exp2(f32(level));
     let cam = frame.view.position.xz;
     // Snap to twice the spacing so this ring's even vertices are the next ring's vertices.
@@ -86,9 +92,9 @@ fn vs_out(world: vec3<f32>, grid_pos: vec2<f32>) -> VsOut {
 // The flat far field: a coarse square ring (cells to ±FAR_HALF, hole inside
 // ±FAR_HALF/2) stretched radially so its inner edge is the outermost
 // displaced ring's edge (same snapped centre) and its outer edge FAR_SCALE
-// times further out. Both edges lie at y = 0, so the seam is closed.
-@vertex
-fn vs_far(@location(0) cell: vec2<i32>) -> VsOut {
+// times further out. Both edges lie at y = 0, so the seam is closed. Drawn
+// by `vs_main` as its instance FAR_LEVEL.
+fn far_vertex(cell: vec2<i32>) -> VsOut {
     let last = frame.surface.base_spacing * exp2(f32(DISPLACED_RINGS - 1u));
     let centre = round(frame.view.position.xz / (2.0 * last)) * 2.0 * last;
     let c = vec2<f32>(cell);
