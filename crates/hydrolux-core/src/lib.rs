@@ -2,6 +2,7 @@
 //! description that the renderer implements on the GPU, and a CPU reference
 //! ("twin") of every GPU algorithm, so each can be tested against the other.
 
+pub mod antialias;
 pub mod atmosphere;
 pub mod bodies;
 pub mod camera;

@@ -341,10 +341,18 @@ pub fn create_in_parallel<A, B>(
 }
 
 /// Premultiplied "over" blending into the HDR image (particles, sprites).
+/// The image's alpha (the anti-aliasing's trust in a pixel's history) is
+/// scaled by what shows through: a moving particle is not reprojected.
 pub fn over_hdr() -> wgpu::ColorTargetState {
+    let colour = wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING.color;
+    let trust = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+        operation: wgpu::BlendOperation::Add,
+    };
     wgpu::ColorTargetState {
         format: crate::targets::HDR_FORMAT,
-        blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+        blend: Some(wgpu::BlendState { color: colour, alpha: trust }),
         write_mask: wgpu::ColorWrites::ALL,
     }
 }

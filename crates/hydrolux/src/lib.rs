@@ -45,7 +45,7 @@ pub use context::{ContextError, GpuContext};
 pub use error::{OceanTooLarge, RenderError, catch_gpu_errors, gpu_error_line};
 pub use hydrolux_core as core;
 pub use info::{DumpData, DumpKind, DumpShape};
-pub use probe::SeaBrdfQuery;
+pub use probe::{AntialiasQuery, SeaBrdfQuery};
 pub use registry::{dump_kinds, simulation_names, technique_names};
 pub use renderer::{FrameInput, Renderer};
 pub use simulation::liquid::readback::{

@@ -53,6 +53,9 @@ pub(crate) struct World {
     pub object_light_current: bool,
     /// The ambient occluders where they are now (`hydrolux_core::occlusion`).
     pub occlusion: FrameOcclusion,
+    /// The main view's sub-pixel offset this frame (pixels, x right, y
+    /// down; the anti-aliasing's jitter, zero when it is off).
+    pub jitter_px: glam::Vec2,
 }
 
 /// Floor caustics this frame.
@@ -126,7 +129,10 @@ pub(crate) struct Offscreen {
 /// Every matrix a frame draws with.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Matrices {
+    /// The main view as drawn: the camera's, shifted by the jitter.
     pub view_proj: Mat4,
+    /// The camera's own, without the jitter (what reprojection uses).
+    pub unjittered: Mat4,
     pub reflection: Mat4,
     pub refraction: Mat4,
     /// The sun's shadow view (`None`: nothing casts shadows, or the sun is down).
@@ -170,8 +176,11 @@ impl FramePlan {
         let sun = s.sun_direction();
         let sun_up = sun.y > 0.0;
         let travel = UnderwaterLight::new(sun, Vec3::ONE, Vec3::ZERO, s.water.ior).sun_travel;
+        let unjittered = camera.view_projection(aspect);
+        let jitter = hydrolux_core::antialias::jitter_matrix(world.jitter_px, size);
         let matrices = Matrices {
-            view_proj: camera.view_projection(aspect),
+            view_proj: jitter * unjittered,
+            unjittered,
             reflection: camera.view_projection_widened(aspect, s.render.fov_margin)
                 * mirror_matrix(),
             refraction: camera.view_projection_widened(aspect, REFRACTION_MARGIN),
@@ -476,6 +485,7 @@ mod tests {
             sky_light: hydrolux_core::irradiance::sky_light(&hydrolux_core::sky::Sky::new(sky)),
             caustics_current: false,
             object_light_current: false,
+            jitter_px: glam::Vec2::ZERO,
         }
     }
 

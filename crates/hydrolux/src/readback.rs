@@ -161,6 +161,19 @@ impl Renderer {
         )
     }
 
+    /// The temporal anti-aliasing's resolve as the shaders compute it (the
+    /// GPU side of `hydrolux_core::antialias::resolve`'s twin test): for
+    /// each new frame's 3×3 neighbourhood (the pixel at index 4), history
+    /// (`None`: none) and trust (the HDR alpha), the resolved colour.
+    pub fn probe_antialias(&self, queries: &[crate::probe::AntialiasQuery]) -> Vec<[f32; 3]> {
+        self.probe.antialias(
+            self.device(),
+            self.queue(),
+            [&self.bound.globals, &self.bound.surface],
+            queries,
+        )
+    }
+
     /// A spray parcel's look as the shaders draw it (the GPU side of
     /// `hydrolux_core::whitewater::spray_look`'s twin test), at quad point
     /// `at` of parcel `id`: [opacity, optical depth, asymmetry, the sky's

@@ -7,7 +7,7 @@
 //! the renderer.
 
 use crate::error::RenderError;
-use crate::passes::{caustics, geometry, godrays, sky, tonemap, water, water_object};
+use crate::passes::{antialias, caustics, geometry, godrays, sky, tonemap, water, water_object};
 use crate::plan::World;
 use crate::simulation::liquid::draw as liquid_points;
 use crate::simulation::liquid::screen_space as liquid_screen_space;
@@ -92,6 +92,7 @@ registry! {
     liquid_white_water: liquid_white_water::LiquidWhiteWaterDraw => liquid_white_water::INFO,
     water: water::WaterPass => water::INFO,
     godrays: godrays::GodRays => godrays::INFO,
+    antialias: antialias::TemporalAntialias => antialias::INFO,
     tonemap: tonemap::TonemapPass => tonemap::INFO,
 }
 
@@ -234,6 +235,7 @@ impl Techniques {
             caustics_current: self.caustics.current,
             object_light_current: self.water_objects.current && !shared.geometry.refractive_moved(),
             occlusion: crate::uniforms::FrameOcclusion::of(&shared.geometry.occluders()),
+            jitter_px: self.antialias.jitter_px(scene),
         }
     }
 

@@ -53,6 +53,7 @@ const MODULES: &[(&str, &str)] = &[
     ("traced_hits", include_str!("passes/raytrace/traced_hits.wgsl")),
     ("water_traced", include_str!("passes/water/traced.wgsl")),
     ("water_foam", include_str!("passes/water/foam.wgsl")),
+    ("temporal_resolve", include_str!("passes/antialias/resolve_colour.wgsl")),
 ];
 
 /// The names on a source's `#import` lines, in order.

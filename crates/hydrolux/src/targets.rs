@@ -241,7 +241,9 @@ impl Targets {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC;
-        let hdr = texture(device, "hdr", size, HDR_FORMAT, usage);
+        // The anti-aliasing copies its resolve back into the HDR image.
+        let hdr_usage = usage | wgpu::TextureUsages::COPY_DST;
+        let hdr = texture(device, "hdr", size, HDR_FORMAT, hdr_usage);
         let depth_stencil = texture(device, "depth stencil", size, depth_format, usage);
         let hdr_view = hdr.create_view(&Default::default());
         let depth_stencil_view = depth_stencil.create_view(&Default::default());

@@ -50,6 +50,7 @@ choice!(TerrainKind: None, Noise, Heightmap);
 choice!(Pattern: None, Tiles, Checker);
 choice!(Primitive: Box, Sphere, Cylinder, Plane);
 choice!(Tonemap: Aces, Clamp);
+choice!(Antialias: Temporal, Off);
 choice!(DebugView: Final, Reflection, Refraction, Depth, Normals, Shadow, Medium, Caustics, Ripples, Foam, Fresnel, Fluid, Error);
 choice!(CausticMethod: Photons, Beam, Procedural, Off);
 choice!(GodRayMethod: Lines, March, Off);
@@ -75,6 +76,7 @@ pub fn enumerated_keys() -> Vec<(&'static str, Vec<String>)> {
         ("objects.material.pattern", Pattern::names()),
         ("objects.primitive", Primitive::names()),
         ("render.tonemap", Tonemap::names()),
+        ("render.antialias", Antialias::names()),
         ("render.view", DebugView::names()),
         ("caustics.method", CausticMethod::names()),
         ("godrays.method", GodRayMethod::names()),

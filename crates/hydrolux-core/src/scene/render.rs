@@ -9,12 +9,24 @@ pub enum Tonemap {
     Clamp,
 }
 
+/// How edges are kept from aliasing (`hydrolux_core::antialias`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Antialias {
+    /// Sub-pixel jitter resolved over frames, reprojected by depth; the
+    /// debug views are drawn without it.
+    Temporal,
+    Off,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RenderDesc {
     /// Photographic exposure, EV100 (sunny day ≈ 15).
     pub exposure: f32,
     pub tonemap: Tonemap,
+    /// Anti-aliasing of the final image, at every quality tier.
+    pub antialias: Antialias,
     /// Anisotropic filtering of the wave textures: 1–16, or 0 = automatic
     /// (16 on GPUs, 1 on CPU adapters such as lavapipe, where each extra tap
     /// is paid in full: 16× costs ~1000× the frame time there).
@@ -139,6 +151,7 @@ impl Default for RenderDesc {
         RenderDesc {
             exposure: 14.5,
             tonemap: Tonemap::Aces,
+            antialias: Antialias::Temporal,
             anisotropy: 0,
             view: DebugView::Final,
             shadow_resolution: 2048,

@@ -20,6 +20,7 @@ pub struct ProbePass {
     fresnel: wgpu::ComputePipeline,
     sea_brdf: wgpu::ComputePipeline,
     spray: wgpu::ComputePipeline,
+    antialias: wgpu::ComputePipeline,
 }
 
 impl ProbePass {
@@ -55,6 +56,7 @@ impl ProbePass {
             fresnel: p("probe_fresnel"),
             sea_brdf: p("probe_sea_brdf"),
             spray: p("probe_spray"),
+            antialias: p("probe_antialias"),
             model,
             layout,
         }
@@ -206,6 +208,30 @@ impl ProbePass {
             .collect()
     }
 
+    /// The temporal resolve of each (3×3 neighbourhood, history or none,
+    /// trust).
+    pub fn antialias(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        groups: [&wgpu::BindGroup; 2],
+        queries: &[AntialiasQuery],
+    ) -> Vec<[f32; 3]> {
+        let pts: Vec<[f32; 4]> = queries
+            .iter()
+            .flat_map(|(n, h, trust)| {
+                let last = h.map_or([0.0; 4], |h| [h[0], h[1], h[2], 1.0]);
+                let colour = |c: &[f32; 3]| [c[0], c[1], c[2], *trust];
+                n.iter().map(colour).chain(std::iter::once(last))
+            })
+            .collect();
+        self.run(device, queue, &self.antialias, groups, &pts)
+            .into_iter()
+            .step_by(10)
+            .map(|r| [r[0], r[1], r[2]])
+            .collect()
+    }
+
     pub fn sky(
         &self,
         device: &wgpu::Device,
@@ -221,6 +247,11 @@ impl ProbePass {
             .collect()
     }
 }
+
+/// One resolve of the temporal anti-aliasing: the new frame's 3×3
+/// neighbourhood (the pixel at index 4), the history (`None`: none) and the
+/// pixel's trust in it (the HDR alpha).
+pub type AntialiasQuery = ([[f32; 3]; 9], Option<[f32; 3]>, f32);
 
 /// One evaluation of the far sea's BRDF: towards the eye, towards the sun,
 /// the pixel's slope statistics, the Fresnel formula and the water's index.

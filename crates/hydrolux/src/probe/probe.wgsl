@@ -1,8 +1,8 @@
 // Evaluate the surface (as the renderer draws it) and the sky cube map at
 // arbitrary points: GPU height queries for users (buoyancy) and the hook the
 // GPU-versus-CPU tests use; the shaders' Fresnel formulas; how a parcel of
-// spray is drawn and lit.
-#import constants, frame, optics, sea_brdf, sky_model, sky_bindings, surface, white_water_light
+// spray is drawn and lit; the temporal anti-aliasing's resolve.
+#import constants, frame, optics, sea_brdf, sky_model, sky_bindings, surface, white_water_light, temporal_resolve
 
 struct ProbeOut {
     disp: vec4<f32>,
@@ -81,4 +81,22 @@ fn probe_spray(@builtin(global_invocation_id) id: vec3<u32>) {
     let g = spray_asymmetry(depth);
     let r = vec4<f32>(spray_opacity(a.xy, s, bitcast<u32>(b.w)), depth, g, spray_sky_share(a.y, g));
     results[2u * id.x] = ProbeOut(r, vec4<f32>(0.0), vec4<f32>(0.0));
+}
+
+// The temporal resolve (temporal_resolve): points 10i … 10i + 8 hold the
+// new frame's 3×3 neighbourhood (rgb, w of the centre its trust), 10i + 9
+// the history (rgb, w = 1 where there is one); result 10i is the resolved
+// colour.
+@compute @workgroup_size(64, 1, 1)
+fn probe_antialias(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (10u * id.x + 9u >= arrayLength(&points)) {
+        return;
+    }
+    var n: array<vec3<f32>, 9>;
+    for (var k = 0u; k < 9u; k++) {
+        n[k] = points[10u * id.x + k].xyz;
+    }
+    let h = points[10u * id.x + 9u];
+    let r = taa_resolve(n, h.xyz, h.w > 0.5, points[10u * id.x + 4u].w);
+    results[10u * id.x] = ProbeOut(vec4<f32>(r, 0.0), vec4<f32>(0.0), vec4<f32>(0.0));
 }

@@ -71,5 +71,6 @@ fn fs_composite(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     let shafts_here = select(nearest, sum / max(weight, 1e-6), weight > 1e-3);
-    return vec4<f32>(shafts_here, 1.0);
+    // Added light only: the HDR alpha (the anti-aliasing's trust) stays.
+    return vec4<f32>(shafts_here, 0.0);
 }

@@ -370,7 +370,9 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
 
     // Aerial perspective: distant water melts into the horizon's haze.
     color = through_air(frame.view.position, in.world, color);
-    return vec4<f32>(min(color, vec3<f32>(60000.0)), 1.0);
+    // Alpha 0: the surface's look changes by itself, so the anti-aliasing
+    // trusts its history less (TAA_RESPONSIVE_WEIGHT).
+    return vec4<f32>(min(color, vec3<f32>(60000.0)), 0.0);
 }
 
 // The surface seen from inside the water (seed 000 §2.1.2, §3.3; seed 003
@@ -464,5 +466,5 @@ fn fs_below(in: VsOut) -> @location(0) vec4<f32> {
     // diffused through it (a tenth of the sky's).
     let through_foam = mix(l * foam_transmittance(foam.thickness), FOAM_BELOW * frame.light.sky_underwater / PI, foam.thickness);
     l = mix(l, through_foam, foam.cover);
-    return vec4<f32>(min(through_water(eye, in.world, l), vec3<f32>(60000.0)), 1.0);
+    return vec4<f32>(min(through_water(eye, in.world, l), vec3<f32>(60000.0)), 0.0);
 }
