@@ -43,6 +43,12 @@ pub struct RenderArgs {
     /// Video bitrate instead of --crf, bits per second with an optional k or M (e.g. 8M).
     #[arg(long)]
     pub bitrate: Option<String>,
+    /// Anti-aliasing samples per written frame (with `render.antialias = "temporal"`, the
+    /// default): the frame is drawn this many times at its time with sub-pixel offsets and
+    /// averaged, each frame on its own (a slice of a sequence renders the frames of the
+    /// whole). 1 writes the frame as drawn. From 1 to 64.
+    #[arg(long, default_value_t = 8, allow_hyphen_values = true, value_parser = crate::values::samples)]
+    pub samples: u32,
     #[arg(long = "dump", value_name = "KIND=FILE", help = crate::dumps::help())]
     pub dump: Vec<String>,
 }
@@ -252,6 +258,16 @@ fn frame(
     video: &mut Option<VideoWriter>,
 ) -> Result<()> {
     let time = start + i as f64 / a.fps;
+    let render = &scene.render;
+    let antialiased = render.antialias == hydrolux::core::scene::Antialias::Temporal
+        && render.view == hydrolux::core::scene::DebugView::Final;
+    if antialiased && a.samples > 1 {
+        // The frame's own samples, whatever was drawn before it.
+        renderer.restart_antialiasing();
+        for _ in 1..a.samples {
+            target.submit(renderer, scene.camera(), time)?;
+        }
+    }
     let pixels = target.render(renderer, scene.camera(), time)?;
     let out = numbered(&a.out, i, numbering);
     let mut staged = Staged::new();

@@ -38,6 +38,11 @@ pub fn crf(text: &str) -> Result<u32, String> {
         .map_err(|_| "must be a whole number from 0 (lossless) to 51 (the smallest file)".into())
 }
 
+/// `--samples`: anti-aliasing samples per written frame.
+pub fn samples(text: &str) -> Result<u32, String> {
+    whole(text, 1, 64, "").map_err(|_| "must be a whole number from 1 to 64".into())
+}
+
 /// `--time`: a simulation time either side of 0.
 pub fn time(text: &str) -> Result<f64, String> {
     let t = number(text)?;

@@ -116,10 +116,13 @@ pub fn clip_to_box(history: Vec3, centre: Vec3, extent: Vec3) -> Vec3 {
 /// pre-exposed HDR. `trust` (the HDR image's alpha, in [0, 1]) says how
 /// far the pixel's colour follows the geometry that reprojection tracks
 /// (1) or changes by itself (0: the water's surface): the new frame's
-/// share goes from [`CURRENT_WEIGHT`] to [`RESPONSIVE_WEIGHT`]. The blend
+/// share goes from [`CURRENT_WEIGHT`] to [`RESPONSIVE_WEIGHT`], and is at
+/// least 1 / (frames + 1) while the history holds only `frames` frames, so
+/// the first frames are averaged evenly (a still converges to the mean of
+/// its jittered frames instead of keeping the first one longest). The blend
 /// weighs each side by 1 / (1 + luma) (Karis), so that a lone bright
 /// sample (a glint) does not flicker through.
-pub fn resolve(neighbourhood: &[Vec3; 9], history: Option<Vec3>, trust: f32) -> Vec3 {
+pub fn resolve(neighbourhood: &[Vec3; 9], history: Option<Vec3>, trust: f32, frames: u64) -> Vec3 {
     let current = neighbourhood[4];
     let Some(history) = history else { return current };
     let mut sum = Vec3::ZERO;
@@ -141,10 +144,30 @@ pub fn resolve(neighbourhood: &[Vec3; 9], history: Option<Vec3>, trust: f32) -> 
     let centre = 0.5 * (box_lo + box_hi);
     let extent = 0.5 * (box_hi - box_lo);
     let clipped = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(history), centre, extent));
-    let share = RESPONSIVE_WEIGHT + (CURRENT_WEIGHT - RESPONSIVE_WEIGHT) * trust.clamp(0.0, 1.0);
+    let share = current_share(trust, frames);
     let weight = |c: Vec3, share: f32| share / (1.0 + luma(c));
     let (wc, wh) = (weight(current, share), weight(clipped, 1.0 - share));
     (current * wc + clipped * wh) / (wc + wh)
+}
+
+/// A pixel's trust in its history from the HDR image's alpha: what
+/// changes by itself (alpha < 1) is trusted fully while the simulation's
+/// time stands still (a paused viewer, an offline frame's samples), since
+/// then only the camera moves.
+pub fn trust(alpha: f32, time_still: bool) -> f32 {
+    if time_still { 1.0 } else { alpha.clamp(0.0, 1.0) }
+}
+
+/// The new frame's share of the resolve (before the luma weights): by the
+/// pixel's `trust`, and at least an even share of the `frames` in the history.
+pub fn current_share(trust: f32, frames: u64) -> f32 {
+    let by_trust = RESPONSIVE_WEIGHT + (CURRENT_WEIGHT - RESPONSIVE_WEIGHT) * trust.clamp(0.0, 1.0);
+    by_trust.max(min_share(frames))
+}
+
+/// The least share of the new frame while the history holds `frames`.
+pub fn min_share(frames: u64) -> f32 {
+    1.0 / (frames as f32 + 1.0)
 }
 
 /// Rec. 709 luma of linear RGB.
@@ -287,7 +310,7 @@ mod tests {
                     n[row * 3 + 1] = sample(x);
                     n[row * 3 + 2] = bright; // to the right: all bright
                 }
-                let out = resolve(&n, history, 1.0);
+                let out = resolve(&n, history, 1.0, frame);
                 history = Some(out);
                 if frame >= 200 - JITTER_PERIOD {
                     last.push(out.x);
@@ -316,26 +339,58 @@ mod tests {
     #[test]
     fn a_stale_history_does_not_ghost() {
         let now = [Vec3::splat(0.1); 9];
-        let out = resolve(&now, Some(Vec3::splat(4.0)), 1.0);
+        let out = resolve(&now, Some(Vec3::splat(4.0)), 1.0, 50);
         assert!((out - Vec3::splat(0.1)).length() < 1e-5, "{out}");
         // With no history, the frame passes through exactly.
         let mut n = [Vec3::splat(0.2); 9];
         n[4] = Vec3::new(0.3, 0.4, 0.5);
-        assert_eq!(resolve(&n, None, 1.0), n[4]);
+        assert_eq!(resolve(&n, None, 1.0, 0), n[4]);
         // A history inside the neighbourhood's range is kept at 90% (its
         // luma weight equal to the current's).
         let mut n = [Vec3::splat(0.2); 9];
         n[1] = Vec3::splat(0.4);
         n[4] = Vec3::splat(0.3);
         let h = Vec3::splat(0.25);
-        let out = resolve(&n, Some(h), 1.0);
+        let out = resolve(&n, Some(h), 1.0, 50);
         let (wc, wh) = (0.1 / 1.3, 0.9 / 1.25);
         let want = (0.3 * wc + 0.25 * wh) / (wc + wh);
         assert!((out.x - want).abs() < 1e-5, "{out} vs {want}");
         // Where the pixel changes by itself, half of it is the new frame.
-        let out = resolve(&n, Some(h), 0.0);
+        let out = resolve(&n, Some(h), 0.0, 50);
         let (wc, wh) = (0.5 / 1.3, 0.5 / 1.25);
         let want = (0.3 * wc + 0.25 * wh) / (wc + wh);
         assert!((out.x - want).abs() < 1e-5, "{out} vs {want}");
+        // A young history is averaged evenly: the second frame is half.
+        assert_eq!(current_share(1.0, 1), 0.5);
+        assert_eq!(current_share(1.0, 3), 0.25);
+        assert!((current_share(1.0, 30) - CURRENT_WEIGHT).abs() < 1e-6);
+    }
+
+    /// A still scene's first cycle of jittered frames averages them evenly
+    /// (up to the luma weights): the supersampled pixel.
+    #[test]
+    fn a_still_is_the_mean_of_its_jittered_frames() {
+        let samples = [0.2f32, 0.6, 0.3, 0.5, 0.25, 0.55, 0.4];
+        let mut history = None;
+        for (k, &v) in samples.iter().enumerate() {
+            let n = [
+                Vec3::splat(0.2),
+                Vec3::splat(0.6),
+                Vec3::splat(0.4),
+                Vec3::splat(0.3),
+                Vec3::splat(v),
+                Vec3::splat(0.5),
+                Vec3::splat(0.2),
+                Vec3::splat(0.6),
+                Vec3::splat(0.4),
+            ];
+            history = Some(resolve(&n, history, 1.0, k as u64));
+        }
+        let w = |v: f32| 1.0 / (1.0 + v);
+        let want = samples.iter().map(|&v| v * w(v)).sum::<f32>()
+            / samples.iter().map(|&v| w(v)).sum::<f32>();
+        let got = history.unwrap().x;
+        // Not exact: each step weighs the running mean by its own luma.
+        assert!((got - want).abs() < 0.01, "{got} vs {want}");
     }
 }

@@ -247,6 +247,11 @@ impl Techniques {
         self.sky.prepare(queue, sky);
     }
 
+    /// The anti-aliasing's history starts again with the next frame.
+    pub fn restart_history(&mut self) {
+        self.antialias.reset();
+    }
+
     /// The surface changed outside the clock (a caller's heightfield):
     /// what is computed from it is due again.
     pub fn surface_edited(&mut self) {

@@ -344,6 +344,16 @@ impl Renderer {
         }
     }
 
+    /// Start the temporal anti-aliasing's history again (`render.antialias`):
+    /// the next frame is drawn without jitter and shown as drawn, and the
+    /// frames after it are blended into it evenly at first. An offline
+    /// render draws each written frame this way, `n` times at its time
+    /// (the CLI's `--samples`), so that every frame is a supersampled still
+    /// whatever frames were drawn before it.
+    pub fn restart_antialiasing(&mut self) {
+        self.techniques.restart_history();
+    }
+
     /// Record one frame into `encoder`, drawing into `input.target`.
     /// The frame is drawn at the quality tier's fraction of the output's
     /// size (`Quality::render_scale`) and filtered up by the tone map.

@@ -219,8 +219,9 @@ impl ProbePass {
     ) -> Vec<[f32; 3]> {
         let pts: Vec<[f32; 4]> = queries
             .iter()
-            .flat_map(|(n, h, trust)| {
-                let last = h.map_or([0.0; 4], |h| [h[0], h[1], h[2], 1.0]);
+            .flat_map(|(n, h, trust, frames)| {
+                let share = hydrolux_core::antialias::min_share(*frames);
+                let last = h.map_or([0.0; 4], |h| [h[0], h[1], h[2], share]);
                 let colour = |c: &[f32; 3]| [c[0], c[1], c[2], *trust];
                 n.iter().map(colour).chain(std::iter::once(last))
             })
@@ -249,9 +250,9 @@ impl ProbePass {
 }
 
 /// One resolve of the temporal anti-aliasing: the new frame's 3×3
-/// neighbourhood (the pixel at index 4), the history (`None`: none) and the
-/// pixel's trust in it (the HDR alpha).
-pub type AntialiasQuery = ([[f32; 3]; 9], Option<[f32; 3]>, f32);
+/// neighbourhood (the pixel at index 4), the history (`None`: none), the
+/// pixel's trust in it (the HDR alpha) and the frames it holds.
+pub type AntialiasQuery = ([[f32; 3]; 9], Option<[f32; 3]>, f32, u64);
 
 /// One evaluation of the far sea's BRDF: towards the eye, towards the sun,
 /// the pixel's slope statistics, the Fresnel formula and the water's index.

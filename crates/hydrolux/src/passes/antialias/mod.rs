@@ -29,8 +29,11 @@ crate::uniforms::uniform! { AntialiasParams;
         pub reprojection: [[f32; 4]; 4],
         /// 1 where the history holds earlier frames.
         pub has_history: u32,
-        pub _pad0: u32,
-        pub _pad1: u32,
+        /// The new frame's least share: 1 / (frames in the history + 1).
+        pub min_share: f32,
+        /// 1 when the simulation's time is the last frame's (every pixel's
+        /// history is trusted: `hydrolux_core::antialias::trust`).
+        pub time_still: u32,
         pub _pad2: u32,
     }
 }
@@ -66,8 +69,9 @@ pub struct TemporalAntialias {
     /// Frames resolved since the history was last reset (0: none, so the
     /// next frame is drawn without jitter and passed through).
     frames: u64,
-    /// Last resolved frame's view-projection, without jitter.
+    /// Last resolved frame's view-projection, without jitter, and time.
     last_view_proj: Mat4,
+    last_time: f64,
 }
 
 impl TemporalAntialias {
@@ -82,7 +86,8 @@ impl TemporalAntialias {
         if Self::enabled(scene) { antialias::jitter_px(self.frames) } else { Vec2::ZERO }
     }
 
-    fn reset(&mut self) {
+    /// The next frame starts the history again (drawn without jitter).
+    pub fn reset(&mut self) {
         self.frames = 0;
     }
 }
@@ -119,6 +124,7 @@ impl Technique for TemporalAntialias {
             latest: 0,
             frames: 0,
             last_view_proj: Mat4::IDENTITY,
+            last_time: f64::NAN,
         })
     }
 
@@ -190,6 +196,8 @@ impl Technique for TemporalAntialias {
         let u = AntialiasUniforms {
             reprojection: reprojection.to_cols_array_2d(),
             has_history: u32::from(self.frames > 0),
+            min_share: antialias::min_share(self.frames),
+            time_still: u32::from(frame.plan.time == self.last_time),
             ..Default::default()
         };
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
@@ -219,6 +227,7 @@ impl Technique for TemporalAntialias {
         self.latest = write;
         self.frames += 1;
         self.last_view_proj = frame.plan.matrices.unjittered;
+        self.last_time = frame.plan.time;
     }
 }
 

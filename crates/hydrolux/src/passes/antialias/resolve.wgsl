@@ -10,8 +10,8 @@
 struct AntialiasParams {
     reprojection: mat4x4<f32>,
     has_history: u32,
-    _pad0: u32,
-    _pad1: u32,
+    min_share: f32,
+    time_still: u32,
     _pad2: u32,
 }
 
@@ -47,7 +47,9 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         has = prev.z > 0.5;
         last = textureSampleLevel(history, history_sampler, prev.xy, 0.0).rgb;
     }
-    let out = taa_resolve(n, last, has, centre.a);
+    // While time stands still only the camera moves: every pixel is trusted.
+    let trust = select(clamp(centre.a, 0.0, 1.0), 1.0, params.time_still != 0u);
+    let out = taa_resolve(n, last, has, trust, params.min_share);
     // A non-finite history (never expected) must not stick.
     if (any(out != out) || any(abs(out) > vec3<f32>(6.0e4))) {
         return centre;

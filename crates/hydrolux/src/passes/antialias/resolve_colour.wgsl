@@ -51,8 +51,9 @@ fn taa_reproject(reprojection: mat4x4<f32>, uv: vec2<f32>, depth: f32) -> vec3<f
 // The resolved colour: the new frame's 3×3 neighbourhood (the pixel at 4)
 // and the reprojected history (used where has_history); trust (the HDR
 // alpha) 1 where the pixel's colour follows the geometry, 0 where it
-// changes by itself (the water's surface).
-fn taa_resolve(n: array<vec3<f32>, 9>, history: vec3<f32>, has_history: bool, trust: f32) -> vec3<f32> {
+// changes by itself (the water's surface); min_share 1 / (frames + 1) for
+// a history of that many frames.
+fn taa_resolve(n: array<vec3<f32>, 9>, history: vec3<f32>, has_history: bool, trust: f32, min_share: f32) -> vec3<f32> {
     let current = n[4];
     if (!has_history) {
         return current;
@@ -75,7 +76,7 @@ fn taa_resolve(n: array<vec3<f32>, 9>, history: vec3<f32>, has_history: bool, tr
     let clipped = taa_ycocg_to_rgb(
         taa_clip_to_box(taa_rgb_to_ycocg(history), 0.5 * (box_lo + box_hi), 0.5 * (box_hi - box_lo)),
     );
-    let share = mix(TAA_RESPONSIVE_WEIGHT, TAA_CURRENT_WEIGHT, clamp(trust, 0.0, 1.0));
+    let share = max(mix(TAA_RESPONSIVE_WEIGHT, TAA_CURRENT_WEIGHT, clamp(trust, 0.0, 1.0)), min_share);
     let wc = share / (1.0 + taa_luma(current));
     let wh = (1.0 - share) / (1.0 + taa_luma(clipped));
     return (current * wc + clipped * wh) / (wc + wh);
