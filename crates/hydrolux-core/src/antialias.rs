@@ -110,21 +110,39 @@ pub fn clip_to_box(history: Vec3, centre: Vec3, extent: Vec3) -> Vec3 {
     if largest > 1.0 { centre + offset / largest } else { history }
 }
 
+/// What the history holds at a pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct History {
+    /// The reprojected colour (linear pre-exposed HDR).
+    pub colour: Vec3,
+    /// Frames it holds: since the last reset, or while `settled`, since
+    /// the view last changed.
+    pub frames: u64,
+    /// Neither the camera nor the simulation's time changed since the
+    /// last frame (a still, a paused viewer): only the jitter differs.
+    pub settled: bool,
+}
+
 /// The resolved colour of one pixel: `neighbourhood` the new frame's 3×3
 /// colours around it (row by row, the pixel itself at index 4), `history`
-/// the reprojected history there (`None`: there is none). Both are linear
-/// pre-exposed HDR. `trust` (the HDR image's alpha, in [0, 1]) says how
-/// far the pixel's colour follows the geometry that reprojection tracks
-/// (1) or changes by itself (0: the water's surface): the new frame's
-/// share goes from [`CURRENT_WEIGHT`] to [`RESPONSIVE_WEIGHT`], and is at
-/// least 1 / (frames + 1) while the history holds only `frames` frames, so
-/// the first frames are averaged evenly (a still converges to the mean of
-/// its jittered frames instead of keeping the first one longest). The blend
-/// weighs each side by 1 / (1 + luma) (Karis), so that a lone bright
-/// sample (a glint) does not flicker through.
-pub fn resolve(neighbourhood: &[Vec3; 9], history: Option<Vec3>, trust: f32, frames: u64) -> Vec3 {
+/// what the history holds there (`None`: nothing). Colours are linear
+/// pre-exposed HDR.
+///
+/// A settled view averages its jittered frames evenly (the supersampled
+/// pixel, converging as 1 / frames). Otherwise the history is first clipped
+/// to the neighbourhood's variance box, and `trust` (the HDR image's alpha,
+/// in [0, 1]) says how far the pixel's colour follows the geometry that
+/// reprojection tracks (1) or changes by itself (0: the water's surface):
+/// the new frame's share goes from [`CURRENT_WEIGHT`] to
+/// [`RESPONSIVE_WEIGHT`], and is at least 1 / (frames + 1) while the
+/// history is young. That blend weighs each side by 1 / (1 + luma)
+/// (Karis), so that a lone bright sample (a glint) does not flicker through.
+pub fn resolve(neighbourhood: &[Vec3; 9], history: Option<History>, trust: f32) -> Vec3 {
     let current = neighbourhood[4];
     let Some(history) = history else { return current };
+    if history.settled {
+        return history.colour + (current - history.colour) * min_share(history.frames);
+    }
     let mut sum = Vec3::ZERO;
     let mut sum_sq = Vec3::ZERO;
     let mut lo = Vec3::splat(f32::MAX);
@@ -143,8 +161,8 @@ pub fn resolve(neighbourhood: &[Vec3; 9], history: Option<Vec3>, trust: f32, fra
     let box_hi = (mean + CLIP_SIGMAS * sigma).min(hi);
     let centre = 0.5 * (box_lo + box_hi);
     let extent = 0.5 * (box_hi - box_lo);
-    let clipped = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(history), centre, extent));
-    let share = current_share(trust, frames);
+    let clipped = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(history.colour), centre, extent));
+    let share = current_share(trust, history.frames);
     let weight = |c: Vec3, share: f32| share / (1.0 + luma(c));
     let (wc, wh) = (weight(current, share), weight(clipped, 1.0 - share));
     (current * wc + clipped * wh) / (wc + wh)
@@ -165,9 +183,10 @@ pub fn current_share(trust: f32, frames: u64) -> f32 {
     by_trust.max(min_share(frames))
 }
 
-/// The least share of the new frame while the history holds `frames`.
+/// The least share of the new frame while the history holds `frames`
+/// (counted up to 1024: by then a settled pixel has converged).
 pub fn min_share(frames: u64) -> f32 {
-    1.0 / (frames as f32 + 1.0)
+    1.0 / (frames.min(1024) as f32 + 1.0)
 }
 
 /// Rec. 709 luma of linear RGB.
@@ -179,6 +198,11 @@ pub fn luma(c: Vec3) -> f32 {
 mod tests {
     use super::*;
     use crate::camera::Camera;
+
+    /// A history of `frames` frames of a view that moves.
+    fn moving(colour: Option<Vec3>, frames: u64) -> Option<History> {
+        colour.map(|colour| History { colour, frames, settled: false })
+    }
 
     fn camera() -> Camera {
         Camera {
@@ -300,7 +324,7 @@ mod tests {
         for a in [0.3f32, 0.5, 0.8] {
             let (dark, bright) = (Vec3::splat(0.05), Vec3::splat(0.6));
             let sample = |x: f32| if x >= a { bright } else { dark };
-            let mut history = None;
+            let mut history: Option<Vec3> = None;
             let mut last = Vec::new();
             for frame in 0..200u64 {
                 let x = 0.5 + jitter_px(frame).x;
@@ -310,7 +334,7 @@ mod tests {
                     n[row * 3 + 1] = sample(x);
                     n[row * 3 + 2] = bright; // to the right: all bright
                 }
-                let out = resolve(&n, history, 1.0, frame);
+                let out = resolve(&n, moving(history, frame), 1.0);
                 history = Some(out);
                 if frame >= 200 - JITTER_PERIOD {
                     last.push(out.x);
@@ -339,24 +363,24 @@ mod tests {
     #[test]
     fn a_stale_history_does_not_ghost() {
         let now = [Vec3::splat(0.1); 9];
-        let out = resolve(&now, Some(Vec3::splat(4.0)), 1.0, 50);
+        let out = resolve(&now, moving(Some(Vec3::splat(4.0)), 50), 1.0);
         assert!((out - Vec3::splat(0.1)).length() < 1e-5, "{out}");
         // With no history, the frame passes through exactly.
         let mut n = [Vec3::splat(0.2); 9];
         n[4] = Vec3::new(0.3, 0.4, 0.5);
-        assert_eq!(resolve(&n, None, 1.0, 0), n[4]);
+        assert_eq!(resolve(&n, None, 1.0), n[4]);
         // A history inside the neighbourhood's range is kept at 90% (its
         // luma weight equal to the current's).
         let mut n = [Vec3::splat(0.2); 9];
         n[1] = Vec3::splat(0.4);
         n[4] = Vec3::splat(0.3);
         let h = Vec3::splat(0.25);
-        let out = resolve(&n, Some(h), 1.0, 50);
+        let out = resolve(&n, moving(Some(h), 50), 1.0);
         let (wc, wh) = (0.1 / 1.3, 0.9 / 1.25);
         let want = (0.3 * wc + 0.25 * wh) / (wc + wh);
         assert!((out.x - want).abs() < 1e-5, "{out} vs {want}");
         // Where the pixel changes by itself, half of it is the new frame.
-        let out = resolve(&n, Some(h), 0.0, 50);
+        let out = resolve(&n, moving(Some(h), 50), 0.0);
         let (wc, wh) = (0.5 / 1.3, 0.5 / 1.25);
         let want = (0.3 * wc + 0.25 * wh) / (wc + wh);
         assert!((out.x - want).abs() < 1e-5, "{out} vs {want}");
@@ -366,31 +390,20 @@ mod tests {
         assert!((current_share(1.0, 30) - CURRENT_WEIGHT).abs() < 1e-6);
     }
 
-    /// A still scene's first cycle of jittered frames averages them evenly
-    /// (up to the luma weights): the supersampled pixel.
+    /// A settled view averages its jittered frames evenly, without
+    /// clipping: the supersampled pixel, exactly.
     #[test]
     fn a_still_is_the_mean_of_its_jittered_frames() {
-        let samples = [0.2f32, 0.6, 0.3, 0.5, 0.25, 0.55, 0.4];
-        let mut history = None;
+        let samples = [0.2f32, 0.6, 0.3, 0.5, 0.25, 0.55, 0.4, 3.0];
+        let mut history: Option<History> = None;
         for (k, &v) in samples.iter().enumerate() {
-            let n = [
-                Vec3::splat(0.2),
-                Vec3::splat(0.6),
-                Vec3::splat(0.4),
-                Vec3::splat(0.3),
-                Vec3::splat(v),
-                Vec3::splat(0.5),
-                Vec3::splat(0.2),
-                Vec3::splat(0.6),
-                Vec3::splat(0.4),
-            ];
-            history = Some(resolve(&n, history, 1.0, k as u64));
+            let mut n = [Vec3::splat(0.4); 9];
+            n[4] = Vec3::splat(v);
+            let out = resolve(&n, history, 1.0);
+            history = Some(History { colour: out, frames: k as u64 + 1, settled: true });
         }
-        let w = |v: f32| 1.0 / (1.0 + v);
-        let want = samples.iter().map(|&v| v * w(v)).sum::<f32>()
-            / samples.iter().map(|&v| w(v)).sum::<f32>();
-        let got = history.unwrap().x;
-        // Not exact: each step weighs the running mean by its own luma.
-        assert!((got - want).abs() < 0.01, "{got} vs {want}");
+        let want = samples.iter().sum::<f32>() / samples.len() as f32;
+        let got = history.unwrap().colour.x;
+        assert!((got - want).abs() < 1e-5, "{got} vs {want}");
     }
 }

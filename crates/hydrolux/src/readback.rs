@@ -163,9 +163,7 @@ impl Renderer {
 
     /// The temporal anti-aliasing's resolve as the shaders compute it (the
     /// GPU side of `hydrolux_core::antialias::resolve`'s twin test): for
-    /// each new frame's 3×3 neighbourhood (the pixel at index 4), history
-    /// (`None`: none), trust (the HDR alpha) and frames in the history, the
-    /// resolved colour.
+    /// each query, the resolved colour.
     pub fn probe_antialias(&self, queries: &[crate::probe::AntialiasQuery]) -> Vec<[f32; 3]> {
         self.probe.antialias(
             self.device(),

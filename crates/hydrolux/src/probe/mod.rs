@@ -208,8 +208,7 @@ impl ProbePass {
             .collect()
     }
 
-    /// The temporal resolve of each (3×3 neighbourhood, history or none,
-    /// trust).
+    /// The temporal resolve of each query.
     pub fn antialias(
         &self,
         device: &wgpu::Device,
@@ -219,11 +218,22 @@ impl ProbePass {
     ) -> Vec<[f32; 3]> {
         let pts: Vec<[f32; 4]> = queries
             .iter()
-            .flat_map(|(n, h, trust, frames)| {
-                let share = hydrolux_core::antialias::min_share(*frames);
-                let last = h.map_or([0.0; 4], |h| [h[0], h[1], h[2], share]);
-                let colour = |c: &[f32; 3]| [c[0], c[1], c[2], *trust];
-                n.iter().map(colour).chain(std::iter::once(last))
+            .flat_map(|q| {
+                let h = q.history;
+                let settled = h.is_some_and(|h| h.settled);
+                let last = h.map_or([0.0; 4], |h| {
+                    let share = hydrolux_core::antialias::min_share(h.frames);
+                    [h.colour.x, h.colour.y, h.colour.z, share]
+                });
+                let colour = move |(k, c): (usize, &glam::Vec3)| {
+                    let w = match k {
+                        0 => f32::from(u8::from(settled)),
+                        4 => q.trust,
+                        _ => 0.0,
+                    };
+                    [c.x, c.y, c.z, w]
+                };
+                q.neighbourhood.iter().enumerate().map(colour).chain(std::iter::once(last))
             })
             .collect();
         self.run(device, queue, &self.antialias, groups, &pts)
@@ -249,10 +259,16 @@ impl ProbePass {
     }
 }
 
-/// One resolve of the temporal anti-aliasing: the new frame's 3×3
-/// neighbourhood (the pixel at index 4), the history (`None`: none), the
-/// pixel's trust in it (the HDR alpha) and the frames it holds.
-pub type AntialiasQuery = ([[f32; 3]; 9], Option<[f32; 3]>, f32, u64);
+/// One resolve of the temporal anti-aliasing, as
+/// `hydrolux_core::antialias::resolve` takes it.
+#[derive(Clone, Copy, Debug)]
+pub struct AntialiasQuery {
+    /// The new frame's 3×3 neighbourhood, the pixel at index 4.
+    pub neighbourhood: [glam::Vec3; 9],
+    pub history: Option<hydrolux_core::antialias::History>,
+    /// The pixel's trust in its history (the HDR alpha).
+    pub trust: f32,
+}
 
 /// One evaluation of the far sea's BRDF: towards the eye, towards the sun,
 /// the pixel's slope statistics, the Fresnel formula and the water's index.

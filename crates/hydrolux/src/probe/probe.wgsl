@@ -84,9 +84,10 @@ fn probe_spray(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 // The temporal resolve (temporal_resolve): points 10i … 10i + 8 hold the
-// new frame's 3×3 neighbourhood (rgb, w of the centre its trust), 10i + 9
-// the history (rgb, w the new frame's least share, 0 where there is no
-// history); result 10i is the resolved colour.
+// new frame's 3×3 neighbourhood (rgb; w of the centre its trust, of the
+// first 1 where the view is settled), 10i + 9 the history (rgb, w the new
+// frame's least share, 0 where there is no history); result 10i is the
+// resolved colour.
 @compute @workgroup_size(64, 1, 1)
 fn probe_antialias(@builtin(global_invocation_id) id: vec3<u32>) {
     if (10u * id.x + 9u >= arrayLength(&points)) {
@@ -97,6 +98,8 @@ fn probe_antialias(@builtin(global_invocation_id) id: vec3<u32>) {
         n[k] = points[10u * id.x + k].xyz;
     }
     let h = points[10u * id.x + 9u];
-    let r = taa_resolve(n, h.xyz, h.w > 0.0, points[10u * id.x + 4u].w, h.w);
+    let trust = points[10u * id.x + 4u].w;
+    let settled = points[10u * id.x].w > 0.5;
+    let r = taa_resolve(n, h.xyz, h.w > 0.0, trust, h.w, settled);
     results[10u * id.x] = ProbeOut(vec4<f32>(r, 0.0), vec4<f32>(0.0), vec4<f32>(0.0));
 }

@@ -3,6 +3,7 @@
 //! beside one harness (`harness.rs`). tests/gpu.rs and tests/gpu_gl.rs each
 //! run it on their backends; all tests share one device and use tiny sizes.
 
+mod antialias;
 mod caustics;
 mod frame;
 mod godrays;

@@ -34,7 +34,9 @@ crate::uniforms::uniform! { AntialiasParams;
         /// 1 when the simulation's time is the last frame's (every pixel's
         /// history is trusted: `hydrolux_core::antialias::trust`).
         pub time_still: u32,
-        pub _pad2: u32,
+        /// 1 when neither the camera nor the time changed: the frames are
+        /// averaged evenly (`min_share` counts the frames since the change).
+        pub settled: u32,
     }
 }
 
@@ -69,6 +71,9 @@ pub struct TemporalAntialias {
     /// Frames resolved since the history was last reset (0: none, so the
     /// next frame is drawn without jitter and passed through).
     frames: u64,
+    /// Frames the history holds of the view as it is now (since the camera
+    /// or the time last changed).
+    since_change: u64,
     /// Last resolved frame's view-projection, without jitter, and time.
     last_view_proj: Mat4,
     last_time: f64,
@@ -123,6 +128,7 @@ impl Technique for TemporalAntialias {
             history: None,
             latest: 0,
             frames: 0,
+            since_change: 0,
             last_view_proj: Mat4::IDENTITY,
             last_time: f64::NAN,
         })
@@ -187,19 +193,20 @@ impl Technique for TemporalAntialias {
             return;
         }
         let now = frame.plan.matrices.unjittered;
+        let still_camera = now == self.last_view_proj;
+        let time_still = frame.plan.time == self.last_time;
+        let settled = still_camera && time_still && self.frames > 0;
         // A still camera reprojects exactly onto itself.
-        let reprojection = if now == self.last_view_proj {
-            Mat4::IDENTITY
-        } else {
-            self.last_view_proj * now.inverse()
-        };
+        let reprojection =
+            if still_camera { Mat4::IDENTITY } else { self.last_view_proj * now.inverse() };
         let u = AntialiasUniforms {
             reprojection: reprojection.to_cols_array_2d(),
             has_history: u32::from(self.frames > 0),
-            min_share: antialias::min_share(self.frames),
-            time_still: u32::from(frame.plan.time == self.last_time),
-            ..Default::default()
+            min_share: antialias::min_share(if settled { self.since_change } else { self.frames }),
+            time_still: u32::from(time_still),
+            settled: u32::from(settled),
         };
+        self.since_change = if settled { self.since_change + 1 } else { 1 };
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
     }
 

@@ -12,7 +12,7 @@ struct AntialiasParams {
     has_history: u32,
     min_share: f32,
     time_still: u32,
-    _pad2: u32,
+    settled: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: AntialiasParams;
@@ -49,7 +49,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     }
     // While time stands still only the camera moves: every pixel is trusted.
     let trust = select(clamp(centre.a, 0.0, 1.0), 1.0, params.time_still != 0u);
-    let out = taa_resolve(n, last, has, trust, params.min_share);
+    let out = taa_resolve(n, last, has, trust, params.min_share, params.settled != 0u);
     // A non-finite history (never expected) must not stick.
     if (any(out != out) || any(abs(out) > vec3<f32>(6.0e4))) {
         return centre;

@@ -52,11 +52,15 @@ fn taa_reproject(reprojection: mat4x4<f32>, uv: vec2<f32>, depth: f32) -> vec3<f
 // and the reprojected history (used where has_history); trust (the HDR
 // alpha) 1 where the pixel's colour follows the geometry, 0 where it
 // changes by itself (the water's surface); min_share 1 / (frames + 1) for
-// a history of that many frames.
-fn taa_resolve(n: array<vec3<f32>, 9>, history: vec3<f32>, has_history: bool, trust: f32, min_share: f32) -> vec3<f32> {
+// a history of that many frames; settled where neither the camera nor the
+// time moved (the frames are then averaged evenly, unclipped).
+fn taa_resolve(n: array<vec3<f32>, 9>, history: vec3<f32>, has_history: bool, trust: f32, min_share: f32, settled: bool) -> vec3<f32> {
     let current = n[4];
     if (!has_history) {
         return current;
+    }
+    if (settled) {
+        return history + (current - history) * min_share;
     }
     var sum = vec3<f32>(0.0);
     var sum_sq = vec3<f32>(0.0);
