@@ -161,11 +161,13 @@ pub fn resolve(neighbourhood: &[Vec3; 9], history: Option<History>, trust: f32) 
     let box_hi = (mean + CLIP_SIGMAS * sigma).min(hi);
     let centre = 0.5 * (box_lo + box_hi);
     let extent = 0.5 * (box_hi - box_lo);
-    let clipped = ycocg_to_rgb(clip_to_box(rgb_to_ycocg(history.colour), centre, extent));
+    let clipped =
+        ycocg_to_rgb(clip_to_box(rgb_to_ycocg(history.colour), centre, extent)).max(Vec3::ZERO);
     let share = current_share(trust, history.frames);
     let weight = |c: Vec3, share: f32| share / (1.0 + luma(c));
     let (wc, wh) = (weight(current, share), weight(clipped, 1.0 - share));
-    (current * wc + clipped * wh) / (wc + wh)
+    // The box in YCoCg reaches outside the RGB gamut: radiance stays ≥ 0.
+    ((current * wc + clipped * wh) / (wc + wh)).max(Vec3::ZERO)
 }
 
 /// A pixel's trust in its history from the HDR image's alpha: what
@@ -384,6 +386,15 @@ mod tests {
         let (wc, wh) = (0.5 / 1.3, 0.5 / 1.25);
         let want = (0.3 * wc + 0.25 * wh) / (wc + wh);
         assert!((out.x - want).abs() < 1e-5, "{out} vs {want}");
+        // Clipped into a neighbourhood of saturated colours, a history
+        // stays a radiance (YCoCg's box reaches outside RGB's gamut).
+        let mut n = [Vec3::new(0.0, 0.0, 1.0); 9];
+        n[2] = Vec3::new(1.0, 0.0, 0.0);
+        n[6] = Vec3::new(0.0, 1.0, 0.0);
+        for h in [Vec3::new(5.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 9.0), Vec3::new(0.0, 3.0, 3.0)] {
+            let out = resolve(&n, moving(Some(h), 50), 1.0);
+            assert!(out.min_element() >= 0.0, "{h} → {out}");
+        }
         // A young history is averaged evenly: the second frame is half.
         assert_eq!(current_share(1.0, 1), 0.5);
         assert_eq!(current_share(1.0, 3), 0.25);

@@ -77,11 +77,12 @@ fn taa_resolve(n: array<vec3<f32>, 9>, history: vec3<f32>, has_history: bool, tr
     let sigma = sqrt(max(sum_sq / 9.0 - mean * mean, vec3<f32>(0.0)));
     let box_lo = max(mean - TAA_CLIP_SIGMAS * sigma, lo);
     let box_hi = min(mean + TAA_CLIP_SIGMAS * sigma, hi);
-    let clipped = taa_ycocg_to_rgb(
+    // The box in YCoCg reaches outside the RGB gamut: radiance stays ≥ 0.
+    let clipped = max(taa_ycocg_to_rgb(
         taa_clip_to_box(taa_rgb_to_ycocg(history), 0.5 * (box_lo + box_hi), 0.5 * (box_hi - box_lo)),
-    );
+    ), vec3<f32>(0.0));
     let share = max(mix(TAA_RESPONSIVE_WEIGHT, TAA_CURRENT_WEIGHT, clamp(trust, 0.0, 1.0)), min_share);
     let wc = share / (1.0 + taa_luma(current));
     let wh = (1.0 - share) / (1.0 + taa_luma(clipped));
-    return (current * wc + clipped * wh) / (wc + wh);
+    return max((current * wc + clipped * wh) / (wc + wh), vec3<f32>(0.0));
 }
