@@ -74,6 +74,11 @@ fn bad_input_is_one_line_exit_1_and_writes_nothing() {
         ),
         (&["render", "--height", "-1"], "must be a whole number from 1 to 16384 pixels"),
         (
+            &["render", "--samples", "0"],
+            "'0' for '--samples <SAMPLES>': must be a whole number from 1 to 64",
+        ),
+        (&["render", "--set", "render.antialias=msaa"], "render.antialias"),
+        (
             &["render", "--frames", "4000000000", "--fps", "1"],
             "--frames 4000000000 at --fps 1 from t = 0 s ends at t = 3.999999999e9 s: the latest time is 1e9 s",
         ),
