@@ -102,6 +102,10 @@ fn read_png(path: &Path) -> Vec<u8> {
     }
 }
 
+/// The scene frame whose image the page reads back (`capture=5` in
+/// web/test/browser.mjs).
+const CAPTURED_FRAME: u64 = 5;
+
 #[test]
 fn every_scene_runs_in_headless_chromium_and_looks_as_it_does_natively() {
     let repo = repo();
@@ -176,21 +180,36 @@ fn every_scene_runs_in_headless_chromium_and_looks_as_it_does_natively() {
         }
         assert!(frames >= 5.0 && frame_ms.is_finite() && frame_ms > 0.0, "{name}: {state}");
         assert!(state["adapter"].as_str().unwrap_or("").contains("WebGpu"), "{name}: {state}");
-        // The native render of the same scene, camera and time.
+        // The native render of the same scene, camera and time, as many
+        // frames in: paused, the page goes on drawing its jittered frames
+        // and averages them (render.antialias), the image read back at the
+        // scene's fifth frame (`capture=5`), the page's screenshot at about
+        // `scene_frames`.
         let scene = Scene::load(name, &[]).unwrap();
         let mut r = Renderer::new(&ctx.device, &ctx.queue, hydrolux::headless::FORMAT, &scene)
             .expect("native renderer");
-        let native = HeadlessTarget::new(&ctx.device, (W, H))
-            .render(&mut r, scene.camera(), 0.0)
-            .expect("native frame");
-        for (what, file) in
-            [("page", format!("{name}.png")), ("image", format!("{name}.capture.png"))]
-        {
+        let target = HeadlessTarget::new(&ctx.device, (W, H));
+        let mut drawn = 0u64;
+        let mut native_after = |frames: u64| {
+            while drawn + 1 < frames {
+                target.submit(&mut r, scene.camera(), 0.0).expect("native frame");
+                drawn += 1;
+            }
+            drawn += 1;
+            target.render(&mut r, scene.camera(), 0.0).expect("native frame")
+        };
+        let captured = native_after(CAPTURED_FRAME);
+        let page_frames = state["scene_frames"].as_f64().unwrap_or(0.0) as u64;
+        let shown = native_after(page_frames.max(CAPTURED_FRAME + 1));
+        for (what, file, native) in [
+            ("page", format!("{name}.png"), &shown),
+            ("image", format!("{name}.capture.png"), &captured),
+        ] {
             let web = read_png(&out.join(&file));
-            let (mean, p99) = golden::mean_and_p99(W, H, &web, &native);
+            let (mean, p99) = golden::mean_and_p99(W, H, &web, native);
             eprintln!("{name:14} {what:5} vs native: mean ΔE {mean:.2}, 99th percentile {p99:.2}");
             if !golden::within_tolerance(mean, p99) {
-                golden::write_failure(&format!("web-{name}-{what}"), W, H, &web, &native);
+                golden::write_failure(&format!("web-{name}-{what}"), W, H, &web, native);
                 failures.push(format!("{name} ({what}): mean ΔE {mean:.2}, p99 {p99:.2}"));
             }
         }
