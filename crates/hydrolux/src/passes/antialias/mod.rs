@@ -104,7 +104,7 @@ impl Technique for TemporalAntialias {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("antialias"),
             entries: &[
-                uniform_entry(0, fs),
+                storage_entry(0, fs, true),
                 texture_entry(1, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(2, fs, wgpu::TextureViewDimension::D2, true),
                 texture_entry(3, fs, wgpu::TextureViewDimension::D2, false),
@@ -119,7 +119,9 @@ impl Technique for TemporalAntialias {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let uniforms = uniform_buffer(device, "antialias", &AntialiasUniforms::default());
+        // Read as storage (resolve.wgsl says why).
+        let size = std::mem::size_of::<AntialiasUniforms>() as u64;
+        let uniforms = storage_buffer(device, "antialias", size, wgpu::BufferUsages::empty());
         Ok(TemporalAntialias {
             layout,
             pipeline,

@@ -15,7 +15,10 @@ struct AntialiasParams {
     settled: u32,
 }
 
-@group(0) @binding(0) var<uniform> params: AntialiasParams;
+// A storage buffer, not a uniform: lavapipe inlines a small uniform buffer
+// into the shader that branches on it and keeps a compiled copy for every
+// new content (1.5 MB a frame here; tests/memory.rs).
+@group(0) @binding(0) var<storage, read> params: AntialiasParams;
 @group(0) @binding(1) var current: texture_2d<f32>;
 @group(0) @binding(2) var history: texture_2d<f32>;
 @group(0) @binding(3) var depth_tex: texture_2d<f32>;
